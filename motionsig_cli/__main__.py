@@ -1,0 +1,5 @@
+"""``python -m motionsig_cli`` runs the command-line tool."""
+
+from motionsig_cli.cli.app import main
+
+raise SystemExit(main())
