@@ -1,0 +1,107 @@
+"""Options and behaviour shared by every command: output format and file, plots, quiet, debug,
+seed, option-level error mapping and progress bars on stderr."""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+from collections.abc import Callable, Iterator
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated, Any, TypeVar
+
+import typer
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+from motionsig_cli.cli.io import atomic_path
+from motionsig_cli.rng import DEFAULT_SEED
+
+T = TypeVar("T")
+
+
+class OutputFormat(StrEnum):
+    """Table output format."""
+
+    csv = "csv"
+    json = "json"
+
+
+FormatOpt = Annotated[
+    OutputFormat,
+    typer.Option("--format", "-f", help="Output format (CSV carries '# key: value' provenance lines)."),
+]
+OutOpt = Annotated[
+    Path | None,
+    typer.Option("--out", "-o", help="Write the table to this file (atomically) instead of stdout."),
+]
+PlotOpt = Annotated[
+    Path | None, typer.Option("--plot", help="Save a figure; format from the extension (.png, .svg, .pdf).")
+]
+QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars or summaries on stderr.")]
+DebugOpt = Annotated[bool, typer.Option("--debug", help="Show the full traceback on errors.")]
+SeedOpt = Annotated[
+    int, typer.Option("--seed", min=0, help="Root seed; trial t draws from SeedSequence(seed) child t.")
+]
+DEFAULT_SEED_VALUE = DEFAULT_SEED
+
+PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+
+
+def checked(option: str, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
+    """Call ``fn``; a ValueError becomes a one-line usage error naming ``option`` (exit 2)."""
+    try:
+        return fn(*args, **kwargs)
+    except ValueError as exc:
+        raise typer.BadParameter(str(exc), param_hint=option) from exc
+
+
+def check_plot_path(path: Path | None) -> None:
+    """Validate ``--plot`` before any work is done."""
+    if path is not None and path.suffix.lower() not in PLOT_SUFFIXES:
+        raise typer.BadParameter(
+            f"unsupported figure type {path.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
+            param_hint="--plot",
+        )
+
+
+def save_figure(fig: Any, path: Path) -> None:
+    """Save a matplotlib Figure atomically with reproducible metadata."""
+    suffix = path.suffix.lower()
+    metadata = (
+        {"Software": None}
+        if suffix == ".png"
+        else {"Creator": None}
+        if suffix == ".svg"
+        else {"CreationDate": None}
+    )
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=suffix[1:], dpi=150, metadata=metadata)
+
+
+def stderr_console() -> Console:
+    """Console on stderr for progress and summaries (never stdout, which carries data)."""
+    return Console(stderr=True)
+
+
+def note(message: str, quiet: bool) -> None:
+    """A one-line summary on stderr (suppressed by --quiet)."""
+    if not quiet:
+        typer.echo(message, err=True)
+
+
+@contextlib.contextmanager
+def progress(quiet: bool) -> Iterator[Progress]:
+    """Rich progress bar on stderr, shown only when both stdout and stderr are terminals."""
+    show = not quiet and sys.stdout.isatty() and sys.stderr.isatty()
+    bar = Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}"),
+        TimeElapsedColumn(),
+        console=stderr_console(),
+        transient=True,
+        disable=not show,
+    )
+    with bar:
+        yield bar

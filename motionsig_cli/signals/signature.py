@@ -1,0 +1,132 @@
+"""Mode perturbation signatures — seed 000 §II.A, eqs (1)–(3); spec §1.2.
+
+Sampling t_k = kT. A chip lasts m_ρ samples (T_c = m_ρT); with code phase τ (samples) the sample k
+carries chip j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ (floor division, so negative k − τ wraps correctly)::
+
+    p_k[τ] = b_{j(k)}                                  eq (1), chips b ∈ {ρ0, ρ1} = {−1, +1}
+    z_k    = p_k[τ] cos(2π f_c t_k + 2π f_d t_k + θ)    eqs (2)–(3) (f_d = 0 in the seed)
+    z_cos,k = p_k[τ] cos(2π f_c t_k),   z_sin,k = p_k[τ] sin(2π f_c t_k)   (replicas, θ removed)
+
+With f_d = 0, z = cos θ · z_cos − sin θ · z_sin exactly. Time derivatives (used by the closed
+loop, spec §1.6 eq 54): ``"analytic"`` differentiates the carrier inside a chip (chip edges
+ignored): ż = −ω p sin(ωt + θ), ż_cos = −ω_c p sin(ω_c t), ż_sin = ω_c p cos(ω_c t);
+``"finite-difference"`` is the backward difference (z_k − z_{k−1})/T, which spikes by up to 2/T at
+chip flips.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+
+ZdotMethod = Literal["analytic", "finite-difference"]
+
+
+@dataclass(frozen=True, slots=True)
+class SignatureConfig:
+    """Sampling and carrier parameters of a mode signature.
+
+    Attributes:
+        T: Sample interval [s] (spec §1.8 default 0.05 s is an ASSUMPTION; the seed is silent).
+        m_rho: Samples per chip (default 20, ASSUMPTION: T_c = 1 s = one carrier cycle per chip).
+        f_c: Carrier frequency [Hz] (1.0, implicit in the seed's Fig 6 discussion).
+        theta: Carrier phase [rad].
+        tau: Code phase in samples (any integer; the code repeats every n_ρ m_ρ samples).
+        f_d: Frequency offset of eq (3) [Hz]; 0 in the seed.
+    """
+
+    T: float = 0.05
+    m_rho: int = 20
+    f_c: float = 1.0
+    theta: float = 0.0
+    tau: int = 0
+    f_d: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.T) and self.T > 0):
+            raise ValueError(f"T must be a positive sample interval, got {self.T}")
+        if isinstance(self.m_rho, bool) or int(self.m_rho) != self.m_rho or self.m_rho < 1:
+            raise ValueError(f"m_rho must be an integer >= 1 (samples per chip), got {self.m_rho}")
+        if not (math.isfinite(self.f_c) and self.f_c >= 0):
+            raise ValueError(f"f_c must be a finite frequency >= 0, got {self.f_c}")
+        if not math.isfinite(self.theta):
+            raise ValueError(f"theta must be finite, got {self.theta}")
+        if int(self.tau) != self.tau:
+            raise ValueError(f"tau must be an integer number of samples, got {self.tau}")
+        if not math.isfinite(self.f_d):
+            raise ValueError(f"f_d must be finite, got {self.f_d}")
+
+
+@dataclass(frozen=True)
+class Signature:
+    """A sampled signature and its replicas (all arrays of length n)."""
+
+    k: np.ndarray
+    t: np.ndarray
+    chip: np.ndarray
+    p: np.ndarray
+    z: np.ndarray
+    z_cos: np.ndarray
+    z_sin: np.ndarray
+    zdot: np.ndarray
+    zdot_cos: np.ndarray
+    zdot_sin: np.ndarray
+
+
+def chip_index(k: np.ndarray, tau: int, m_rho: int, n_rho: int) -> np.ndarray:
+    """j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ (0-based chip index of sample k; spec §1.2)."""
+    return np.floor_divide(np.asarray(k) - tau, m_rho) % n_rho
+
+
+def spreading_waveform(chips: np.ndarray, k: np.ndarray, tau: int, m_rho: int) -> np.ndarray:
+    """p_k[τ]: the chip value (±1) held for m_ρ samples, code phase τ — eq (1) sampled."""
+    chips = np.asarray(chips)
+    return chips[chip_index(k, tau, m_rho, chips.size)]
+
+
+def mode_signature(
+    chips: np.ndarray,
+    config: SignatureConfig,
+    n_samples: int | None = None,
+    zdot: ZdotMethod = "analytic",
+) -> Signature:
+    """Sample a mode signature, its θ-free replicas and their time derivatives — eqs (1)–(3).
+
+    Args:
+        chips: Bipolar chips (±1) of one code period, e.g. ``to_bipolar(table1_codes()[0])``.
+        config: Sampling/carrier parameters.
+        n_samples: Number of samples; default one code period n_ρ m_ρ.
+        zdot: ``"analytic"`` (default) or ``"finite-difference"`` derivative.
+    """
+    chips = np.asarray(chips)
+    if chips.ndim != 1 or chips.size < 1 or not np.all(np.abs(chips) == 1):
+        raise ValueError("chips must be a 1-D array of +1/-1 values")
+    n = chips.size * config.m_rho if n_samples is None else n_samples
+    if int(n) != n or n < 1:
+        raise ValueError(f"n_samples must be a positive integer, got {n_samples}")
+    if zdot not in ("analytic", "finite-difference"):
+        raise ValueError(f"zdot must be 'analytic' or 'finite-difference', got {zdot!r}")
+    k = np.arange(int(n))
+    t = k * config.T
+    wc = 2 * np.pi * config.f_c
+    w = 2 * np.pi * (config.f_c + config.f_d)
+    tau = int(config.tau)
+    p = spreading_waveform(chips, k, tau, config.m_rho).astype(np.float64)  # eq (1)
+    z = p * np.cos(w * t + config.theta)  # eqs (2)-(3)
+    z_cos = p * np.cos(wc * t)
+    z_sin = p * np.sin(wc * t)
+    if zdot == "analytic":
+        zd = -w * p * np.sin(w * t + config.theta)
+        zd_cos = -wc * p * np.sin(wc * t)
+        zd_sin = wc * p * np.cos(wc * t)
+    else:
+        t_prev = t - config.T
+        p_prev = spreading_waveform(chips, k - 1, tau, config.m_rho)
+        zd = (z - p_prev * np.cos(w * t_prev + config.theta)) / config.T
+        zd_cos = (z_cos - p_prev * np.cos(wc * t_prev)) / config.T
+        zd_sin = (z_sin - p_prev * np.sin(wc * t_prev)) / config.T
+    chip = chip_index(k, tau, config.m_rho, chips.size)
+    return Signature(k, t, chip, p, z, z_cos, z_sin, zd, zd_cos, zd_sin)
