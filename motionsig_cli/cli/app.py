@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import typer
 from typer._click import exceptions as click_exceptions
+from typer.exceptions import Abort
 from typer.main import get_command
 
 from motionsig_cli import __version__
@@ -57,7 +58,7 @@ def _silence_broken_pipe() -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the CLI; return the process exit code (0 ok, 2 bad input or usage)."""
+    """Run the CLI; return the process exit code (0 ok, 2 bad input or usage, 1 internal error)."""
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     command = get_command(app)
@@ -82,9 +83,17 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise
         typer.echo(f"motionsig: error: {exc}", err=True)
         return 2
-    except click_exceptions.Abort:
+    except Abort:
         typer.echo("motionsig: aborted", err=True)
         return 130
+    except Exception as exc:  # a bug, not bad input: say so in one line, keep the traceback for --debug
+        if debug:
+            raise
+        typer.echo(
+            f"motionsig: internal error: {type(exc).__name__}: {exc} (rerun with --debug for the traceback)",
+            err=True,
+        )
+        return 1
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,28 @@
+"""Layering: the numerical core imports neither typer, rich nor matplotlib."""
+
+import subprocess
+import sys
+
+CORE = [
+    "motionsig_cli.signals.gf2",
+    "motionsig_cli.signals.lfsr",
+    "motionsig_cli.signals.gold",
+    "motionsig_cli.signals.gps",
+    "motionsig_cli.signals.modes",
+    "motionsig_cli.signals.signature",
+    "motionsig_cli.signals.correlation",
+    "motionsig_cli.tables",
+    "motionsig_cli.rng",
+    "motionsig_cli.refdata",
+]
+
+
+def test_core_imports_no_ui_or_plotting():
+    code = (
+        "import sys\n"
+        + "".join(f"import {m}\n" for m in CORE)
+        + "bad = [m for m in ('typer', 'rich', 'matplotlib', 'motionsig_cli.cli') if m in sys.modules]\n"
+        + "print(','.join(bad))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""
