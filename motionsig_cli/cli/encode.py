@@ -33,8 +33,10 @@ from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.signals import gf2, gold, gps, modes
 from motionsig_cli.signals.correlation import (
+    correlation_rows,
     degree_of_period,
     gold_bound,
+    offpeak_counts,
     periodic_correlation,
     summarize,
     to_bipolar,
@@ -555,11 +557,10 @@ def correlations(
     """
     check_plot_path(plot)
     labels, codes = _read_codes(source)
-    r = periodic_correlation(codes)
     n_chips = codes.shape[1]
     n = degree_of_period(n_chips)
     bound = gold_bound(n) if n else None
-    pairs_ = summarize(r)
+    pairs_ = summarize(codes)
     max_off = max((p.max_offpeak for p in pairs_), default=0)
     within = None if bound is None else max_off <= bound
     all_vals = sorted({v for p in pairs_ for v in p.values})
@@ -594,22 +595,23 @@ def correlations(
             meta=meta,
         )
     elif view is CorrView.values:
-        m = len(labels)
-        iu = np.triu_indices(m, k=1)
-        auto = np.concatenate([r[i, i, 1:] for i in range(m)])
-        cross = r[iu].ravel()
-        values = np.union1d(auto, cross)
-        rows = [(int(v), int(np.sum(auto == v)), int(np.sum(cross == v))) for v in values]
+        auto, cross = offpeak_counts(codes)
+        rows = [(v, auto.get(v, 0), cross.get(v, 0)) for v in sorted(set(auto) | set(cross))]
         table = Table(columns=("value", "auto_count", "cross_count"), rows=rows, meta=meta)
     else:
         rows = [
-            (labels[p.a], labels[p.b], lag, int(r[p.a, p.b, lag])) for p in pairs_ for lag in range(n_chips)
+            (labels[a], labels[a + j], lag, int(v))
+            for a, block in correlation_rows(codes)
+            for j, r in enumerate(block)
+            for lag, v in enumerate(r)
         ]
         table = Table(columns=("code_a", "code_b", "lag", "value"), rows=rows, meta=meta)
     if plot is not None:
         from motionsig_cli.plotting import correlation_figure
 
-        show = [(a, b) for a in range(min(len(labels), 3)) for b in range(a, min(len(labels), 3))]
+        m = min(len(labels), 3)
+        r = periodic_correlation(codes[:m])
+        show = [(a, b) for a in range(m) for b in range(a, m)]
         fig = correlation_figure(
             np.arange(n_chips),
             np.stack([r[a, b] for a, b in show]),

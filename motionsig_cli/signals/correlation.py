@@ -8,6 +8,7 @@ are rounded exactly (the FFT error for N ≤ 2²⁰ is < 10⁻⁶, asserted).
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,6 +42,25 @@ def periodic_correlation(codes: np.ndarray) -> np.ndarray:
     return rounded.astype(np.int64)
 
 
+def correlation_rows(codes: np.ndarray) -> Iterator[tuple[int, np.ndarray]]:
+    """Stream the correlations of code ``a`` with codes ``a, a+1, …, M−1``, one ``a`` at a time.
+
+    Yields ``(a, R)`` with ``R[j, ℓ] = R_{a, a+j}[ℓ]``. Memory is O(M N) instead of the O(M² N) of
+    :func:`periodic_correlation` (a degree-10 family of 1025 codes would need ~8 GB at once).
+    """
+    x = np.asarray(codes, dtype=np.float64)
+    if x.ndim != 2:
+        raise ValueError(f"codes must be a 2-D (M, N) array, got shape {x.shape}")
+    n = x.shape[1]
+    spec = np.fft.rfft(x, axis=1)
+    for a in range(x.shape[0]):
+        r = np.fft.irfft(np.conj(spec[a])[None, :] * spec[a:], n=n, axis=1)
+        rounded = np.rint(r)
+        if np.max(np.abs(r - rounded), initial=0.0) > 1e-6:  # pragma: no cover
+            raise ValueError("correlations are not integers; are the codes ±1?")
+        yield a, rounded.astype(np.int64)
+
+
 def gold_bound(n: int) -> int:
     """t(n) = 1 + 2^⌊(n+2)/2⌋: the Gold-family peak off-peak correlation magnitude."""
     return 1 + 2 ** ((n + 2) // 2)
@@ -62,12 +82,25 @@ class PairSummary:
     max_offpeak: int
 
 
-def summarize(r: np.ndarray) -> list[PairSummary]:
-    """Distinct values and max off-peak magnitude for every unordered pair (a ≤ b)."""
-    m = r.shape[0]
+def summarize(codes: np.ndarray) -> list[PairSummary]:
+    """Distinct values and max off-peak magnitude for every unordered pair (a ≤ b), streamed."""
     out = []
-    for a in range(m):
-        for b in range(a, m):
-            vals = r[a, b, 1:] if a == b else r[a, b]
-            out.append(PairSummary(a, b, tuple(int(v) for v in np.unique(vals)), int(np.max(np.abs(vals)))))
+    for a, rows in correlation_rows(codes):
+        for j, r in enumerate(rows):
+            vals = r[1:] if j == 0 else r
+            out.append(
+                PairSummary(a, a + j, tuple(int(v) for v in np.unique(vals)), int(np.max(np.abs(vals))))
+            )
     return out
+
+
+def offpeak_counts(codes: np.ndarray) -> tuple[dict[int, int], dict[int, int]]:
+    """Histogram of off-peak values: ``(auto_counts, cross_counts)``, value → number of lags."""
+    auto: dict[int, int] = {}
+    cross: dict[int, int] = {}
+    for _, rows in correlation_rows(codes):
+        for target, vals in ((auto, rows[0, 1:]), (cross, rows[1:].ravel())):
+            v, c = np.unique(vals, return_counts=True)
+            for value, count in zip(v.tolist(), c.tolist(), strict=True):
+                target[value] = target.get(value, 0) + count
+    return auto, cross
