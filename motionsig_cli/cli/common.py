@@ -56,6 +56,22 @@ def checked(option: str, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
         raise typer.BadParameter(str(exc), param_hint=option) from exc
 
 
+def int_list(text: str, *, what: str = "value") -> list[int]:
+    """Parse ``'5'``, a range ``'3-11'`` or a list ``'1,5,7-9'`` into integers, in order."""
+    out: list[int] = []
+    try:
+        for part in text.split(","):
+            lo, sep, hi = part.strip().partition("-")
+            out.extend(range(int(lo), int(hi) + 1) if sep else [int(lo)])
+    except ValueError:
+        raise ValueError(
+            f"expected a {what}, a range like 3-11 or a list like 1,5,7-9; got {text!r}"
+        ) from None
+    if not out:
+        raise ValueError(f"no {what} in {text!r}")
+    return out
+
+
 def check_plot_path(path: Path | None) -> None:
     """Validate ``--plot`` before any work is done."""
     if path is not None and path.suffix.lower() not in PLOT_SUFFIXES:

@@ -25,6 +25,7 @@ from motionsig_cli.cli.common import (
     SeedOpt,
     check_plot_path,
     checked,
+    int_list,
     note,
     progress,
     save_figure,
@@ -203,16 +204,8 @@ def check_pair(
 
 def _degrees(text: str) -> list[int]:
     """'5', '3-11' or '5,7,9' → degrees; multiples of 4 inside a range are skipped, named ones rejected."""
-    out: list[int] = []
-    try:
-        for part in text.split(","):
-            if "-" in part:
-                lo, hi = (int(x) for x in part.split("-"))
-                out.extend(n for n in range(lo, hi + 1) if n % 4)
-            else:
-                out.append(int(part))
-    except ValueError:
-        raise ValueError(f"expected a degree, a range like 3-11 or a list like 5,7; got {text!r}") from None
+    named = {int(p) for p in text.split(",") if p.strip().isdigit()}
+    out = [n for n in int_list(text, what="degree") if n % 4 or n in named]
     for n in out:
         gold.require_gold_degree(n)
         if n > 13:
@@ -336,16 +329,7 @@ def _unchecked_family(p1: int, p2: int, s1: tuple, s2: tuple) -> tuple[np.ndarra
 
 
 def _prns(text: str) -> list[int]:
-    try:
-        out: list[int] = []
-        for part in text.split(","):
-            if "-" in part:
-                lo, hi = (int(x) for x in part.split("-"))
-                out.extend(range(lo, hi + 1))
-            else:
-                out.append(int(part))
-    except ValueError:
-        raise ValueError(f"expected PRNs like 1, 1-32 or 1,5,7; got {text!r}") from None
+    out = int_list(text, what="PRN")
     bad = [p for p in out if not 1 <= p <= 32]
     if bad:
         raise ValueError(f"PRN must be in 1..32, got {bad[0]}")
@@ -378,11 +362,12 @@ def gps_cmd(
         "encode gps", prn=prns, chips=chips.value, source="IS-GPS-200 Table 3-Ia phase selectors"
     )
     if summary:
+        delays = gps.g2_delays()
         rows = [
-            (p, f"{taps[p][0]}+{taps[p][1]}", gps.first_chips_octal(c))
+            (p, f"{taps[p][0]}+{taps[p][1]}", delays[p], gps.first_chips_octal(c))
             for p, c in zip(prns, codes, strict=True)
         ]
-        table = Table(columns=("prn", "g2_taps", "first10_octal"), rows=rows, meta=meta)
+        table = Table(columns=("prn", "g2_taps", "g2_delay_chips", "first10_octal"), rows=rows, meta=meta)
     else:
         table = _codes_table([f"PRN{p}" for p in prns], codes, chips, meta)
     emit(table, fmt.value, out)

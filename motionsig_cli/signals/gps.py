@@ -37,6 +37,14 @@ def phase_selectors() -> dict[int, tuple[int, int]]:
 
 
 @cache
+def g2_delays() -> dict[int, int]:
+    """PRN → G2 code-phase delay in chips (IS-GPS-200 Table 3-Ia), equivalent to the phase selectors."""
+    t = load("gps_ca.csv")
+    prns, delays = t.numeric("prn", integer=True), t.numeric("g2_delay_chips", integer=True)
+    return {int(p): int(d) for p, d in zip(prns, delays, strict=True)}
+
+
+@cache
 def _registers() -> tuple[np.ndarray, np.ndarray]:
     """G1 output (stage 10) and the full G2 register history over one period."""
     g1 = np.ones(10, dtype=np.uint8)

@@ -137,7 +137,8 @@ BAD = [
     (["encode", "signature", "--theta", "abc"], "--theta", "radians"),
     (["encode", "signature", "--mode", "4"], "--mode", "modes 1, 2, 3"),
     (["encode", "gps", "--prn", "33"], "--prn", "1..32"),
-    (["encode", "gps", "--prn", "x"], "--prn", "PRNs"),
+    (["encode", "gps", "--prn", "x"], "--prn", "expected a PRN"),
+    (["encode", "pairs", "--degree", "3-x"], "--degree", "expected a degree"),
     (["encode", "signature", "--plot", "x.gif"], "--plot", "unsupported"),
     (["encode", "mseq", "--shift", "abc"], "--shift", "valid integer"),
 ]
