@@ -1,0 +1,370 @@
+"""Load every page of the built docs site in headless chromium and check that it works offline.
+
+    python scripts/browser_check.py site
+
+The site is served on 127.0.0.1 (a free port, http.server in a thread) and every HTML page is
+opened with the Debian ``chromium`` through playwright (no browser is ever downloaded). A page
+fails on
+
+* a failed request (network error, or HTTP status >= 400);
+* any request to a host other than 127.0.0.1 (such requests are aborted, so nothing leaves the
+  machine, and counted as failures);
+* a console error or an uncaught exception;
+* an ``<img>`` that did not load (``complete && naturalWidth > 0`` after the load event);
+* math that MathJax did not typeset: every page waits for ``MathJax.startup.promise``; a page with
+  math (arithmatex elements, or the notebook page) must contain ``mjx-container`` elements with
+  SVG inside; on any page a TeX error or an undefined macro, or an SVG glyph reference without
+  its definition, fails.
+
+The notebook page (URL containing ``signatures``) is also saved as a full-page screenshot to
+``SITE_DIR/_check/signatures.png``. Finally the check follows one link with material's instant
+navigation (home -> notebook page) and requires the new page's math to be typeset too, when the
+site enables it (material's ``navigation.instant``, which works only with a matching ``site_url``).
+
+One line per page (OK/FAIL with reasons), then ``browser check: N passed, M failed``; the exit
+status is 1 on any failure, 2 on a usage or setup error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import http.server
+import json
+import os
+import re
+import shutil
+import sys
+import threading
+from dataclasses import dataclass, field
+from pathlib import Path
+from urllib.parse import urlsplit
+
+PAGE_TIMEOUT_MS = 30_000
+HOST = "127.0.0.1"
+SCREENSHOT_PAGES = ("signatures",)
+MATH_PAGES = ("signatures",)  # pages that must contain typeset math whatever their markup
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+
+# Wait for MathJax (if the page loads it) to finish typesetting; resolves to a status string.
+JS_WAIT_MATHJAX = """
+async () => {
+  const deadline = Date.now() + %d;
+  while (Date.now() < deadline) {
+    const mj = window.MathJax;
+    if (mj && mj.startup && mj.startup.promise && mj.typesetPromise) {
+      let p;
+      do { p = mj.startup.promise; await p; } while (p !== mj.startup.promise);
+      return "typeset";
+    }
+    if (document.readyState === "complete" && !document.querySelector("script[src*='mathjax']")) {
+      return "no-mathjax";
+    }
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  return "timeout";
+}
+"""
+
+# Typeset math on the page. An error is a formula with a TeX error (merror) or an undefined macro
+# (MathJax's noundefined extension writes it as red text).
+JS_MATH_STATE = """
+() => {
+  const containers = Array.from(document.querySelectorAll("mjx-container"));
+  const sources = new Map();
+  try {
+    for (const item of window.MathJax.startup.document.math) sources.set(item.typesetRoot, item.math);
+  } catch (e) { /* no MathJax, or internals changed: report without the TeX source */ }
+  const errors = [];
+  for (const c of containers) {
+    const bad = c.querySelector(
+      "[data-mml-node='merror'], mjx-merror, [data-mml-node='mtext'][fill='red'], mjx-mtext[style*='red']");
+    if (bad) {
+      const why = bad.getAttribute("data-mjx-error") || "undefined macro";
+      errors.push(`${why}: ${(sources.get(c) || c.textContent || "?").trim().slice(0, 80)}`);
+    }
+  }
+  return {
+    arithmatex: document.querySelectorAll(".arithmatex").length,
+    untypeset: Array.from(document.querySelectorAll(".arithmatex"))
+      .filter((el) => !el.querySelector("mjx-container")).length,
+    containers: containers.length,
+    withSvg: containers.filter((c) => c.querySelector("svg")).length,
+    missingGlyphs: Array.from(document.querySelectorAll("mjx-container svg use"))
+      .map((u) => (u.getAttribute("href") || u.getAttribute("xlink:href") || "").replace(/^#/, ""))
+      .filter((id) => id && !document.getElementById(id)).length,
+    errors: errors.slice(0, 5),
+    nErrors: errors.length,
+  };
+}
+"""
+
+JS_IMAGES = """
+async (timeoutMs) => {
+  const imgs = Array.from(document.images);
+  imgs.forEach((img) => { img.loading = "eager"; });
+  const settle = (img) => (img.complete ? Promise.resolve() : new Promise((resolve) => {
+    img.addEventListener("load", resolve, { once: true });
+    img.addEventListener("error", resolve, { once: true });
+  }));
+  await Promise.race([
+    Promise.all(imgs.map(settle)),
+    new Promise((r) => setTimeout(r, timeoutMs)),
+  ]);
+  return {
+    total: imgs.length,
+    broken: imgs.filter((i) => !(i.complete && i.naturalWidth > 0))
+      .map((i) => (i.currentSrc || i.src || "").slice(0, 120)),
+  };
+}
+"""
+
+
+class QuietHandler(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, format, *args) -> None:  # the base class signature
+        pass
+
+
+@dataclass
+class PageResult:
+    url: str
+    problems: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+
+def html_pages(site: Path) -> list[str]:
+    """Site-relative URL paths of every HTML page (``dir/`` for ``dir/index.html``)."""
+    pages = []
+    for path in sorted(site.rglob("*.html")):
+        rel = path.relative_to(site).as_posix()
+        if rel.startswith("_check/"):
+            continue
+        if rel == "index.html":
+            pages.append("")
+        elif rel.endswith("/index.html"):
+            pages.append(rel[: -len("index.html")])
+        else:
+            pages.append(rel)
+    return pages
+
+
+def serve(site: Path) -> tuple[http.server.ThreadingHTTPServer, str]:
+    handler = functools.partial(QuietHandler, directory=str(site))
+    server = http.server.ThreadingHTTPServer((HOST, 0), handler)
+    threading.Thread(target=server.serve_forever, name="site-server", daemon=True).start()
+    return server, f"http://{HOST}:{server.server_address[1]}/"
+
+
+def watch(page, result: PageResult) -> None:
+    """Record failed requests, external requests, HTTP errors and console errors of ``page``."""
+    blocked: set[str] = set()
+
+    def external(url: str) -> None:
+        if url not in blocked:
+            blocked.add(url)
+            result.problems.append(f"external request (blocked): {url[:160]}")
+
+    def route(route) -> None:
+        url = route.request.url
+        if urlsplit(url).hostname == HOST:
+            route.continue_()
+        else:
+            external(url)
+            route.abort("blockedbyclient")
+
+    def on_request_failed(request) -> None:
+        if request.url not in blocked:
+            result.problems.append(f"request failed ({request.failure}): {request.url[:160]}")
+
+    def on_response(response) -> None:
+        if response.status >= 400:
+            result.problems.append(f"HTTP {response.status}: {response.url[:160]}")
+
+    def on_console(msg) -> None:
+        if msg.type == "error":
+            if "ERR_BLOCKED_BY_CLIENT" in msg.text and blocked:
+                return  # the console's echo of a request aborted above, already reported
+            result.problems.append(f"console error: {msg.text[:300]}")
+
+    def on_page_error(exc) -> None:
+        result.problems.append(f"uncaught exception: {str(exc)[:300]}")
+
+    def on_request(request) -> None:
+        url = request.url
+        if url.startswith(("http:", "https:", "ws:", "wss:")) and urlsplit(url).hostname != HOST:
+            external(url)
+
+    page.route("**/*", route)
+    page.on("request", on_request)
+    page.on("requestfailed", on_request_failed)
+    page.on("response", on_response)
+    page.on("console", on_console)
+    page.on("pageerror", on_page_error)
+
+
+def check_math(page, result: PageResult, require: bool) -> None:
+    status = page.evaluate(JS_WAIT_MATHJAX % PAGE_TIMEOUT_MS)
+    if status == "timeout":
+        result.problems.append("MathJax did not finish typesetting")
+        return
+    state = page.evaluate(JS_MATH_STATE)
+    require = require or state["arithmatex"] > 0
+    for error in state["errors"]:
+        result.problems.append(f"MathJax error: {error}")
+    if state["nErrors"] > len(state["errors"]):
+        result.problems.append(f"... {state['nErrors'] - len(state['errors'])} more MathJax errors")
+    if state["untypeset"]:
+        result.problems.append(
+            f"{state['untypeset']} of {state['arithmatex']} arithmatex elements not typeset"
+        )
+    if require:
+        if status != "typeset":
+            result.problems.append("page has math but MathJax is not loaded")
+        elif state["containers"] == 0:
+            result.problems.append("no typeset math (mjx-container) on the page")
+        elif state["withSvg"] < state["containers"]:
+            result.problems.append(f"{state['containers'] - state['withSvg']} mjx-container without SVG")
+    if state["missingGlyphs"]:
+        result.problems.append(f"{state['missingGlyphs']} SVG glyph references without a definition")
+    if state["containers"]:
+        result.notes.append(f"{state['containers']} formulas")
+
+
+def check_page(context, base: str, rel: str, site: Path) -> PageResult:
+    url = base + rel
+    result = PageResult(url)
+    page = context.new_page()
+    page.set_default_timeout(PAGE_TIMEOUT_MS)
+    watch(page, result)
+    try:
+        response = page.goto(url, wait_until="load", timeout=PAGE_TIMEOUT_MS)
+        if response is None or not response.ok:
+            status = response.status if response is not None else "no response"
+            if not any(p.startswith("HTTP ") for p in result.problems):
+                result.problems.append(f"page load: {status}")
+        try:
+            page.wait_for_load_state("networkidle", timeout=PAGE_TIMEOUT_MS)
+        except Exception:
+            result.notes.append("network not idle after 30 s")
+        check_math(page, result, require=any(key in rel for key in MATH_PAGES))
+        images = page.evaluate(JS_IMAGES, PAGE_TIMEOUT_MS)
+        for src in images["broken"]:
+            result.problems.append(f"image not loaded: {src}")
+        if images["total"]:
+            result.notes.append(f"{images['total']} images")
+        if any(key in rel for key in SCREENSHOT_PAGES):
+            shot = site / "_check" / f"{next(k for k in SCREENSHOT_PAGES if k in rel)}.png"
+            shot.parent.mkdir(parents=True, exist_ok=True)
+            page.screenshot(path=str(shot), full_page=True, timeout=PAGE_TIMEOUT_MS)
+            result.notes.append(f"screenshot {shot}")
+        page.wait_for_timeout(200)  # let late console messages arrive
+    except Exception as exc:
+        result.problems.append(f"{type(exc).__name__}: {str(exc).splitlines()[0][:300]}")
+    finally:
+        page.close()
+    return result
+
+
+def check_instant_navigation(context, base: str, target: str) -> PageResult:
+    """Home page -> click the nav link to ``target``: material swaps the content (no reload)."""
+    result = PageResult(f"{base} -> {target} (instant navigation)")
+    page = context.new_page()
+    page.set_default_timeout(PAGE_TIMEOUT_MS)
+    watch(page, result)
+    try:
+        page.goto(base, wait_until="load", timeout=PAGE_TIMEOUT_MS)
+        page.evaluate(JS_WAIT_MATHJAX % PAGE_TIMEOUT_MS)
+        page.evaluate("() => { window.__noReload = true; }")
+        link = page.locator(f"a.md-nav__link[href$='{target}']").first
+        link.click(timeout=PAGE_TIMEOUT_MS)
+        page.wait_for_url(f"**/{target}", timeout=PAGE_TIMEOUT_MS)
+        page.wait_for_load_state("networkidle", timeout=PAGE_TIMEOUT_MS)
+        if not page.evaluate("() => window.__noReload === true"):
+            result.notes.append("page was reloaded (instant navigation off)")
+        check_math(page, result, require=True)
+        page.wait_for_timeout(200)
+    except Exception as exc:
+        result.problems.append(f"{type(exc).__name__}: {str(exc).splitlines()[0][:300]}")
+    finally:
+        page.close()
+    return result
+
+
+def instant_navigation(site: Path) -> bool:
+    """Whether the site enables material's ``navigation.instant`` (read from the home page)."""
+    index = site / "index.html"
+    text = index.read_text(encoding="utf-8", errors="replace") if index.is_file() else ""
+    match = re.search(r'<script id="__config" type="application/json">(.*?)</script>', text, re.DOTALL)
+    try:
+        return "navigation.instant" in json.loads(match.group(1)).get("features", []) if match else False
+    except ValueError:
+        return False
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("site_dir", type=Path, help="the built site (mkdocs site_dir)")
+    args = parser.parse_args(argv)
+    site = args.site_dir.resolve()
+    pages = html_pages(site) if site.is_dir() else []
+    if not pages:
+        print(f"browser check: no HTML pages under {site}", file=sys.stderr)
+        return 2
+
+    from playwright.sync_api import sync_playwright
+
+    chromium = shutil.which("chromium") or "/usr/bin/chromium"
+    if not os.access(chromium, os.X_OK):
+        print(f"browser check: chromium not found ({chromium}); apt-get install chromium", file=sys.stderr)
+        return 2
+    os.environ.setdefault("PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD", "1")
+
+    server, base = serve(site)
+    results: list[PageResult] = []
+    try:
+        with sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=chromium, args=CHROMIUM_ARGS, headless=True)
+            try:
+                context = browser.new_context(
+                    viewport={"width": 1280, "height": 900}, service_workers="block"
+                )
+                for rel in pages:
+                    results.append(check_page(context, base, rel, site))
+                    print_result(results[-1])
+                targets = [rel for rel in pages if any(key in rel for key in SCREENSHOT_PAGES)]
+                if targets and instant_navigation(site):
+                    results.append(check_instant_navigation(context, base, targets[0]))
+                    print_result(results[-1])
+                context.close()
+            finally:
+                browser.close()
+    finally:
+        server.shutdown()
+        server.server_close()
+
+    failed = sum(1 for r in results if r.problems)
+    print(f"browser check: {len(results) - failed} passed, {failed} failed")
+    return 1 if failed else 0
+
+
+def print_result(result: PageResult) -> None:
+    if result.problems:
+        print(f"FAIL {result.url}")
+        for problem in dict.fromkeys(result.problems):
+            print(f"     - {problem}")
+    else:
+        notes = f"  ({', '.join(result.notes)})" if result.notes else ""
+        print(f"OK   {result.url}{notes}")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
