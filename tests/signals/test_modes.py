@@ -70,3 +70,12 @@ def test_weights():
     """Spec §1.9: mode 1 and corrected mode 2 have 16 ones, corrected mode 3 has 20; printed mode 3 has 19."""
     assert modes.corrected_codes().sum(axis=1).tolist() == [16, 16, 20]
     assert int(modes.printed_codes()[2].sum()) == 19
+
+
+def test_family_weights_exclude_printed_mode3():
+    """Gold-code weights for odd n are 2ⁿ⁻¹ and 2ⁿ⁻¹ ± 2^((n−1)/2) (Sarwate & Pursley 1980): {12, 16, 20}
+    for n = 5, so the printed mode 3 (19 ones) cannot be a member of any cyclic shift of the family."""
+    from motionsig_cli.signals import gold
+
+    _, fam = gold.gold_family(0o45, 0o75)
+    assert set(fam.sum(axis=1).tolist()) == {12, 16, 20}
