@@ -477,8 +477,11 @@ def table1(
     emit(table, fmt.value, out)
 
 
-def _read_codes(source: str) -> tuple[list[str], np.ndarray]:
-    """Codes from a long ``code,chip,value`` table; values 0/1 or ±1 (converted to ±1)."""
+def _read_codes(source: str) -> tuple[list[str], np.ndarray, dict]:
+    """Codes from a long ``code,chip,value`` table; values 0/1 or ±1 (converted to ±1).
+
+    Also returns the producer's provenance block (empty for a hand-written CSV).
+    """
     t = read_table(source, required=("code", "chip", "value"))
     labels = t.column("code")
     chip = t.numeric("chip", integer=True)
@@ -512,7 +515,7 @@ def _read_codes(source: str) -> tuple[list[str], np.ndarray]:
         lengths.add(n)
     if len(lengths) != 1:
         raise InputError(f"{t.source}: codes have different lengths {sorted(lengths)}")
-    return list(order), np.stack(codes)
+    return list(order), np.stack(codes), t.meta
 
 
 @app.command("correlations")
@@ -541,7 +544,7 @@ def correlations(
       motionsig encode gold --all | motionsig encode correlations - --view values
     """
     check_plot_path(plot)
-    labels, codes = _read_codes(source)
+    labels, codes, producer = _read_codes(source)
     n_chips = codes.shape[1]
     n = degree_of_period(n_chips)
     bound = gold_bound(n) if n else None
@@ -560,6 +563,7 @@ def correlations(
         within_gold_bound=within,
         offpeak_values=all_vals,
         definition="R_ab[l] = sum_t a_t b_(t+l mod N), bipolar chips; auto peak (a=b, l=0) excluded",
+        input_meta=producer,
     )
     if view is CorrView.summary:
         rows = [

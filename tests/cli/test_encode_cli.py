@@ -50,6 +50,8 @@ def test_pipe_gold_family_into_correlations(capsys, tmp_path, monkeypatch):
     t = parse(out2, tmp_path)
     assert t.numeric("value", integer=True).tolist() == [-9, -1, 7]
     assert t.meta["within_gold_bound"] is True and t.meta["gold_bound"] == 9 and t.meta["codes"] == 33
+    # the producer's provenance travels with the result
+    assert t.meta["input_meta"]["command"] == "encode gold" and t.meta["input_meta"]["poly2"] == "75"
     assert "within" in err
 
 
