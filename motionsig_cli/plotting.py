@@ -44,3 +44,69 @@ def correlation_figure(lags: np.ndarray, values: np.ndarray, labels: list[str], 
     ax.legend(fontsize="small", ncol=2)
     ax.grid(alpha=0.3)
     return fig
+
+
+def response_figure(
+    t: np.ndarray, x: np.ndarray, r: np.ndarray, r_total: np.ndarray, y: np.ndarray
+) -> Figure:
+    """Fig 2 of seed 000: the 1-D closed loop following the combined reference r + a_sig z."""
+    fig = Figure(figsize=(8, 4), layout="constrained")
+    ax = fig.add_subplot()
+    ax.plot(t, r, color="0.6", lw=1, ls="--", label="nominal reference $r_k$")
+    ax.plot(t, r_total, color="C1", lw=0.8, label="combined reference $r_k + a_{sig} z_k$")
+    ax.plot(t, x, color="C0", lw=1.2, label="position $x_k$")
+    ax.plot(t, y, ".", color="C3", ms=1.5, alpha=0.4, label="measurement $y_k$")
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel("position [m]")
+    ax.legend(fontsize="small", loc="best")
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def statistic_figure(
+    panels: list[tuple[str, np.ndarray, tuple[int, int] | None]], n_modes: int, tau_chips: np.ndarray
+) -> Figure:
+    """Fig 3 of seed 000: the LMP statistic Λ(i, τ) of single runs, one curve per mode, truth marked.
+
+    Args:
+        panels: (title, Λ of shape (n_modes, n_tau), true (mode, tau_index) or None) per panel.
+    """
+    cols = 2 if len(panels) > 1 else 1
+    rows = (len(panels) + cols - 1) // cols
+    fig = Figure(figsize=(5 * cols, 3.2 * rows), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
+    for ax, (title, lam, truth) in zip(axes, panels, strict=False):
+        for i in range(n_modes):
+            ax.plot(tau_chips, lam[i], marker=".", lw=0.8, label=f"mode {i + 1}")
+        if truth is not None:
+            ax.plot(tau_chips[truth[1]], lam[truth], "k*", ms=12, label="truth")
+        ax.set_title(title, fontsize="medium")
+        ax.set_xlabel("candidate code phase τ [chips]")
+        ax.set_ylabel("Λ(i, τ)")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize="small")
+    return fig
+
+
+def montecarlo_figure(
+    horizons: np.ndarray, curves: dict[float, dict[str, tuple[np.ndarray, np.ndarray]]], title: str = ""
+) -> Figure:
+    """Figs 4–6 of seed 000: % correct (i, τ) vs horizon, one line per ANR, one panel per f_r.
+
+    Args:
+        curves: f_r → {ANR label → (pct, se)}.
+    """
+    fig = Figure(figsize=(4.2 * len(curves), 3.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, len(curves), sharey=True, squeeze=False)).ravel()
+    for ax, (fr, by_anr) in zip(axes, curves.items(), strict=True):
+        for label, (pct, se) in by_anr.items():
+            ax.errorbar(horizons, pct, yerr=se, marker="o", ms=3, capsize=2, lw=1, label=label)
+        ax.set_title(f"$f_r$ = {fr:g} Hz")
+        ax.set_xlabel("estimation horizon [s]")
+        ax.set_ylim(-3, 103)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("% correct (i, τ)")
+    axes[0].legend(title="ANR (seed label)", fontsize="small")
+    if title:
+        fig.suptitle(title)
+    return fig

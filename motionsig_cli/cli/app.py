@@ -17,7 +17,7 @@ from typer.exceptions import Abort
 from typer.main import get_command
 
 from motionsig_cli import __version__
-from motionsig_cli.cli import encode
+from motionsig_cli.cli import detect, encode, simulate
 from motionsig_cli.cli.io import InputError
 
 app = typer.Typer(
@@ -31,6 +31,8 @@ app = typer.Typer(
     context_settings={"help_option_names": ["-h", "--help"], "max_content_width": 100},
 )
 app.add_typer(encode.app, name="encode")
+app.command("simulate")(simulate.simulate)
+app.command("detect")(detect.detect)
 
 
 def _version_callback(value: bool) -> None:

@@ -10,6 +10,7 @@ from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
+import numpy as np
 import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
@@ -121,3 +122,16 @@ def progress(quiet: bool) -> Iterator[Progress]:
     )
     with bar:
         yield bar
+
+
+def float_list(text: str, *, what: str = "value") -> list[float]:
+    """Parse a comma-separated list of floats (``'1e-1,1e-2'``)."""
+    try:
+        out = [float(p) for p in text.split(",") if p.strip()]
+    except ValueError:
+        raise ValueError(f"expected a comma-separated list of numbers ({what}); got {text!r}") from None
+    if not out:
+        raise ValueError(f"no {what} in {text!r}")
+    if not all(np.isfinite(out)):
+        raise ValueError(f"{what} must be finite; got {text!r}")
+    return out

@@ -130,3 +130,38 @@ def mode_signature(
         zd_sin = (z_sin - p_prev * np.sin(wc * t_prev)) / config.T
     chip = chip_index(k, tau, config.m_rho, chips.size)
     return Signature(k, t, chip, p, z, z_cos, z_sin, zd, zd_cos, zd_sin)
+
+
+def replica_bank(
+    chips: np.ndarray,
+    modes: np.ndarray,
+    taus: np.ndarray,
+    fcs: np.ndarray,
+    T: float,
+    m_rho: int,
+    n_samples: int,
+    zdot: ZdotMethod = "analytic",
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """θ-free replicas of many candidates at once (spec §1.5.1 step 2a).
+
+    Args:
+        chips: Bipolar codes of all modes, (M, n_ρ).
+        modes, taus, fcs: Candidate mode index (0-based), code phase (samples), carrier (Hz), each (C,).
+
+    Returns:
+        ``z_cos, z_sin, zdot_cos, zdot_sin``, each (C, N).
+    """
+    chips = np.asarray(chips, dtype=float)
+    k = np.arange(n_samples)
+    modes, taus, fcs = (np.asarray(a) for a in (modes, taus, fcs))
+    j = chip_index(k[None, :], taus[:, None], m_rho, chips.shape[1])  # (C, N)
+    p = chips[modes[:, None], j]
+    wt = 2 * np.pi * fcs[:, None] * (k * T)[None, :]
+    z_cos, z_sin = p * np.cos(wt), p * np.sin(wt)
+    if zdot == "analytic":
+        w = 2 * np.pi * fcs[:, None]
+        return z_cos, z_sin, -w * p * np.sin(wt), w * p * np.cos(wt)
+    jp = chip_index(k[None, :] - 1, taus[:, None], m_rho, chips.shape[1])
+    pp = chips[modes[:, None], jp]
+    wtp = wt - 2 * np.pi * fcs[:, None] * T
+    return z_cos, z_sin, (z_cos - pp * np.cos(wtp)) / T, (z_sin - pp * np.sin(wtp)) / T

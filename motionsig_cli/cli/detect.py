@@ -1,0 +1,500 @@
+"""``motionsig detect``: the LMP mode detector of seed 000 eq (52) on a simulate record, or the
+Monte Carlo study of Figs 4–6 (``--montecarlo``)."""
+
+from __future__ import annotations
+
+import math
+from enum import StrEnum
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from motionsig_cli.cli.common import (
+    DEFAULT_SEED_VALUE,
+    DebugOpt,
+    FormatOpt,
+    OutOpt,
+    OutputFormat,
+    PlotOpt,
+    QuietOpt,
+    SeedOpt,
+    check_plot_path,
+    checked,
+    float_list,
+    note,
+    progress,
+    save_figure,
+)
+from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
+from motionsig_cli.detection.lmp import LMPConfig, lmp_detect
+from motionsig_cli.experiments.lmp1d import SEED_ANR_LABELS, anr_db, monte_carlo
+from motionsig_cli.models.vehicle import Q0_DIAG, Vehicle1D
+from motionsig_cli.signals.correlation import to_bipolar
+from motionsig_cli.signals.modes import table1_codes
+
+NEEDED_META = ("T", "m_rho", "K", "R", "codes", "f_c", "a_sig")
+
+
+class TauGrid(StrEnum):
+    """Code-phase search grid."""
+
+    chips = "chips"
+    samples = "samples"
+
+
+class Weights(StrEnum):
+    """cos/sin gain weighting."""
+
+    paper = "paper"
+    exact = "exact"
+
+
+class Ar(StrEnum):
+    """Reference random-walk model."""
+
+    cv = "cv"
+    identity = "identity"
+
+
+def _lmp_config(
+    c_r: float,
+    Q0: str,
+    Qa: float,
+    P0: float,
+    Ar_: Ar,
+    tau_grid: TauGrid,
+    fc_grid: str | None,
+    default_fc: float,
+    include_logdet: bool,
+    weights: Weights,
+) -> LMPConfig:
+    q0 = checked("--Q0", float_list, Q0, what="variance")
+    if len(q0) != 4:
+        raise typer.BadParameter(
+            f"expected 4 variances for [x, xdot, r, rdot], got {len(q0)}", param_hint="--Q0"
+        )
+    if min(q0) < 0:
+        raise typer.BadParameter("process-noise variances must be >= 0 (Q must be PSD)", param_hint="--Q0")
+    if not (math.isfinite(Qa) and Qa >= 0):
+        raise typer.BadParameter("must be >= 0 (Q must be PSD)", param_hint="--Qa")
+    if not (math.isfinite(c_r) and c_r > 0):
+        raise typer.BadParameter(f"must be > 0, got {c_r}", param_hint="--c-r")
+    if not (math.isfinite(P0) and P0 > 0):
+        raise typer.BadParameter(f"must be > 0, got {P0}", param_hint="--P0")
+    fcs = (
+        (default_fc,)
+        if fc_grid is None
+        else tuple(checked("--fc-grid", float_list, fc_grid, what="frequency"))
+    )
+    if any(f < 0 for f in fcs):
+        raise typer.BadParameter("frequencies must be >= 0", param_hint="--fc-grid")
+    return LMPConfig(
+        c_r=c_r,
+        Q0=tuple(q0),
+        Q_a=Qa,
+        P0=P0,
+        A_r=Ar_.value,
+        tau_grid=tau_grid.value,
+        fc_grid=fcs,
+        include_logdet=include_logdet,
+        weights=weights.value,
+    )
+
+
+def _horizons(text: str | None, duration: float, T: float) -> list[float]:
+    if text is None:
+        hs = [float(h) for h in range(10, math.floor(duration + 1e-9) + 1, 10)] or [duration]
+        return hs
+    hs = checked("--horizons", float_list, text, what="horizon")
+    if min(hs) <= 0:
+        raise typer.BadParameter("horizons must be > 0 seconds", param_hint="--horizons")
+    if max(hs) > duration + 1e-9:
+        raise typer.BadParameter(
+            f"horizon {max(hs):g} s is longer than the record ({duration:g} s)", param_hint="--horizons"
+        )
+    return hs
+
+
+def _read_record(source: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any], str]:
+    t = read_table(source, required=("t", "y"))
+    missing = [k for k in NEEDED_META if k not in t.meta]
+    if missing:
+        raise InputError(
+            f"{t.source}: missing metadata {', '.join(repr(m) for m in missing)} "
+            "(produce the record with 'motionsig simulate')"
+        )
+    times, y = t.numeric("t"), t.numeric("y")
+    if times.size < 2:
+        raise InputError(f"{t.source}: need at least 2 samples")
+    for name, arr in (("t", times), ("y", y)):
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise InputError(f"{t.source}:{t.lines[bad[0]]}: column {name!r} is not finite")
+    T = float(t.meta["T"])
+    dt = np.diff(times)
+    if np.any(dt <= 0):
+        i = int(np.flatnonzero(dt <= 0)[0]) + 1
+        raise InputError(f"{t.source}:{t.lines[i]}: time is not increasing")
+    if np.max(np.abs(dt - T)) > 1e-6 * max(T, 1.0):
+        i = int(np.argmax(np.abs(dt - T))) + 1
+        raise InputError(
+            f"{t.source}:{t.lines[i]}: time step {dt[i - 1]:g} differs from the metadata T = {T:g} (non-uniform time)"
+        )
+    return times, y, t.meta, t.source
+
+
+def detect(
+    source: Annotated[
+        str, typer.Argument(help="simulate CSV, or - for stdin (ignored with --montecarlo).")
+    ] = "-",
+    c_r: Annotated[
+        float, typer.Option("--c-r", help="KF measurement covariance R_KF = c_r R (seed: 1 or 100).")
+    ] = 100.0,
+    Q0: Annotated[str, typer.Option("--Q0", help="Per-step Q of [x, xdot, r, rdot] (eq 56).")] = ",".join(
+        f"{q:g}" for q in Q0_DIAG
+    ),
+    Qa: Annotated[float, typer.Option("--Qa", help="Per-step Q of the amplitude state (eq 57: 10^0).")] = 1.0,
+    P0: Annotated[float, typer.Option("--P0", help="Prior covariance P0 = P0 * I (assumption).")] = 1.0,
+    Ar_: Annotated[
+        Ar, typer.Option("--Ar", help="Reference random walk: cv or identity (assumption).")
+    ] = Ar.cv,
+    tau_grid: Annotated[
+        TauGrid, typer.Option("--tau-grid", help="chips (31 phases) or samples (all n_rho*m_rho).")
+    ] = TauGrid.chips,
+    fc_grid: Annotated[
+        str | None,
+        typer.Option("--fc-grid", help="Candidate carrier frequencies [Hz]; default the known f_c."),
+    ] = None,
+    include_logdet: Annotated[
+        bool,
+        typer.Option("--include-logdet", help="Use the full -log-likelihood (add 1/2 sum log det 2 pi S)."),
+    ] = False,
+    weights: Annotated[
+        Weights, typer.Option("--weights", help="paper: eq 42 (weights dropped); exact: eqs 38/40.")
+    ] = Weights.paper,
+    horizons: Annotated[
+        str | None, typer.Option("--horizons", help="Horizons [s], e.g. 10,20,40; default every 10 s.")
+    ] = None,
+    threshold: Annotated[
+        float | None, typer.Option("--threshold", help="Declare 'signature present' when max Lambda >= this.")
+    ] = None,
+    candidates: Annotated[
+        bool, typer.Option("--candidates", help="Output the full candidate table instead of the argmax.")
+    ] = False,
+    montecarlo: Annotated[
+        bool, typer.Option("--montecarlo", help="Monte Carlo % correct vs horizon and ANR (Figs 4-6).")
+    ] = False,
+    trials: Annotated[
+        int, typer.Option("--trials", min=1, help="Monte Carlo trials per (f_r, R) cell.")
+    ] = 50,
+    fr_list: Annotated[
+        str, typer.Option("--fr-list", help="Monte Carlo reference frequencies [Hz].")
+    ] = "0.01,0.1,1.0",
+    R_list: Annotated[
+        str, typer.Option("--R-list", help="Monte Carlo measurement variances.")
+    ] = "1e-1,1e-2,1e-3,1e-5",
+    no_signature: Annotated[
+        bool, typer.Option("--no-signature", help="Monte Carlo under H0 (argmax should be uniform).")
+    ] = False,
+    seed: SeedOpt = DEFAULT_SEED_VALUE,
+    plot: PlotOpt = None,
+    fmt: FormatOpt = OutputFormat.csv,
+    out: OutOpt = None,
+    quiet: QuietOpt = False,
+    debug: DebugOpt = False,
+) -> None:
+    """LMP mode detector: Lambda(i,tau,f_c) = 2 J_H0 - J_H1,cos - J_H1,sin from a Kalman-filter bank (eq 52).
+
+    \b
+    Example:
+      motionsig simulate --mode 2 --tau-chips 5 | motionsig detect
+      motionsig simulate --R 1e-3 | motionsig detect --candidates --horizons 62 --plot fig3.png
+      motionsig detect --montecarlo --trials 50 --fr-list 0.01 --plot fig4.png -o fig4.csv
+    """
+    check_plot_path(plot)
+    if montecarlo:
+        _montecarlo(
+            c_r,
+            Q0,
+            Qa,
+            P0,
+            Ar_,
+            tau_grid,
+            fc_grid,
+            include_logdet,
+            weights,
+            horizons,
+            trials,
+            fr_list,
+            R_list,
+            no_signature,
+            seed,
+            plot,
+            fmt,
+            out,
+            quiet,
+        )
+        return
+    times, y, meta, src = _read_record(source)
+    T, m_rho = float(meta["T"]), int(meta["m_rho"])
+    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights)
+    try:
+        vehicle = Vehicle1D(T=T, K=tuple(meta["K"]), a_sig=float(meta["a_sig"]), R=float(meta["R"]))
+        chips = to_bipolar(table1_codes(str(meta["codes"]))).astype(float)
+    except (ValueError, TypeError) as exc:
+        raise InputError(f"{src}: bad metadata: {exc}") from None
+    hs = _horizons(horizons, times.size * T, T)
+    hz = [round(h / T) for h in hs]
+    res = lmp_detect(y, chips, vehicle, m_rho, cfg, hz)
+    cands = res.candidates
+    best, lam_max = res.best()
+    margin = res.runner_up_margin()
+    truth = (
+        (int(meta["mode"]) - 1, int(meta["tau"]))
+        if "mode" in meta and "tau" in meta and meta.get("signature", True)
+        else None
+    )
+    params = dict(
+        source=src,
+        c_r=cfg.c_r,
+        Q0=list(cfg.Q0),
+        Q_a=cfg.Q_a,
+        P0=cfg.P0,
+        A_r=cfg.A_r,
+        tau_grid=cfg.tau_grid,
+        fc_grid=list(cfg.fc_grid),
+        include_logdet=cfg.include_logdet,
+        weights=cfg.weights,
+        horizons_s=hs,
+        threshold=threshold,
+        n_candidates=len(cands),
+        n_filters=1 + 2 * len(cands),
+        input_meta=meta,
+    )
+    if candidates:
+        rows = [
+            (
+                hs[h],
+                int(cands.mode[c]) + 1,
+                int(cands.tau[c]),
+                cands.tau[c] / m_rho,
+                float(cands.f_c[c]),
+                float(res.J0[0, h]),
+                float(res.J_cos[c, 0, h]),
+                float(res.J_sin[c, 0, h]),
+                float(res.Lambda[c, 0, h]),
+            )
+            for h in range(len(hz))
+            for c in range(len(cands))
+        ]
+        table = Table(
+            ("horizon_s", "mode", "tau", "tau_chips", "f_c", "J0", "J_cos", "J_sin", "Lambda"),
+            rows,
+            make_meta("detect", **params),
+        )
+    else:
+        rows = []
+        for h in range(len(hz)):
+            c = int(best[0, h])
+            row: list[Any] = [
+                hs[h],
+                hz[h],
+                int(cands.mode[c]) + 1,
+                int(cands.tau[c]),
+                cands.tau[c] / m_rho,
+                float(cands.f_c[c]),
+                float(lam_max[0, h]),
+                float(margin[0, h]),
+                float(res.J0[0, h]),
+            ]
+            if truth is not None:
+                row += [
+                    truth[0] + 1,
+                    truth[1],
+                    int(cands.mode[c]) == truth[0]
+                    and int(cands.tau[c]) % (chips.shape[1] * m_rho) == truth[1] % (chips.shape[1] * m_rho),
+                ]
+            if threshold is not None:
+                row.append(bool(lam_max[0, h] >= threshold))
+            rows.append(tuple(row))
+        cols = [
+            "horizon_s",
+            "horizon_samples",
+            "mode_hat",
+            "tau_hat",
+            "tau_hat_chips",
+            "fc_hat",
+            "statistic",
+            "margin",
+            "J0",
+        ]
+        if truth is not None:
+            cols += ["true_mode", "true_tau", "correct"]
+        if threshold is not None:
+            cols.append("signature_present")
+        table = Table(tuple(cols), rows, make_meta("detect", **params))
+    if plot is not None:
+        from motionsig_cli.plotting import statistic_figure
+
+        taus = np.unique(cands.tau)
+        lam = res.Lambda[:, 0, -1].reshape(chips.shape[0], taus.size, len(cfg.fc_grid))[:, :, 0]
+        tr = (
+            (truth[0], int(np.searchsorted(taus, truth[1])))
+            if truth is not None and truth[1] in taus
+            else None
+        )
+        title = f"horizon {hs[-1]:g} s, R = {vehicle.R:g}, c_r = {cfg.c_r:g}"
+        save_figure(statistic_figure([(title, lam, tr)], chips.shape[0], taus / m_rho), plot)
+    emit(table, fmt.value, out)
+    c = int(best[0, -1])
+    note(
+        f"horizon {hs[-1]:g} s: mode {cands.mode[c] + 1}, tau {cands.tau[c]} samples "
+        f"({cands.tau[c] / m_rho:g} chips), statistic {lam_max[0, -1]:.4g}, margin {margin[0, -1]:.3g}"
+        + ("" if truth is None else f"; truth mode {truth[0] + 1}, tau {truth[1]}"),
+        quiet,
+    )
+
+
+def _montecarlo(
+    c_r: float,
+    Q0: str,
+    Qa: float,
+    P0: float,
+    Ar_: Ar,
+    tau_grid: TauGrid,
+    fc_grid: str | None,
+    include_logdet: bool,
+    weights: Weights,
+    horizons: str | None,
+    trials: int,
+    fr_list: str,
+    R_list: str,
+    no_signature: bool,
+    seed: int,
+    plot: Path | None,
+    fmt: OutputFormat,
+    out: Path | None,
+    quiet: bool,
+) -> None:
+    frs = checked("--fr-list", float_list, fr_list, what="frequency")
+    Rs = checked("--R-list", float_list, R_list, what="variance")
+    if min(Rs) <= 0:
+        raise typer.BadParameter("measurement variances must be > 0", param_hint="--R-list")
+    if min(frs) < 0:
+        raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
+    vehicle = Vehicle1D()
+    f_c, m_rho = 1.0, 20
+    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights)
+    hs = (
+        _horizons(horizons, 80.0, vehicle.T)
+        if horizons is None
+        else checked("--horizons", float_list, horizons, what="horizon")
+    )
+    if min(hs) <= 0:
+        raise typer.BadParameter("horizons must be > 0 seconds", param_hint="--horizons")
+    chips = to_bipolar(table1_codes("corrected")).astype(float)
+    with progress(quiet) as bar:
+        task = bar.add_task("Monte Carlo trials", total=trials * len(Rs))
+        cells = monte_carlo(
+            vehicle,
+            chips,
+            m_rho,
+            f_c,
+            cfg,
+            frs,
+            Rs,
+            hs,
+            trials,
+            seed,
+            on_chunk=lambda n: bar.advance(task, n),
+            signature=not no_signature,
+        )
+    rows = []
+    for cell in cells:
+        lin, l10, lnl = anr_db(cell.R, vehicle.a_sig)
+        rows.append(
+            (
+                cell.f_r,
+                cell.R,
+                lin,
+                l10,
+                lnl,
+                SEED_ANR_LABELS.get(cell.R, ""),
+                cell.horizon_s,
+                cell.pct,
+                cell.se_pct,
+                cell.pct_mode,
+                cell.correct,
+                cell.trials,
+            )
+        )
+    n_cand = (
+        chips.shape[0]
+        * (chips.shape[1] if cfg.tau_grid == "chips" else chips.shape[1] * m_rho)
+        * len(cfg.fc_grid)
+    )
+    meta = make_meta(
+        "detect --montecarlo",
+        trials=trials,
+        fr_list=frs,
+        R_list=Rs,
+        horizons_s=hs,
+        seed=seed,
+        signature=not no_signature,
+        c_r=cfg.c_r,
+        Q0=list(cfg.Q0),
+        Q_a=cfg.Q_a,
+        P0=cfg.P0,
+        A_r=cfg.A_r,
+        tau_grid=cfg.tau_grid,
+        fc_grid=list(cfg.fc_grid),
+        include_logdet=cfg.include_logdet,
+        weights=cfg.weights,
+        T=vehicle.T,
+        m_rho=m_rho,
+        f_c=f_c,
+        K=list(vehicle.K),
+        a_sig=vehicle.a_sig,
+        a_r=vehicle.a_r,
+        sigma_a=vehicle.sigma_a,
+        codes="corrected",
+        n_candidates=n_cand,
+        chance_pct=100.0 / n_cand,
+        correct="mode_hat == mode and tau_hat == tau on the grid",
+        trial_streams="trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)) for (i,tau,theta) | process | measurement noise",
+    )
+    table = Table(
+        (
+            "f_r",
+            "R",
+            "anr_linear",
+            "anr_db_log10",
+            "anr_db_paper_ln",
+            "seed_anr_label",
+            "horizon_s",
+            "pct_correct",
+            "se_pct",
+            "pct_mode_correct",
+            "correct",
+            "trials",
+        ),
+        rows,
+        meta,
+    )
+    if plot is not None:
+        from motionsig_cli.plotting import montecarlo_figure
+
+        curves: dict[float, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
+        for fr in frs:
+            curves[fr] = {}
+            for Rv in Rs:
+                sel = [c for c in cells if c.f_r == fr and c.R == Rv]
+                label = f"{anr_db(Rv, vehicle.a_sig)[2]:.1f} (R={Rv:g})"
+                curves[fr][label] = (np.array([c.pct for c in sel]), np.array([c.se_pct for c in sel]))
+        save_figure(
+            montecarlo_figure(np.array(hs), curves, f"{trials} trials per cell, c_r = {cfg.c_r:g}"), plot
+        )
+    emit(table, fmt.value, out)
+    note(f"{len(cells)} cells x {trials} trials; chance level {100.0 / n_cand:.2f} %", quiet)

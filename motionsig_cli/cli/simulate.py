@@ -1,0 +1,234 @@
+"""``motionsig simulate``: the closed-loop vehicle carrying a mode signature (seed 000 §IV.A, Fig 2)."""
+
+from __future__ import annotations
+
+import math
+from enum import StrEnum
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from motionsig_cli.cli.common import (
+    DEFAULT_SEED_VALUE,
+    DebugOpt,
+    FormatOpt,
+    OutOpt,
+    OutputFormat,
+    PlotOpt,
+    QuietOpt,
+    SeedOpt,
+    check_plot_path,
+    checked,
+    float_list,
+    note,
+    save_figure,
+)
+from motionsig_cli.cli.io import Table, emit, make_meta
+from motionsig_cli.experiments.lmp1d import anr_db, draw_trial, signature_batch
+from motionsig_cli.models.vehicle import Vehicle1D, nominal_reference, pole_placement_gain, simulate_1d
+from motionsig_cli.signals.correlation import to_bipolar
+from motionsig_cli.signals.modes import table1_codes
+
+
+class Example(StrEnum):
+    """Which example of seed 000."""
+
+    one_d = "1d"
+
+
+class Codes(StrEnum):
+    """Table I codes."""
+
+    corrected = "corrected"
+    printed = "printed"
+
+
+class DbConvention(StrEnum):
+    """How an ANR given in dB is read."""
+
+    paper_ln = "paper-ln"
+    log10 = "log10"
+
+
+def resolve_R(R: float | None, anr_db_value: float | None, convention: DbConvention, a_sig: float) -> float:
+    """Measurement variance from --R or --anr-db (ANR = a²/(2R), eq 58; 'paper-ln' reads dB as 10·ln)."""
+    if R is not None and anr_db_value is not None:
+        raise typer.BadParameter("give --R or --anr-db, not both", param_hint="--anr-db")
+    if anr_db_value is not None:
+        anr = (
+            math.exp(anr_db_value / 10) if convention is DbConvention.paper_ln else 10 ** (anr_db_value / 10)
+        )
+        R = a_sig**2 / (2 * anr)
+    R = 1e-5 if R is None else R
+    if not (math.isfinite(R) and R > 0):
+        raise typer.BadParameter(f"measurement variance must be > 0, got {R}", param_hint="--R")
+    return R
+
+
+def resolve_K(K: str | None, wn: float, zeta: float, T: float) -> tuple[float, float]:
+    """Gain from --K k1,k2 or by pole placement (spec §1.8)."""
+    if K is not None:
+        vals = checked("--K", float_list, K, what="gain")
+        if len(vals) != 2:
+            raise typer.BadParameter(f"expected two gains k1,k2, got {len(vals)}", param_hint="--K")
+        return vals[0], vals[1]
+    return checked("--pole-wn/--pole-zeta", pole_placement_gain, T, wn, zeta)
+
+
+def simulate(
+    example: Annotated[
+        Example, typer.Option("--example", help="1d: point mass, position measured (eqs 53-55).")
+    ] = Example.one_d,
+    mode: Annotated[
+        int | None, typer.Option("--mode", help="Table I mode 1-3; default drawn from --seed.")
+    ] = None,
+    tau: Annotated[
+        int | None, typer.Option("--tau", help="Code phase in samples; default drawn on the chip grid.")
+    ] = None,
+    tau_chips: Annotated[
+        int | None, typer.Option("--tau-chips", help="Code phase in chips (tau = chips * m_rho).")
+    ] = None,
+    theta: Annotated[
+        str, typer.Option("--theta", help="Carrier phase [rad] or 'random' (from --seed).")
+    ] = "random",
+    a_sig: Annotated[float, typer.Option("--a-sig", help="Signature amplitude a_sig (seed: 0.5).")] = 0.5,
+    a_r: Annotated[float, typer.Option("--a-r", help="Nominal reference amplitude (seed: 10).")] = 10.0,
+    f_r: Annotated[
+        float, typer.Option("--f-r", help="Nominal reference frequency [Hz] (seed: 0.01, 0.1, 1).")
+    ] = 0.01,
+    fc: Annotated[float, typer.Option("--fc", help="Carrier frequency f_c [Hz].")] = 1.0,
+    T: Annotated[float, typer.Option("--T", help="Sample interval [s] (assumption).")] = 0.05,
+    mrho: Annotated[int, typer.Option("--mrho", help="Samples per chip (assumption).")] = 20,
+    K: Annotated[str | None, typer.Option("--K", help="Feedback gain k1,k2; default pole placement.")] = None,
+    pole_wn: Annotated[float, typer.Option("--pole-wn", help="Pole-placement natural frequency [rad/s].")] = 4
+    * math.pi,
+    pole_zeta: Annotated[float, typer.Option("--pole-zeta", help="Pole-placement damping ratio.")] = 0.7,
+    sigma_a: Annotated[
+        float, typer.Option("--sigma-a", help="True white-acceleration noise [m/s^2] (assumption).")
+    ] = 0.01,
+    R: Annotated[float | None, typer.Option("--R", help="Measurement-noise variance (default 1e-5).")] = None,
+    anr_db_value: Annotated[float | None, typer.Option("--anr-db", help="ANR in dB instead of --R.")] = None,
+    db_convention: Annotated[
+        DbConvention, typer.Option("--db-convention", help="paper-ln: seed's 10*ln; log10: true decibels.")
+    ] = DbConvention.paper_ln,
+    duration: Annotated[float, typer.Option("--duration", help="Record length [s].")] = 80.0,
+    codes: Annotated[
+        Codes, typer.Option("--codes", help="Table I codes: corrected or printed.")
+    ] = Codes.corrected,
+    no_signature: Annotated[bool, typer.Option("--no-signature", help="Simulate H0 (no signature).")] = False,
+    seed: SeedOpt = DEFAULT_SEED_VALUE,
+    plot: PlotOpt = None,
+    fmt: FormatOpt = OutputFormat.csv,
+    out: OutOpt = None,
+    quiet: QuietOpt = False,
+    debug: DebugOpt = False,
+) -> None:
+    """Closed-loop 1-D vehicle whose position reference carries a mode signature (eqs 53-55, Fig 2).
+
+    The random inputs are those of Monte Carlo trial 0 of `detect --montecarlo --seed SEED`.
+
+    \b
+    Example:
+      motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot fig2.png | motionsig detect
+      motionsig simulate --anr-db 48.3 --f-r 0.1 -o run.csv
+    """
+    check_plot_path(plot)
+    if mode is not None and mode not in (1, 2, 3):
+        raise typer.BadParameter(f"Table I has modes 1, 2, 3; got {mode}", param_hint="--mode")
+    if tau is not None and tau_chips is not None:
+        raise typer.BadParameter("give --tau or --tau-chips, not both", param_hint="--tau-chips")
+    if not (math.isfinite(duration) and duration > 0):
+        raise typer.BadParameter(f"must be > 0, got {duration}", param_hint="--duration")
+    for opt, val in (
+        ("--T", T),
+        ("--fc", fc),
+        ("--a-sig", a_sig),
+        ("--a-r", a_r),
+        ("--f-r", f_r),
+        ("--sigma-a", sigma_a),
+    ):
+        if not (math.isfinite(val) and val >= 0) or (opt == "--T" and val <= 0):
+            raise typer.BadParameter(
+                f"must be {'> 0' if opt == '--T' else '>= 0'} and finite, got {val}", param_hint=opt
+            )
+    if mrho < 1:
+        raise typer.BadParameter(f"must be >= 1, got {mrho}", param_hint="--mrho")
+    Rv = resolve_R(R, anr_db_value, db_convention, a_sig)
+    gains = resolve_K(K, pole_wn, pole_zeta, T)
+    vehicle = checked("--R", Vehicle1D, T=T, K=gains, a_sig=a_sig, a_r=a_r, f_r=f_r, sigma_a=sigma_a, R=Rv)
+    n = round(duration / T)
+    chips = to_bipolar(table1_codes(codes.value)).astype(float)
+    draw = draw_trial(seed, 0, n, chips.shape[0], chips.shape[1], mrho)
+    mode0 = draw.mode if mode is None else mode - 1
+    tau0 = tau if tau is not None else tau_chips * mrho if tau_chips is not None else draw.tau
+    if theta.strip().lower() == "random":
+        th = draw.theta
+    else:
+        th = checked("--theta", float, theta)
+        if not math.isfinite(th):
+            raise typer.BadParameter("must be finite or 'random'", param_hint="--theta")
+    z, zd = signature_batch(chips, np.array([mode0]), np.array([tau0]), np.array([th]), fc, T, mrho, n)
+    if no_signature:
+        z, zd = np.zeros_like(z), np.zeros_like(zd)
+    sim = simulate_1d(vehicle, z, zd, draw.w[None, :], draw.v[None, :])
+    anr_lin, anr_log10, anr_ln = anr_db(Rv, a_sig)
+    meta = make_meta(
+        "simulate",
+        example=example.value,
+        mode=mode0 + 1,
+        tau=int(tau0),
+        tau_chips=tau0 / mrho,
+        theta=th,
+        signature=not no_signature,
+        a_sig=a_sig,
+        a_r=a_r,
+        f_r=f_r,
+        f_c=fc,
+        f_d=0.0,
+        T=T,
+        m_rho=mrho,
+        n_rho=int(chips.shape[1]),
+        K=list(gains),
+        sigma_a=sigma_a,
+        R=Rv,
+        anr_linear=anr_lin,
+        anr_db_log10=anr_log10,
+        anr_db_paper_ln=anr_ln,
+        duration=n * T,
+        n_samples=n,
+        codes=codes.value,
+        feedback="true state",
+        zdot="analytic",
+        seed=seed,
+        trial=0,
+        assumptions="T, m_rho, K (pole placement wn=4pi, zeta=0.7), sigma_a, x0=0, sine reference: spec section 1.8",
+    )
+    x = sim["x"][0]
+    r = nominal_reference(vehicle, sim["t"])
+    cols = ("k", "t", "y", "x", "xdot", "r", "rdot", "z", "zdot", "u")
+    rows = [
+        (
+            k,
+            float(sim["t"][k]),
+            float(sim["y"][0, k]),
+            float(x[k, 0]),
+            float(x[k, 1]),
+            float(r[k, 0]),
+            float(r[k, 1]),
+            float(z[0, k]),
+            float(zd[0, k]),
+            float(sim["u"][0, k]),
+        )
+        for k in range(n)
+    ]
+    if plot is not None:
+        from motionsig_cli.plotting import response_figure
+
+        save_figure(response_figure(sim["t"], x[:, 0], r[:, 0], r[:, 0] + a_sig * z[0], sim["y"][0]), plot)
+    emit(Table(columns=cols, rows=rows, meta=meta), fmt.value, out)
+    note(
+        f"simulated {n} samples: mode {mode0 + 1}, tau {tau0} samples, theta {th:.3f} rad, R {Rv:g} "
+        f"(ANR {anr_lin:.4g} = {anr_log10:.1f} dB; seed's 10*ln label {anr_ln:.1f})",
+        quiet,
+    )

@@ -1,0 +1,1 @@
+"""Scenarios and Monte Carlo experiments (seeded per trial; results independent of batching)."""

@@ -1,0 +1,160 @@
+"""Batched linear Kalman filter banks — seed 000 eqs (45)–(52) (prediction-error decomposition).
+
+A *bank* is C filters that share the measurement record but have their own time-varying
+transition matrices F_k^c (C, n, n). Their Riccati recursions do not depend on the measurements,
+so :func:`riccati` runs once per bank and :func:`innovation_costs` reuses the gains for any number
+of measurement records (trials). Nothing loops over filters or trials; the only loop is over time.
+
+Conventions: the filter starts from the predicted prior (x0, P0) at k = 0 and processes y_0 first;
+after the update at k it predicts with F_k to k + 1. Updates use the Joseph form and the
+covariance is re-symmetrised after each prediction, so P stays symmetric positive definite.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+TransitionFn = Callable[[int], np.ndarray]
+
+
+@dataclass(frozen=True)
+class BankGains:
+    """Measurement-independent part of a bank's recursion.
+
+    Attributes:
+        K: Kalman gains, (C, N, n, m).
+        S_inv: Inverse innovation covariances, (C, N, m, m).
+        logdet_2pi_S: log det(2π S_k), (C, N).
+    """
+
+    K: np.ndarray
+    S_inv: np.ndarray
+    logdet_2pi_S: np.ndarray
+
+
+def _check_psd(name: str, M: np.ndarray) -> None:
+    if not np.all(np.isfinite(M)):
+        raise ValueError(f"{name} has non-finite entries")
+    if not np.allclose(M, np.swapaxes(M, -1, -2), atol=1e-12 * max(1.0, float(np.abs(M).max()))):
+        raise ValueError(f"{name} is not symmetric")
+    if np.min(np.linalg.eigvalsh(M)) < -1e-12 * max(1.0, float(np.abs(M).max())):
+        raise ValueError(f"{name} is not positive semi-definite")
+
+
+def riccati(
+    F_at: TransitionFn,
+    H: np.ndarray,
+    Q: np.ndarray,
+    R: np.ndarray,
+    P0: np.ndarray,
+    n_steps: int,
+    n_filters: int,
+) -> BankGains:
+    """Run the covariance recursion of C filters for N steps.
+
+    Args:
+        F_at: k ↦ transition F_k of every filter, shape (C, n, n) (or (n, n), broadcast).
+        H: Measurement matrix (m, n), shared.
+        Q: Process-noise covariance, (n, n) or (C, n, n).
+        R: Measurement-noise covariance (m, m).
+        P0: Prior covariance (n, n) or (C, n, n).
+        n_steps: N, the number of measurements.
+        n_filters: C.
+
+    Returns:
+        Gains, inverse innovation covariances and log det(2πS) for every filter and step.
+    """
+    H = np.atleast_2d(np.asarray(H, dtype=float))
+    R = np.atleast_2d(np.asarray(R, dtype=float))
+    Q = np.asarray(Q, dtype=float)
+    P0 = np.asarray(P0, dtype=float)
+    m, n = H.shape
+    for name, M in (("Q", Q), ("R", R), ("P0", P0)):
+        _check_psd(name, M)
+    if np.min(np.linalg.eigvalsh(R)) <= 0:
+        raise ValueError("R must be positive definite")
+    eye = np.eye(n)
+    P = np.broadcast_to(P0, (n_filters, n, n)).copy()
+    K_all = np.empty((n_filters, n_steps, n, m))
+    S_inv_all = np.empty((n_filters, n_steps, m, m))
+    logdet_all = np.empty((n_filters, n_steps))
+    for k in range(n_steps):
+        PHt = P @ H.T  # (C, n, m)
+        S = H @ PHt + R  # innovation covariance, eq (47)
+        S_inv = np.linalg.inv(S)
+        K = PHt @ S_inv  # Kalman gain
+        IKH = eye - K @ H
+        P = IKH @ P @ np.swapaxes(IKH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)  # Joseph form
+        K_all[:, k], S_inv_all[:, k] = K, S_inv
+        logdet_all[:, k] = np.linalg.slogdet(2 * np.pi * S)[1]
+        if k + 1 < n_steps:
+            F = F_at(k)
+            P = F @ P @ np.swapaxes(F, -1, -2) + Q
+            P = 0.5 * (P + np.swapaxes(P, -1, -2))
+    return BankGains(K_all, S_inv_all, logdet_all)
+
+
+def innovation_costs(
+    F_at: TransitionFn,
+    H: np.ndarray,
+    gains: BankGains,
+    x0: np.ndarray,
+    y: np.ndarray,
+    horizons: Sequence[int],
+    *,
+    include_logdet: bool = False,
+) -> np.ndarray:
+    """Cumulative innovation costs J(n) of every filter on every record, read at the horizons.
+
+    J(n) = ½ Σ_{j<n} ν_jᵀ S_j⁻¹ ν_j (eq 52), plus ½ Σ log det(2π S_j) when ``include_logdet``
+    (the full negative log-likelihood of eqs 48–49).
+
+    Args:
+        F_at: As for :func:`riccati` (must be the same bank).
+        H: (m, n).
+        gains: From :func:`riccati`.
+        x0: Prior mean (n,) or (C, n).
+        y: Measurement records, (B, N) for m = 1 or (B, N, m).
+        horizons: Sample counts n at which to read J (1 ≤ n ≤ N), any order.
+
+    Returns:
+        J of shape (C, B, len(horizons)).
+    """
+    H = np.atleast_2d(np.asarray(H, dtype=float))
+    m, n = H.shape
+    y = np.asarray(y, dtype=float)
+    if y.ndim == 2:
+        y = y[..., None]
+    B, N, my = y.shape
+    if my != m:
+        raise ValueError(f"measurements have dimension {my}, H has {m} rows")
+    C = gains.K.shape[0]
+    hz = np.asarray(horizons, dtype=int)
+    if hz.size == 0 or hz.min() < 1 or hz.max() > N:
+        raise ValueError(f"horizons must lie in 1..{N} samples")
+    x = np.broadcast_to(np.asarray(x0, dtype=float), (C, n))[:, None, :].repeat(B, axis=1)  # (C, B, n)
+    J = np.zeros((C, B))
+    out = np.empty((C, B, hz.size))
+    read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
+    scalar = m == 1
+    h_row = H[0]
+    for k in range(N):
+        if scalar:  # m = 1: innovations are scalars, S⁻¹ a number per filter
+            nu = y[None, :, k, 0] - x @ h_row  # ν_k, (C, B)
+            J += 0.5 * gains.S_inv[:, k, 0, 0][:, None] * nu * nu  # ½ ν² / S, eq (49)
+            x += gains.K[:, k, None, :, 0] * nu[:, :, None]  # measurement update
+        else:
+            nu = y[None, :, k, :] - x @ H.T  # (C, B, m)
+            J += 0.5 * np.einsum("cbi,cij,cbj->cb", nu, gains.S_inv[:, k], nu)
+            x += nu @ np.swapaxes(gains.K[:, k], -1, -2)
+        if include_logdet:
+            J += 0.5 * gains.logdet_2pi_S[:, k][:, None]
+        if k + 1 in read_at:
+            out[:, :, read_at[k + 1]] = J[:, :, None]
+        if k + 1 < N:
+            F = np.broadcast_to(F_at(k), (C, n, n))
+            x = x @ np.swapaxes(F, -1, -2)  # prediction x_{k+1} = F_k x_k
+    return out
