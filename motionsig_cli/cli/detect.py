@@ -51,6 +51,13 @@ class Weights(StrEnum):
     exact = "exact"
 
 
+class Calibrate(StrEnum):
+    """H0 centring of the statistic."""
+
+    none = "none"
+    h0_noise = "h0-noise"
+
+
 class Ar(StrEnum):
     """Reference random-walk model."""
 
@@ -69,6 +76,7 @@ def _lmp_config(
     default_fc: float,
     include_logdet: bool,
     weights: Weights,
+    calibrate: Calibrate = Calibrate.none,
 ) -> LMPConfig:
     q0 = checked("--Q0", float_list, Q0, what="variance")
     if len(q0) != 4:
@@ -100,6 +108,7 @@ def _lmp_config(
         fc_grid=fcs,
         include_logdet=include_logdet,
         weights=weights.value,
+        calibrate=calibrate.value,
     )
 
 
@@ -174,6 +183,13 @@ def detect(
     weights: Annotated[
         Weights, typer.Option("--weights", help="paper: eq 42 (weights dropped); exact: eqs 38/40.")
     ] = Weights.paper,
+    calibrate: Annotated[
+        Calibrate,
+        typer.Option(
+            "--calibrate",
+            help="none: the seed's eq 52; h0-noise: subtract E[Lambda] under white noise (removes the H0 bias).",
+        ),
+    ] = Calibrate.none,
     horizons: Annotated[
         str | None, typer.Option("--horizons", help="Horizons [s], e.g. 10,20,40; default every 10 s.")
     ] = None,
@@ -225,6 +241,7 @@ def detect(
             fc_grid,
             include_logdet,
             weights,
+            calibrate,
             horizons,
             trials,
             fr_list,
@@ -239,7 +256,9 @@ def detect(
         return
     times, y, meta, src = _read_record(source)
     T, m_rho = float(meta["T"]), int(meta["m_rho"])
-    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights)
+    cfg = _lmp_config(
+        c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights, calibrate
+    )
     try:
         vehicle = Vehicle1D(T=T, K=tuple(meta["K"]), a_sig=float(meta["a_sig"]), R=float(meta["R"]))
         chips = to_bipolar(table1_codes(str(meta["codes"]))).astype(float)
@@ -267,6 +286,7 @@ def detect(
         fc_grid=list(cfg.fc_grid),
         include_logdet=cfg.include_logdet,
         weights=cfg.weights,
+        calibrate=cfg.calibrate,
         horizons_s=hs,
         threshold=threshold,
         n_candidates=len(cands),
@@ -367,6 +387,7 @@ def _montecarlo(
     fc_grid: str | None,
     include_logdet: bool,
     weights: Weights,
+    calibrate: Calibrate,
     horizons: str | None,
     trials: int,
     fr_list: str,
@@ -386,7 +407,7 @@ def _montecarlo(
         raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
     vehicle = Vehicle1D()
     f_c, m_rho = 1.0, 20
-    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights)
+    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, calibrate)
     hs = (
         _horizons(horizons, 80.0, vehicle.T)
         if horizons is None
@@ -452,6 +473,7 @@ def _montecarlo(
         fc_grid=list(cfg.fc_grid),
         include_logdet=cfg.include_logdet,
         weights=cfg.weights,
+        calibrate=cfg.calibrate,
         T=vehicle.T,
         m_rho=m_rho,
         f_c=f_c,

@@ -158,3 +158,44 @@ def innovation_costs(
             F = np.broadcast_to(F_at(k), (C, n, n))
             x = x @ np.swapaxes(F, -1, -2)  # prediction x_{k+1} = F_k x_k
     return out
+
+
+def expected_costs_white_noise(
+    F_at: TransitionFn,
+    H: np.ndarray,
+    gains: BankGains,
+    R_true: np.ndarray,
+    n_steps: int,
+    horizons: Sequence[int],
+) -> np.ndarray:
+    """E[J(n)] of every filter when the measurements are zero-mean white noise of covariance R_true.
+
+    The estimate is a linear function of the data, x̂⁺ = (I − K H) x̂ + K y, x̂_{k+1} = F_k x̂⁺, so
+    Σ_k = Cov(x̂_k) follows the Lyapunov recursion Σ⁺ = (I−KH) Σ (I−KH)ᵀ + K R_true Kᵀ, Σ ← F Σ⁺ Fᵀ,
+    and E[ν_k ν_kᵀ] = H Σ_k Hᵀ + R_true, E[½ νᵀS⁻¹ν] = ½ tr(S⁻¹ E[ννᵀ]). Exact, no sampling.
+
+    Returns:
+        (C, len(horizons)).
+    """
+    H = np.atleast_2d(np.asarray(H, dtype=float))
+    R_true = np.atleast_2d(np.asarray(R_true, dtype=float))
+    n = H.shape[1]
+    C = gains.K.shape[0]
+    hz = np.asarray(horizons, dtype=int)
+    Sig = np.zeros((C, n, n))
+    EJ = np.zeros(C)
+    out = np.empty((C, hz.size))
+    read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
+    eye = np.eye(n)
+    for k in range(n_steps):
+        Enu = H @ Sig @ H.T + R_true  # E[ν νᵀ], (C, m, m)
+        EJ += 0.5 * np.einsum("cij,cji->c", gains.S_inv[:, k], Enu)
+        if k + 1 in read_at:
+            out[:, read_at[k + 1]] = EJ[:, None]
+        K = gains.K[:, k]
+        IKH = eye - K @ H
+        Sig = IKH @ Sig @ np.swapaxes(IKH, -1, -2) + K @ R_true @ np.swapaxes(K, -1, -2)
+        if k + 1 < n_steps:
+            F = np.broadcast_to(F_at(k), (C, n, n))
+            Sig = F @ Sig @ np.swapaxes(F, -1, -2)
+    return out

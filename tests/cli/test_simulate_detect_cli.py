@@ -1,0 +1,207 @@
+"""`motionsig simulate | motionsig detect`: pipe, metadata, determinism, bad input (issue's list)."""
+
+import io
+import sys
+
+import pytest
+
+from motionsig_cli.cli.app import main
+from motionsig_cli.tables import read_table
+
+
+def run(capsys, monkeypatch, *args, stdin=None):
+    if stdin is not None:
+        monkeypatch.setattr(sys, "stdin", io.StringIO(stdin))
+    rc = main(list(args))
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def table(text, tmp_path):
+    p = tmp_path / "t.csv"
+    p.write_text(text)
+    return read_table(p)
+
+
+@pytest.fixture(scope="module")
+def record():
+    """A short simulate record (20 s) shared by the tests."""
+    import contextlib
+
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        assert (
+            main(["simulate", "--mode", "3", "--tau-chips", "7", "--R", "1e-3", "--duration", "20", "-q"])
+            == 0
+        )
+    return buf.getvalue()
+
+
+def test_simulate_metadata_and_determinism(record, capsys, monkeypatch, tmp_path):
+    t = table(record, tmp_path)
+    assert t.meta["mode"] == 3 and t.meta["tau"] == 140 and t.meta["n_samples"] == 400
+    assert t.meta["seed"] == 2008 and t.meta["anr_db_paper_ln"] == pytest.approx(48.283, abs=1e-3)  # spec E5
+    assert len(t.rows) == 400
+    rc, again, _ = run(
+        capsys,
+        monkeypatch,
+        "simulate",
+        "--mode",
+        "3",
+        "--tau-chips",
+        "7",
+        "--R",
+        "1e-3",
+        "--duration",
+        "20",
+        "-q",
+    )
+    assert rc == 0 and again == record  # same seed, same bytes
+
+
+def test_anr_db_conventions(capsys, monkeypatch, tmp_path):
+    """Spec E5: the seed's 'dB' is 10·ln: 94.3 'dB' ↔ R ≈ 1e-5; in true decibels 94.3 dB is R ≈ 4.6e-11."""
+    _, out, _ = run(capsys, monkeypatch, "simulate", "--anr-db", "94.335", "--duration", "1", "-q")
+    assert table(out, tmp_path).meta["R"] == pytest.approx(1e-5, rel=1e-3)
+    _, out, _ = run(
+        capsys,
+        monkeypatch,
+        "simulate",
+        "--anr-db",
+        "94.3",
+        "--db-convention",
+        "log10",
+        "--duration",
+        "1",
+        "-q",
+    )
+    assert table(out, tmp_path).meta["R"] == pytest.approx(4.6e-11, rel=2e-2)
+
+
+def test_pipe_detects_truth(record, capsys, monkeypatch, tmp_path):
+    rc, out, err = run(capsys, monkeypatch, "detect", "-", "--horizons", "10,20", stdin=record)
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    assert t.column("correct") == ["true", "true"] and t.column("mode_hat") == ["3", "3"]
+    assert t.meta["input_meta"]["command"] == "simulate" and t.meta["n_filters"] == 187
+
+
+def test_candidate_table(record, capsys, monkeypatch, tmp_path):
+    rc, out, _ = run(capsys, monkeypatch, "detect", "-", "--horizons", "20", "--candidates", stdin=record)
+    t = table(out, tmp_path)
+    assert rc == 0 and len(t.rows) == 93
+    lam = t.numeric("Lambda")
+    j0, jc, js = t.numeric("J0"), t.numeric("J_cos"), t.numeric("J_sin")
+    assert max(abs(lam - (2 * j0 - jc - js))) < 1e-9 * max(abs(lam))  # eq (52)
+
+
+def test_threshold_decision(record, capsys, monkeypatch, tmp_path):
+    rc, out, _ = run(
+        capsys, monkeypatch, "detect", "-", "--horizons", "20", "--threshold", "-1e9", stdin=record
+    )
+    assert rc == 0 and table(out, tmp_path).column("signature_present") == ["true"]
+
+
+def _split(record):
+    lines = record.splitlines()
+    first = next(i for i, ln in enumerate(lines) if not ln.startswith("#")) + 1  # first data row
+    return lines, first
+
+
+def drop_R_meta(lines, first):
+    return [ln for ln in lines if not ln.startswith("# R:")]
+
+
+def rename_y(lines, first):
+    return [ln.replace("k,t,y,", "k,t,yy,") for ln in lines]
+
+
+def repeat_a_row(lines, first):  # t goes 0.10, 0.10: not increasing
+    return [*lines[: first + 3], lines[first + 2], *lines[first + 3 :]]
+
+
+def drop_a_row(lines, first):  # a gap of 2T: non-uniform
+    return [*lines[: first + 3], *lines[first + 4 :]]
+
+
+def nan_measurement(lines, first):
+    k, t, _y, rest = lines[first].split(",", 3)
+    return [*lines[:first], f"{k},{t},nan,{rest}", *lines[first + 1 :]]
+
+
+BAD_RECORDS = [
+    (drop_R_meta, "missing metadata 'R'"),
+    (rename_y, "missing column 'y'"),
+    (repeat_a_row, "time is not increasing"),
+    (drop_a_row, "non-uniform time"),
+    (nan_measurement, "column 'y' is not finite"),
+]
+
+
+def _edit(record, fn):
+    return "\n".join(fn(*_split(record))) + "\n"
+
+
+@pytest.mark.parametrize(("edit", "text"), BAD_RECORDS)
+def test_bad_records(record, capsys, monkeypatch, tmp_path, edit, text):
+    target = tmp_path / "o.csv"
+    rc, out, err = run(capsys, monkeypatch, "detect", "-", "--out", str(target), stdin=_edit(record, edit))
+    assert rc == 2 and len(err.strip().splitlines()) == 1 and text in err, err
+    assert out == "" and not target.exists()
+
+
+BAD_OPTIONS = [
+    (["--horizons", "30"], "--horizons", "longer than the record"),
+    (["--horizons", "0"], "--horizons", "> 0"),
+    (["--fc-grid", ","], "--fc-grid", "no frequency"),
+    (["--Q0", "1,1,-1,1"], "--Q0", "PSD"),
+    (["--Q0", "1,1,1"], "--Q0", "4 variances"),
+    (["--Qa", "-1"], "--Qa", "PSD"),
+    (["--c-r", "0"], "--c-r", "> 0"),
+]
+
+
+@pytest.mark.parametrize(("args", "option", "text"), BAD_OPTIONS)
+def test_bad_detect_options(record, capsys, monkeypatch, args, option, text):
+    rc, _, err = run(capsys, monkeypatch, "detect", "-", *args, stdin=record)
+    assert rc == 2 and len(err.strip().splitlines()) == 1 and option in err and text in err, err
+
+
+@pytest.mark.parametrize(
+    ("args", "option", "text"),
+    [
+        (["--R", "0"], "--R", "> 0"),
+        (["--R", "-1e-3"], "--R", "> 0"),
+        (["--mode", "4"], "--mode", "modes 1, 2, 3"),
+        (["--T", "0"], "--T", "> 0"),
+        (["--duration", "-5"], "--duration", "> 0"),
+        (["--K", "1,2,3"], "--K", "two gains"),
+        (["--R", "1e-3", "--anr-db", "40"], "--anr-db", "not both"),
+        (["--montecarlo"], "No such option", ""),
+    ],
+)
+def test_bad_simulate_options(capsys, monkeypatch, args, option, text):
+    rc, _, err = run(capsys, monkeypatch, "simulate", *args)
+    assert rc == 2 and len(err.strip().splitlines()) == 1 and option in err and text in err, err
+
+
+def test_montecarlo_small(capsys, monkeypatch, tmp_path):
+    rc, out, _ = run(
+        capsys,
+        monkeypatch,
+        "detect",
+        "--montecarlo",
+        "--trials",
+        "3",
+        "--fr-list",
+        "0.01",
+        "--R-list",
+        "1e-1",
+        "--horizons",
+        "10,20",
+        "-q",
+    )
+    t = table(out, tmp_path)
+    assert rc == 0 and len(t.rows) == 2 and t.meta["trials"] == 3
+    assert t.column("seed_anr_label") == ["2.2", "2.2"]
+    assert t.meta["chance_pct"] == pytest.approx(100 / 93)

@@ -1,0 +1,65 @@
+"""1-D closed loop (seed 000 eqs 53–55) and the pole-placement gain."""
+
+import numpy as np
+import pytest
+
+from motionsig_cli.models.vehicle import Vehicle1D, pole_placement_gain, simulate_1d, transition_h0
+
+
+def test_pole_placement_matches_spec_and_places_poles():
+    """Spec §1.8: T = 0.05 → K ≈ [101.66, 16.78]; the closed-loop eigenvalues are e^{sT}."""
+    k1, k2 = pole_placement_gain(0.05)
+    assert abs(k1 - 101.66) < 5e-3 and abs(k2 - 16.78) < 5e-3
+    wn, zeta, T = 4 * np.pi, 0.7, 0.05
+    s = -zeta * wn + 1j * wn * np.sqrt(1 - zeta**2)
+    eig = np.linalg.eigvals(np.array([[1, T], [-T * k1, 1 - T * k2]]))
+    np.testing.assert_allclose(
+        sorted(eig, key=np.imag), sorted([np.exp(s * T), np.exp(np.conj(s) * T)], key=np.imag), atol=1e-12
+    )
+
+
+def test_simulation_follows_equations_step_by_step():
+    """Every sample obeys x_{k+1} = A x_k + B u_k + G w_k, u_k = K(−x_k + r_k + a[z_k, ż_k]), y_k = x_k + v_k."""
+    rng = np.random.default_rng(3)
+    cfg = Vehicle1D(R=1e-3, f_r=0.1)
+    N = 50
+    z, zd, w, v = (rng.standard_normal((2, N)) for _ in range(4))
+    sim = simulate_1d(cfg, z, zd, w, v)
+    T, (k1, k2) = cfg.T, cfg.K
+    r = sim["r"]
+    for b in range(2):
+        x = sim["x"][b]
+        for k in range(N - 1):
+            u = k1 * (-x[k, 0] + r[k, 0] + cfg.a_sig * z[b, k]) + k2 * (
+                -x[k, 1] + r[k, 1] + cfg.a_sig * zd[b, k]
+            )
+            assert np.isclose(sim["u"][b, k], u)
+            acc = cfg.sigma_a * w[b, k]
+            np.testing.assert_allclose(
+                x[k + 1], [x[k, 0] + T * x[k, 1] + T**2 / 2 * acc, x[k, 1] + T * u + T * acc]
+            )
+        np.testing.assert_allclose(sim["y"][b], x[:, 0] + np.sqrt(cfg.R) * v[b])
+
+
+def test_noise_free_tracking_of_slow_reference():
+    """Without noise and signature the loop tracks the 0.01 Hz reference (type-1 loop with velocity feed-forward)."""
+    cfg = Vehicle1D(sigma_a=0.0, f_r=0.01)
+    N = 1600
+    zeros = np.zeros((1, N))
+    sim = simulate_1d(cfg, zeros, zeros, zeros, zeros)
+    err = np.abs(sim["x"][0, 200:, 0] - sim["r"][200:, 0])
+    assert err.max() < 1e-2 * cfg.a_r
+
+
+def test_h0_transition_is_upper_block_of_eq44():
+    cfg = Vehicle1D()
+    F = transition_h0(cfg)
+    k1, k2 = cfg.K
+    np.testing.assert_allclose(F[1], [-cfg.T * k1, 1 - cfg.T * k2, cfg.T * k1, cfg.T * k2])
+    assert F[2, 3] == cfg.T and transition_h0(cfg, "identity")[2, 3] == 0
+
+
+@pytest.mark.parametrize("kw", [{"T": 0.0}, {"R": 0.0}, {"R": -1.0}, {"a_sig": float("nan")}, {"K": (1.0,)}])
+def test_config_validation(kw):
+    with pytest.raises(ValueError):
+        Vehicle1D(**kw)
