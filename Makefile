@@ -10,7 +10,7 @@ DEV_STAMP := $(VENV)/.stamp-dev-$(HASH)
 MATHJAX   := docs/javascripts/mathjax/tex-svg.js
 OUT    ?= out
 
-.PHONY: demo test lint pytest docs browser-check serve clean
+.PHONY: demo test lint pytest docs browser-check serve clean bench reproduce
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "motionsig needs Python >= 3.11"'
@@ -61,6 +61,15 @@ serve: $(DEV_STAMP) $(MATHJAX)
 # MathJax 3 comes from the npm registry at build time (no CDN in the built site).
 $(MATHJAX): scripts/fetch_mathjax.sh
 	bash scripts/fetch_mathjax.sh $@
+
+## bench: side-by-side timing of the LMP filter bank against FilterPy (not part of the tests)
+bench: $(DEV_STAMP)
+	$(BIN)/python -m pip install -q -e '.[bench]'
+	$(BIN)/python benchmarks/bench_kf_bank.py
+
+## reproduce: every table and figure of seed 000 at full size, into results/seed000/
+reproduce: $(RUN_STAMP)
+	$(BIN)/python scripts/reproduce_seed000.py
 
 clean:
 	rm -rf site $(OUT) .pytest_cache .ruff_cache docs/javascripts/mathjax

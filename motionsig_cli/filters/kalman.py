@@ -81,15 +81,20 @@ def riccati(
     K_all = np.empty((n_filters, n_steps, n, m))
     S_inv_all = np.empty((n_filters, n_steps, m, m))
     logdet_all = np.empty((n_filters, n_steps))
+    scalar = m == 1
     for k in range(n_steps):
         PHt = P @ H.T  # (C, n, m)
         S = H @ PHt + R  # innovation covariance, eq (47)
-        S_inv = np.linalg.inv(S)
+        if scalar:  # 1×1: no LAPACK calls
+            S_inv = 1.0 / S
+            logdet_all[:, k] = np.log(2 * np.pi * S[:, 0, 0])
+        else:
+            S_inv = np.linalg.inv(S)
+            logdet_all[:, k] = np.linalg.slogdet(2 * np.pi * S)[1]
         K = PHt @ S_inv  # Kalman gain
         IKH = eye - K @ H
         P = IKH @ P @ np.swapaxes(IKH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)  # Joseph form
         K_all[:, k], S_inv_all[:, k] = K, S_inv
-        logdet_all[:, k] = np.linalg.slogdet(2 * np.pi * S)[1]
         if k + 1 < n_steps:
             F = F_at(k)
             P = F @ P @ np.swapaxes(F, -1, -2) + Q
@@ -135,28 +140,26 @@ def innovation_costs(
     hz = np.asarray(horizons, dtype=int)
     if hz.size == 0 or hz.min() < 1 or hz.max() > N:
         raise ValueError(f"horizons must lie in 1..{N} samples")
-    x = np.broadcast_to(np.asarray(x0, dtype=float), (C, n))[:, None, :].repeat(B, axis=1)  # (C, B, n)
+    # state means with the trials last, (C, n, B): the per-step products are (n×n)·(n×B) per filter
+    x = np.repeat(np.broadcast_to(np.asarray(x0, dtype=float), (C, n))[:, :, None], B, axis=2)
+    yT = np.ascontiguousarray(np.moveaxis(y, 0, -1))  # (N, m, B)
     J = np.zeros((C, B))
     out = np.empty((C, B, hz.size))
     read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
     scalar = m == 1
-    h_row = H[0]
     for k in range(N):
-        if scalar:  # m = 1: innovations are scalars, S⁻¹ a number per filter
-            nu = y[None, :, k, 0] - x @ h_row  # ν_k, (C, B)
-            J += 0.5 * gains.S_inv[:, k, 0, 0][:, None] * nu * nu  # ½ ν² / S, eq (49)
-            x += gains.K[:, k, None, :, 0] * nu[:, :, None]  # measurement update
+        nu = yT[k][None] - H @ x  # innovation ν_k, (C, m, B)
+        if scalar:  # m = 1: S⁻¹ is a number per filter
+            J += 0.5 * gains.S_inv[:, k, 0, :] * nu[:, 0, :] ** 2  # ½ ν² / S, eq (49)
         else:
-            nu = y[None, :, k, :] - x @ H.T  # (C, B, m)
-            J += 0.5 * np.einsum("cbi,cij,cbj->cb", nu, gains.S_inv[:, k], nu)
-            x += nu @ np.swapaxes(gains.K[:, k], -1, -2)
+            J += 0.5 * np.einsum("cib,cij,cjb->cb", nu, gains.S_inv[:, k], nu)
         if include_logdet:
             J += 0.5 * gains.logdet_2pi_S[:, k][:, None]
+        x += gains.K[:, k] @ nu  # measurement update
         if k + 1 in read_at:
             out[:, :, read_at[k + 1]] = J[:, :, None]
         if k + 1 < N:
-            F = np.broadcast_to(F_at(k), (C, n, n))
-            x = x @ np.swapaxes(F, -1, -2)  # prediction x_{k+1} = F_k x_k
+            x = np.broadcast_to(F_at(k), (C, n, n)) @ x  # prediction x_{k+1} = F_k x_k
     return out
 
 
