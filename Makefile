@@ -25,16 +25,18 @@ $(DEV_STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e '.[test,docs]'
 	touch $@ $(RUN_STAMP)
 
-## demo: the main job — an `encode` showcase that pipes CSV between commands
+## demo: the main job — simulate a vehicle carrying a mode signature and detect its mode (seed 000)
 demo: $(RUN_STAMP)
 	@mkdir -p $(OUT)
-	@echo '== Table I: printed vs corrected Gold codes (seed 000), errata view'
+	@echo '== simulate | detect: mode 2, code phase 5 chips, ANR label 48.3 (R = 1e-3); LMP bank of 187 Kalman filters'
+	$(BIN)/motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot $(OUT)/fig2.png | $(BIN)/motionsig detect --plot $(OUT)/fig3.png
+	@echo '== Table I of seed 000: printed vs corrected Gold codes (errata view)'
 	$(BIN)/motionsig encode table1 --view errata
 	@echo '== The 33-member Gold family of the preferred pair 45/75, piped into the correlation analysis'
 	$(BIN)/motionsig encode gold --poly1 45 --poly2 75 --all | $(BIN)/motionsig encode correlations - --view values
-	@echo '== Mode-1 signature z_k = p_k cos(2 pi f_c t_k + theta) (eqs 1-3), CSV and figure'
-	$(BIN)/motionsig encode signature --mode 1 --theta 0.5 --out $(OUT)/signature.csv --plot $(OUT)/signature.png
-	@echo "wrote $(OUT)/signature.csv and $(OUT)/signature.png"
+	@echo '== Monte Carlo (Fig 4, 10 trials per cell; make reproduce runs 50)'
+	$(BIN)/motionsig detect --montecarlo --trials 10 --fr-list 0.01 --plot $(OUT)/fig4.png -o $(OUT)/fig4.csv
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)

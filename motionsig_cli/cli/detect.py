@@ -187,7 +187,7 @@ def detect(
         Calibrate,
         typer.Option(
             "--calibrate",
-            help="none: the seed's eq 52; h0-noise: subtract E[Lambda] under white noise (removes the H0 bias).",
+            help="none: the seed's eq 52; h0-noise: subtract E[Lambda] under white noise (reduces the H0 bias).",
         ),
     ] = Calibrate.none,
     horizons: Annotated[
