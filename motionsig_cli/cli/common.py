@@ -21,6 +21,13 @@ from motionsig_cli.rng import DEFAULT_SEED
 T = TypeVar("T")
 
 
+class CodesVariant(StrEnum):
+    """Table I codes: the corrected Gold codes (default) or the strings as printed in seed 000."""
+
+    corrected = "corrected"
+    printed = "printed"
+
+
 class OutputFormat(StrEnum):
     """Table output format."""
 

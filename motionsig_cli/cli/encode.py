@@ -16,6 +16,7 @@ import typer
 
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
+    CodesVariant,
     DebugOpt,
     FormatOpt,
     OutOpt,
@@ -56,13 +57,6 @@ class Chips(StrEnum):
 
     bits = "bits"
     bipolar = "bipolar"
-
-
-class Variant(StrEnum):
-    """Table I codes: corrected Gold codes or the strings as printed."""
-
-    corrected = "corrected"
-    printed = "printed"
 
 
 class Table1View(StrEnum):
@@ -376,8 +370,9 @@ def gps_cmd(
 @app.command("table1")
 def table1(
     codes: Annotated[
-        Variant, typer.Option("--codes", help="corrected Gold codes (default) or the strings as printed.")
-    ] = Variant.corrected,
+        CodesVariant,
+        typer.Option("--codes", help="corrected Gold codes (default) or the strings as printed."),
+    ] = CodesVariant.corrected,
     view: Annotated[
         Table1View, typer.Option("--view", help="codes (long table), summary (one row per mode) or errata.")
     ] = Table1View.codes,
@@ -412,20 +407,22 @@ def table1(
         source="seed 000 Table I",
     )
     if view is Table1View.codes:
-        chosen = corrected if codes is Variant.corrected else printed
+        chosen = corrected if codes is CodesVariant.corrected else printed
         extra = {"behavior": [b for _, b in modes.modes()]}
         table = _codes_table(labels, chosen, chips, meta, extra)
-        if codes is Variant.printed:
+        if codes is CodesVariant.printed:
             note(
                 "warning: printed Table I codes 2 and 3 are not Gold codes (mode 2 chip 15; mode 3 slip); "
                 "see --view errata",
                 quiet,
             )
     elif view is Table1View.summary:
-        chosen = corrected if codes is Variant.corrected else printed
+        chosen = corrected if codes is CodesVariant.corrected else printed
         rows = []
         for (m, b), bits, (k, a) in zip(modes.modes(), chosen, members, strict=True):
-            gold_member = codes is Variant.corrected or np.array_equal(bits, modes.corrected_codes()[m - 1])
+            gold_member = codes is CodesVariant.corrected or np.array_equal(
+                bits, modes.corrected_codes()[m - 1]
+            )
             rows.append(
                 (
                     m,
@@ -632,8 +629,8 @@ def _theta(text: str, seed: int) -> float:
 def signature(
     mode: Annotated[int, typer.Option("--mode", help="Table I mode (1, 2, 3).")] = 1,
     codes: Annotated[
-        Variant, typer.Option("--codes", help="Table I codes: corrected (default) or printed.")
-    ] = Variant.corrected,
+        CodesVariant, typer.Option("--codes", help="Table I codes: corrected (default) or printed.")
+    ] = CodesVariant.corrected,
     T: Annotated[float, typer.Option("--T", help="Sample interval [s] (assumption; seed silent).")] = 0.05,
     mrho: Annotated[
         int, typer.Option("--mrho", help="Samples per chip m_rho (assumption; seed silent).")

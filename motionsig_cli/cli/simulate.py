@@ -11,6 +11,7 @@ import typer
 
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
+    CodesVariant,
     DebugOpt,
     FormatOpt,
     OutOpt,
@@ -35,13 +36,6 @@ class Example(StrEnum):
     """Which example of seed 000."""
 
     one_d = "1d"
-
-
-class Codes(StrEnum):
-    """Table I codes."""
-
-    corrected = "corrected"
-    printed = "printed"
 
 
 class DbConvention(StrEnum):
@@ -114,8 +108,8 @@ def simulate(
     ] = DbConvention.paper_ln,
     duration: Annotated[float, typer.Option("--duration", help="Record length [s].")] = 80.0,
     codes: Annotated[
-        Codes, typer.Option("--codes", help="Table I codes: corrected or printed.")
-    ] = Codes.corrected,
+        CodesVariant, typer.Option("--codes", help="Table I codes: corrected or printed.")
+    ] = CodesVariant.corrected,
     no_signature: Annotated[bool, typer.Option("--no-signature", help="Simulate H0 (no signature).")] = False,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     plot: PlotOpt = None,
