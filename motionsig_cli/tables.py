@@ -78,7 +78,7 @@ class Table:
                     out[i] = int(x)
                 else:
                     out[i] = x
-            except (TypeError, ValueError):
+            except (TypeError, ValueError, OverflowError):
                 kind = "an integer" if integer else "a number"
                 line = self.lines[i] if i < len(self.lines) else i + 2
                 raise InputError(f"{self.source}:{line}: column {name!r}: {v!r} is not {kind}") from None
@@ -93,9 +93,12 @@ def make_meta(command: str, **params: Any) -> dict[str, Any]:
 
 
 def _plain(value: Any) -> Any:
-    """JSON-friendly version of a parameter value (tuples → lists, numpy scalars → Python)."""
+    """JSON-friendly version of a value: tuples → lists, numpy scalars → Python, NaN/±inf → None
+    (strict JSON has no non-finite numbers)."""
     if isinstance(value, np.generic):
-        return value.item()
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
     if isinstance(value, (tuple, list)):
         return [_plain(v) for v in value]
     if isinstance(value, dict):
@@ -121,7 +124,7 @@ def format_csv(table: Table, *, meta: bool = True) -> str:
     buf = io.StringIO()
     if meta:
         for key, value in table.meta.items():
-            buf.write(f"# {key}: {json.dumps(_plain(value))}\n")
+            buf.write(f"# {key}: {json.dumps(_plain(value), allow_nan=False)}\n")
     writer = csv.writer(buf, lineterminator="\n")
     writer.writerow(table.columns)
     for row in table.rows:
@@ -132,18 +135,14 @@ def format_csv(table: Table, *, meta: bool = True) -> str:
 def format_json(table: Table) -> str:
     """Render a table as JSON: ``{"meta", "columns", "data": [records]}``."""
 
-    def conv(v: Any) -> Any:
-        v = _plain(v)
-        if isinstance(v, float) and not math.isfinite(v):
-            return None
-        return v
+    conv = _plain
 
     doc = {
         "meta": _plain(table.meta),
         "columns": list(table.columns),
         "data": [{c: conv(v) for c, v in zip(table.columns, row, strict=True)} for row in table.rows],
     }
-    return json.dumps(doc, indent=1) + "\n"
+    return json.dumps(doc, indent=1, allow_nan=False) + "\n"
 
 
 def render(table: Table, fmt: str) -> str:
@@ -168,7 +167,14 @@ def read_table(source: str | Path, *, required: Sequence[str] = ()) -> Table:
     """
     name = "<stdin>" if str(source) == "-" else str(source)
     try:
-        text = sys.stdin.read() if str(source) == "-" else Path(source).read_text(encoding="utf-8")
+        if str(source) == "-":
+            stream = getattr(sys.stdin, "buffer", None)  # bytes, decoded strictly like a file
+            raw: bytes | str = stream.read() if stream is not None else sys.stdin.read()
+        else:
+            raw = Path(source).read_bytes()
+        text = (
+            raw.decode("utf-8-sig") if isinstance(raw, bytes) else raw.removeprefix("\ufeff")
+        )  # tolerate a BOM
     except OSError as exc:
         raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
     except UnicodeDecodeError:
@@ -192,6 +198,8 @@ def read_table(source: str | Path, *, required: Sequence[str] = ()) -> Table:
     if not body:
         raise InputError(f"{name}: no header row (empty input?)")
     parsed = list(csv.reader([line for _, line in body]))
+    if len(parsed) != len(body):
+        raise InputError(f"{name}: a quoted field spans several lines (not supported)")
     columns = tuple(c.strip() for c in parsed[0])
     if len(set(columns)) != len(columns):
         raise InputError(f"{name}:{body[0][0]}: duplicate column names in header")

@@ -14,6 +14,10 @@ CORE = [
     "motionsig_cli.tables",
     "motionsig_cli.rng",
     "motionsig_cli.refdata",
+    "motionsig_cli.models.vehicle",
+    "motionsig_cli.filters.kalman",
+    "motionsig_cli.detection.lmp",
+    "motionsig_cli.experiments.lmp1d",
 ]
 
 

@@ -29,10 +29,13 @@ def test_csv_round_trip_with_meta(tmp_path):
     assert back.lines == (n_meta + 2, n_meta + 3)
 
 
-def test_pandas_style_reading_ignores_meta(tmp_path):
+def test_comment_lines_then_plain_csv(tmp_path):
+    """Everything after the '#' block is plain CSV: the csv module reads it knowing nothing of the meta."""
+    import csv
+
     text = format_csv(_table())
-    body = [ln for ln in text.splitlines() if not ln.startswith("#")]
-    assert body[0] == "i,x,s,b"
+    rows = list(csv.reader(ln for ln in text.splitlines() if not ln.startswith("#")))
+    assert rows[0] == ["i", "x", "s", "b"] and rows[1] == ["0", repr(0.1 + 0.2), "a,b", "true"]
 
 
 def test_json():

@@ -8,6 +8,7 @@ closed downstream pipe (``motionsig … | head``) ends the program quietly.
 from __future__ import annotations
 
 import os
+import signal
 import sys
 from collections.abc import Sequence
 
@@ -59,11 +60,18 @@ def _silence_broken_pipe() -> None:
         pass
 
 
+def _terminate(signum: int, frame: object) -> None:
+    """SIGTERM → SystemExit, so context managers run and no temporary file is left behind."""
+    raise SystemExit(128 + signum)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; return the process exit code (0 ok, 2 bad input or usage, 1 internal error)."""
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     command = get_command(app)
+    if argv is None:  # only as the real program, not when called from tests
+        signal.signal(signal.SIGTERM, _terminate)
     try:
         rv = command.main(args=args, prog_name="motionsig", standalone_mode=False)
         sys.stdout.flush()
@@ -71,13 +79,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:
         _silence_broken_pipe()
         return 0
+    except SystemExit as exc:
+        # typer's vendored click turns EPIPE into sys.exit(1) after wrapping the streams
+        if type(sys.stdout).__name__ == "PacifyFlushWrapper":
+            _silence_broken_pipe()
+            return 0
+        raise exc
     except click_exceptions.NoArgsIsHelpError as exc:
         typer.echo(exc.ctx.get_help() if exc.ctx else str(exc))
         return 0
     except click_exceptions.ClickException as exc:
         if debug:
             raise
-        sub = f" {exc.ctx.command_path.removeprefix('motionsig ')}" if getattr(exc, "ctx", None) else ""
+        path = exc.ctx.command_path if getattr(exc, "ctx", None) else "motionsig"
+        sub = path.removeprefix("motionsig").strip()
+        sub = f" {sub}" if sub else ""
         typer.echo(f"motionsig{sub}: error: {exc.format_message()}", err=True)
         return 2
     except InputError as exc:

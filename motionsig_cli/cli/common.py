@@ -15,7 +15,7 @@ import typer
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-from motionsig_cli.cli.io import atomic_path
+from motionsig_cli.cli.io import InputError, atomic_path, check_output_path
 from motionsig_cli.rng import DEFAULT_SEED
 
 T = TypeVar("T")
@@ -64,29 +64,37 @@ def checked(option: str, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
         raise typer.BadParameter(str(exc), param_hint=option) from exc
 
 
-def int_list(text: str, *, what: str = "value") -> list[int]:
-    """Parse ``'5'``, a range ``'3-11'`` or a list ``'1,5,7-9'`` into integers, in order."""
+def int_list(text: str, *, what: str = "value", max_count: int = 10_000) -> list[int]:
+    """Parse ``'5'``, a range ``'3-11'`` or a list ``'1,5,7-9'`` into integers, in order, without repeats.
+
+    Only ASCII digits are accepted; a range longer than ``max_count`` is refused before it is built.
+    """
     out: list[int] = []
-    try:
-        for part in text.split(","):
-            lo, sep, hi = part.strip().partition("-")
-            out.extend(range(int(lo), int(hi) + 1) if sep else [int(lo)])
-    except ValueError:
-        raise ValueError(
-            f"expected a {what}, a range like 3-11 or a list like 1,5,7-9; got {text!r}"
-        ) from None
-    if not out:
-        raise ValueError(f"no {what} in {text!r}")
-    return out
+    for part in text.split(","):
+        lo, sep, hi = part.strip().partition("-")
+        if not (lo.isascii() and lo.isdigit()) or (sep and not (hi.isascii() and hi.isdigit())):
+            raise ValueError(f"expected a {what}, a range like 3-11 or a list like 1,5,7-9; got {text!r}")
+        a, b = int(lo), int(hi) if sep else int(lo)
+        if b < a:
+            raise ValueError(f"empty range {part.strip()!r}")
+        if b - a + 1 + len(out) > max_count:
+            raise ValueError(f"more than {max_count} {what}s requested")
+        out.extend(range(a, b + 1))
+    return list(dict.fromkeys(out))
 
 
-def check_plot_path(path: Path | None) -> None:
-    """Validate ``--plot`` before any work is done."""
-    if path is not None and path.suffix.lower() not in PLOT_SUFFIXES:
+def check_outputs(out: Path | None, plot: Path | None = None) -> None:
+    """Validate ``--out`` and ``--plot`` before any work is done (nothing is written if either is bad)."""
+    if plot is not None and plot.suffix.lower() not in PLOT_SUFFIXES:
         raise typer.BadParameter(
-            f"unsupported figure type {path.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
+            f"unsupported figure type {plot.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
             param_hint="--plot",
         )
+    for option, path in (("--out", out), ("--plot", plot)):
+        try:
+            check_output_path(path, option)
+        except InputError as exc:
+            raise typer.BadParameter(str(exc).removeprefix(f"{option}: "), param_hint=option) from None
 
 
 def save_figure(fig: Any, path: Path) -> None:
@@ -99,7 +107,12 @@ def save_figure(fig: Any, path: Path) -> None:
         if suffix == ".svg"
         else {"CreationDate": None}
     )
-    with atomic_path(path) as tmp:
+    import matplotlib  # the command layer may import matplotlib; the core never does
+
+    with (
+        atomic_path(path) as tmp,
+        matplotlib.rc_context({"svg.hashsalt": "motionsig"}),
+    ):  # reproducible SVG ids
         fig.savefig(tmp, format=suffix[1:], dpi=150, metadata=metadata)
 
 

@@ -20,7 +20,7 @@ from motionsig_cli.cli.common import (
     PlotOpt,
     QuietOpt,
     SeedOpt,
-    check_plot_path,
+    check_outputs,
     checked,
     float_list,
     note,
@@ -35,6 +35,7 @@ from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
 
 NEEDED_META = ("T", "m_rho", "K", "R", "codes", "f_c", "a_sig")
+MAX_BANK_GB = 4.0
 
 
 class TauGrid(StrEnum):
@@ -229,7 +230,7 @@ def detect(
       motionsig simulate --R 1e-3 | motionsig detect --candidates --horizons 62 --plot fig3.png
       motionsig detect --montecarlo --trials 50 --fr-list 0.01 --plot fig4.png -o fig4.csv
     """
-    check_plot_path(plot)
+    check_outputs(out, plot)
     if montecarlo:
         _montecarlo(
             c_r,
@@ -266,7 +267,20 @@ def detect(
         raise InputError(f"{src}: bad metadata: {exc}") from None
     hs = _horizons(horizons, times.size * T, T)
     hz = [round(h / T) for h in hs]
-    res = lmp_detect(y, chips, vehicle, m_rho, cfg, hz)
+    n_used = max(hz)  # the bank runs only as far as the longest horizon
+    n_cand = (
+        chips.shape[0]
+        * (chips.shape[1] if cfg.tau_grid == "chips" else chips.shape[1] * m_rho)
+        * len(cfg.fc_grid)
+    )
+    need_gb = (2 * n_cand + 1) * n_used * 7 * 8 / 1e9  # gains, S⁻¹, log det per filter and step
+    if need_gb > MAX_BANK_GB:
+        raise typer.BadParameter(
+            f"the bank of {2 * n_cand + 1} filters over {n_used} samples needs ~{need_gb:.1f} GB "
+            f"(limit {MAX_BANK_GB} GB): use shorter --horizons or a coarser grid",
+            param_hint="--horizons",
+        )
+    res = lmp_detect(y[:n_used], chips, vehicle, m_rho, cfg, hz)
     cands = res.candidates
     best, lam_max = res.best()
     margin = res.runner_up_margin()

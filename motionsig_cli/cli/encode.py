@@ -24,7 +24,7 @@ from motionsig_cli.cli.common import (
     PlotOpt,
     QuietOpt,
     SeedOpt,
-    check_plot_path,
+    check_outputs,
     checked,
     int_list,
     note,
@@ -43,7 +43,7 @@ from motionsig_cli.signals.correlation import (
     summarize,
     to_bipolar,
 )
-from motionsig_cli.signals.lfsr import default_state, m_sequence, parse_state
+from motionsig_cli.signals.lfsr import MAX_SEQUENCE_DEGREE, default_state, m_sequence, parse_state
 from motionsig_cli.signals.signature import SignatureConfig, mode_signature
 
 app = typer.Typer(
@@ -89,6 +89,12 @@ ChipsOpt = Annotated[
 
 def _poly(option: str, text: str) -> int:
     poly = checked(option, gf2.parse_polynomial, text)
+    if gf2.degree(poly) > MAX_SEQUENCE_DEGREE:
+        raise typer.BadParameter(
+            f"degree {gf2.degree(poly)} > {MAX_SEQUENCE_DEGREE}: sequences of period 2^n-1 are tabulated up to "
+            f"n = {MAX_SEQUENCE_DEGREE}",
+            param_hint=option,
+        )
     return checked(option, gf2.require_primitive, poly)
 
 
@@ -140,6 +146,7 @@ def mseq(
       motionsig encode mseq --poly 'x^5+x^2+1' --init 00001
       # -> 1000010010110011111000110111010 (MATLAB comm.PNSequence)
     """
+    check_outputs(out)
     p = _poly("--poly", poly)
     n = gf2.degree(p)
     state = _state("--init", init, n)
@@ -173,6 +180,7 @@ def check_pair(
       motionsig encode check-pair --poly1 45 --poly2 75    # preferred: -9, -1, 7
       motionsig encode check-pair --poly1 45 --poly2 51    # reciprocal pair: 6 values
     """
+    check_outputs(out)
     p1, p2 = _poly("--poly1", poly1), _poly("--poly2", poly2)
     res = checked("--poly2", gold.check_pair, p1, p2)
     table = Table(
@@ -183,7 +191,9 @@ def check_pair(
                 gf2.to_octal(p2),
                 res.degree,
                 " ".join(map(str, res.values)),
-                " ".join(map(str, res.expected)) if res.expected else "none (n mod 4 == 0)",
+                " ".join(map(str, res.expected))
+                if res.expected
+                else "none (no preferred pairs for this degree)",
                 res.preferred,
             )
         ],
@@ -198,8 +208,10 @@ def check_pair(
 
 def _degrees(text: str) -> list[int]:
     """'5', '3-11' or '5,7,9' → degrees; multiples of 4 inside a range are skipped, named ones rejected."""
-    named = {int(p) for p in text.split(",") if p.strip().isdigit()}
-    out = [n for n in int_list(text, what="degree") if n % 4 or n in named]
+    named = {int(p) for p in text.split(",") if p.strip().isascii() and p.strip().isdigit()}
+    out = [n for n in int_list(text, what="degree", max_count=64) if n % 4 or n in named]
+    if not out:
+        raise ValueError(f"no degree in {text!r} has preferred pairs (n >= 3, n mod 4 != 0)")
     for n in out:
         gold.require_gold_degree(n)
         if n > 13:
@@ -222,6 +234,7 @@ def pairs(
       motionsig encode pairs --degree 5          # 12 pairs, 45/75 among them
       motionsig encode pairs --degree 3-11 -o pairs.csv
     """
+    check_outputs(out)
     degrees = checked("--degree", _degrees, degree)
     rows = []
     with progress(quiet) as bar:
@@ -254,11 +267,14 @@ def gold_cmd(
         str | None, typer.Option("--init2", help="Initial state of register 2 (MATLAB order).")
     ] = None,
     index: Annotated[
-        int, typer.Option("--index", help="Member: -2 -> u, -1 -> v, k >= 0 -> u xor T^k v.")
-    ] = 0,
-    shift: Annotated[int, typer.Option("--shift", help="Start offset a of the member.")] = 0,
+        int | None,
+        typer.Option("--index", help="Member: -2 -> u, -1 -> v, k >= 0 -> u xor T^k v (default 0)."),
+    ] = None,
+    shift: Annotated[
+        int | None, typer.Option("--shift", help="Start offset a of the member (default 0).")
+    ] = None,
     all_members: Annotated[
-        bool, typer.Option("--all", help="All 2^n+1 members (ignores --index/--shift).")
+        bool, typer.Option("--all", help="All 2^n+1 members (not with --index/--shift).")
     ] = False,
     unchecked: Annotated[
         bool,
@@ -279,6 +295,11 @@ def gold_cmd(
       motionsig encode gold --poly1 45 --poly2 75 --index 9 --shift 8   # Table I mode 1
       motionsig encode gold --poly1 45 --poly2 75 --all | motionsig encode correlations -
     """
+    check_outputs(out)
+    if all_members and (index is not None or shift is not None):
+        raise typer.BadParameter("--all lists every member; drop --index/--shift", param_hint="--all")
+    index = 0 if index is None else index
+    shift = 0 if shift is None else shift
     p1, p2 = _poly("--poly1", poly1), _poly("--poly2", poly2)
     n = gf2.degree(p1)
     if gf2.degree(p2) != n:
@@ -323,7 +344,7 @@ def _unchecked_family(p1: int, p2: int, s1: tuple, s2: tuple) -> tuple[np.ndarra
 
 
 def _prns(text: str) -> list[int]:
-    out = int_list(text, what="PRN")
+    out = int_list(text, what="PRN", max_count=32)
     bad = [p for p in out if not 1 <= p <= 32]
     if bad:
         raise ValueError(f"PRN must be in 1..32, got {bad[0]}")
@@ -349,11 +370,16 @@ def gps_cmd(
       motionsig encode gps --prn 1-10 --summary        # first-10-chip octals 1440, 1620, ...
       motionsig encode gps --prn 1-32 | motionsig encode correlations - --view values
     """
+    check_outputs(out)
     prns = checked("--prn", _prns, prn)
     codes = gps.ca_codes(prns)
     taps = gps.phase_selectors()
     meta = make_meta(
-        "encode gps", prn=prns, chips=chips.value, source="IS-GPS-200 Table 3-Ia phase selectors"
+        "encode gps",
+        prn=prns,
+        summary=summary,
+        chips=chips.value,
+        source="IS-GPS-200 Table 3-Ia phase selectors",
     )
     if summary:
         delays = gps.g2_delays()
@@ -392,6 +418,7 @@ def table1(
       motionsig encode table1 --view errata
       motionsig encode table1 --codes printed | motionsig encode correlations -
     """
+    check_outputs(out)
     labels = [f"mode{m}" for m, _ in modes.modes()]
     printed, corrected = modes.printed_codes(), modes.corrected_codes()
     members = modes.corrected_members()
@@ -493,6 +520,14 @@ def _read_codes(source: str) -> tuple[list[str], np.ndarray, dict]:
         bipolar = 2 * value - 1
     elif vals <= {-1, 1}:
         bipolar = value
+    elif vals <= {-1, 0, 1}:
+        first_kind = {0: "0/1", 1: None, -1: "-1/+1"}
+        kind = next(first_kind[v] for v in value.tolist() if first_kind[v])
+        bad = next(i for i, v in enumerate(value.tolist()) if v == (-1 if kind == "0/1" else 0))
+        raise InputError(
+            f"{t.source}:{t.lines[bad]}: column 'value': {value[bad]} mixes chip conventions "
+            f"(earlier rows use {kind})"
+        )
     else:
         bad = next(i for i, v in enumerate(value) if v not in (0, 1, -1))
         raise InputError(
@@ -502,6 +537,8 @@ def _read_codes(source: str) -> tuple[list[str], np.ndarray, dict]:
     for lab, rows in order.items():
         c = chip[rows]
         n = len(rows)
+        if n < 2:
+            raise InputError(f"{t.source}:{t.lines[rows[0]]}: code {lab!r} has {n} chip; need at least 2")
         if sorted(c.tolist()) != list(range(n)):
             raise InputError(
                 f"{t.source}:{t.lines[rows[0]]}: code {lab!r}: chips must be 0..{n - 1}, each once"
@@ -540,18 +577,19 @@ def correlations(
       motionsig encode table1 | motionsig encode correlations -
       motionsig encode gold --all | motionsig encode correlations - --view values
     """
-    check_plot_path(plot)
+    check_outputs(out, plot)
     labels, codes, producer = _read_codes(source)
     n_chips = codes.shape[1]
     n = degree_of_period(n_chips)
-    bound = gold_bound(n) if n else None
-    pairs_ = summarize(codes)
-    max_off = max((p.max_offpeak for p in pairs_), default=0)
+    bound = gold_bound(n) if n and n >= 3 and n % 4 else None  # Gold families exist for these n only
+    auto, cross = offpeak_counts(codes)  # one pass over all pairs; the views below reuse or stream
+    all_vals = sorted(set(auto) | set(cross))
+    max_off = max((abs(v) for v in all_vals), default=0)
     within = None if bound is None else max_off <= bound
-    all_vals = sorted({v for p in pairs_ for v in p.values})
     meta = make_meta(
         "encode correlations",
         source=source,
+        view=view.value,
         codes=len(labels),
         length=n_chips,
         degree=n,
@@ -563,6 +601,7 @@ def correlations(
         input_meta=producer,
     )
     if view is CorrView.summary:
+        pairs_ = summarize(codes)
         rows = [
             (
                 labels[p.a],
@@ -581,8 +620,7 @@ def correlations(
             meta=meta,
         )
     elif view is CorrView.values:
-        auto, cross = offpeak_counts(codes)
-        rows = [(v, auto.get(v, 0), cross.get(v, 0)) for v in sorted(set(auto) | set(cross))]
+        rows = [(v, auto.get(v, 0), cross.get(v, 0)) for v in all_vals]
         table = Table(columns=("value", "auto_count", "cross_count"), rows=rows, meta=meta)
     else:
         rows = [
@@ -663,18 +701,24 @@ def signature(
       motionsig encode signature --mode 1 --theta 0.5 --plot sig.png -o sig.csv
       motionsig encode signature --mode 2 --tau 40 --theta random --seed 7 | head
     """
-    check_plot_path(plot)
+    check_outputs(out, plot)
     if mode not in (1, 2, 3):
         raise typer.BadParameter(f"Table I has modes 1, 2, 3; got {mode}", param_hint="--mode")
     th = checked("--theta", _theta, theta, seed)
-    cfg_opts = {"T": ("--T", T), "m_rho": ("--mrho", mrho), "f_c": ("--fc", fc), "f_d": ("--fd", fd)}
+    cfg_opts = {
+        "T": ("--T", T),
+        "m_rho": ("--mrho", mrho),
+        "f_c": ("--fc", fc),
+        "f_d": ("--fd", fd),
+        "tau": ("--tau", tau),
+    }
     for field_name, (opt, value) in cfg_opts.items():  # validate each option on its own, to name it
         checked(opt, SignatureConfig, **{field_name: value})
     cfg = SignatureConfig(T=T, m_rho=mrho, f_c=fc, theta=th, tau=tau, f_d=fd)
     if length is not None and length < 1:
         raise typer.BadParameter(f"must be a positive number of samples, got {length}", param_hint="--length")
     bits = modes.table1_codes(codes.value)[mode - 1]
-    sig = mode_signature(to_bipolar(bits), cfg, length, zdot.value)
+    sig = checked("--length/--mrho/--T/--fc/--fd", mode_signature, to_bipolar(bits), cfg, length, zdot.value)
     meta = make_meta(
         "encode signature",
         mode=mode,

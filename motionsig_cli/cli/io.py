@@ -15,22 +15,55 @@ from pathlib import Path
 
 from motionsig_cli.tables import InputError, Table, make_meta, read_table, render
 
-__all__ = ["InputError", "Table", "atomic_path", "emit", "make_meta", "read_table", "write_text"]
+__all__ = [
+    "InputError",
+    "Table",
+    "atomic_path",
+    "check_output_path",
+    "emit",
+    "make_meta",
+    "read_table",
+    "write_text",
+]
+
+
+def check_output_path(path: Path | None, option: str) -> None:
+    """Validate an output path before any work is done (so a bad ``--out`` leaves no ``--plot`` behind)."""
+    if path is None:
+        return
+    if str(path) == "":
+        raise InputError(f"{option}: empty file name")
+    target = Path(os.path.realpath(path))
+    if target.is_dir():
+        raise InputError(f"{option}: {str(path)!r} is a directory")
+    if not target.parent.is_dir():
+        raise InputError(f"{option}: directory {str(target.parent)!r} does not exist")
 
 
 @contextlib.contextmanager
 def atomic_path(path: Path) -> Iterator[Path]:
-    """Yield a temporary path beside ``path``; rename it onto ``path`` only if the block succeeds."""
+    """Yield a path to write; publish it at ``path`` only if the block succeeds.
+
+    Regular files are written to a temporary file beside the target and renamed onto it, so a
+    failed or interrupted run never leaves a partial file. A symbolic link is followed (the file
+    it points to is replaced, the link stays). An existing non-regular target (``/dev/null``, a
+    FIFO) is written in place: it cannot be replaced, and must not be.
+    """
     path = Path(path)
-    directory = path.parent if str(path.parent) else Path(".")
-    if not directory.is_dir():
-        raise InputError(f"--out/--plot: directory {str(directory)!r} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=f".tmp{path.suffix}", dir=directory)
+    check_output_path(path, "output")
+    target = Path(os.path.realpath(path))
+    if target.exists() and not target.is_file():
+        yield target
+        return
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=f".tmp{target.suffix}", dir=target.parent)
     os.close(fd)
     tmp_path = Path(tmp)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp_path, 0o666 & ~umask)  # mkstemp creates 0600; give the file the usual permissions
     try:
         yield tmp_path
-        os.replace(tmp_path, path)
+        os.replace(tmp_path, target)
     finally:
         if tmp_path.exists():
             tmp_path.unlink()

@@ -19,7 +19,7 @@ from motionsig_cli.cli.common import (
     PlotOpt,
     QuietOpt,
     SeedOpt,
-    check_plot_path,
+    check_outputs,
     checked,
     float_list,
     note,
@@ -30,6 +30,8 @@ from motionsig_cli.experiments.lmp1d import anr_db, draw_trial, signature_batch
 from motionsig_cli.models.vehicle import Vehicle1D, nominal_reference, pole_placement_gain, simulate_1d
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
+
+MAX_RECORD = 1_000_000  # samples per simulated record
 
 
 class Example(StrEnum):
@@ -127,9 +129,12 @@ def simulate(
       motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot fig2.png | motionsig detect
       motionsig simulate --anr-db 48.3 --f-r 0.1 -o run.csv
     """
-    check_plot_path(plot)
+    check_outputs(out, plot)
     if mode is not None and mode not in (1, 2, 3):
         raise typer.BadParameter(f"Table I has modes 1, 2, 3; got {mode}", param_hint="--mode")
+    for opt, val in (("--tau", tau), ("--tau-chips", tau_chips)):
+        if val is not None and abs(val) > 2**40:
+            raise typer.BadParameter(f"|code phase| must be <= 2^40, got {val}", param_hint=opt)
     if tau is not None and tau_chips is not None:
         raise typer.BadParameter("give --tau or --tau-chips, not both", param_hint="--tau-chips")
     if not (math.isfinite(duration) and duration > 0):
@@ -152,6 +157,10 @@ def simulate(
     gains = resolve_K(K, pole_wn, pole_zeta, T)
     vehicle = checked("--R", Vehicle1D, T=T, K=gains, a_sig=a_sig, a_r=a_r, f_r=f_r, sigma_a=sigma_a, R=Rv)
     n = round(duration / T)
+    if n > MAX_RECORD:
+        raise typer.BadParameter(
+            f"{n} samples > {MAX_RECORD}: shorten --duration or lengthen --T", param_hint="--duration"
+        )
     chips = to_bipolar(table1_codes(codes.value)).astype(float)
     draw = draw_trial(seed, 0, n, chips.shape[0], chips.shape[1], mrho)
     mode0 = draw.mode if mode is None else mode - 1

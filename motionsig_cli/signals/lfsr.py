@@ -18,7 +18,7 @@ import numpy as np
 
 from motionsig_cli.signals.gf2 import degree, require_primitive
 
-MAX_SEQUENCE_DEGREE = 24
+MAX_SEQUENCE_DEGREE = 20  # 2^20 − 1 chips; longer periods are not tabulated
 
 
 def parse_state(text: str | Sequence[int], n: int) -> tuple[int, ...]:
@@ -31,12 +31,9 @@ def parse_state(text: str | Sequence[int], n: int) -> tuple[int, ...]:
     bits = list(text.replace(" ", "").replace(",", "")) if isinstance(text, str) else list(text)
     if len(bits) != n:
         raise ValueError(f"initial state must have {n} bits for a degree-{n} polynomial, got {len(bits)}")
-    try:
-        state = tuple(int(b) for b in bits)
-    except ValueError:
-        raise ValueError(f"initial state {text!r} must contain only 0 and 1") from None
-    if any(b not in (0, 1) for b in state):
+    if any(str(b) not in ("0", "1") for b in bits):  # ASCII 0/1 only (int() would accept other digits)
         raise ValueError(f"initial state {text!r} must contain only 0 and 1")
+    state = tuple(int(b) for b in bits)
     if not any(state):
         raise ValueError("initial state is all zeros: the LFSR would output zeros forever")
     return state

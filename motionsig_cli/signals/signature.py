@@ -23,6 +23,7 @@ from typing import Literal
 import numpy as np
 
 ZdotMethod = Literal["analytic", "finite-difference"]
+MAX_SAMPLES = 5_000_000  # one signature record; larger ones are refused before allocation
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,8 +55,8 @@ class SignatureConfig:
             raise ValueError(f"f_c must be a finite frequency >= 0, got {self.f_c}")
         if not math.isfinite(self.theta):
             raise ValueError(f"theta must be finite, got {self.theta}")
-        if int(self.tau) != self.tau:
-            raise ValueError(f"tau must be an integer number of samples, got {self.tau}")
+        if int(self.tau) != self.tau or abs(self.tau) > 2**53:
+            raise ValueError(f"tau must be an integer number of samples with |tau| <= 2^53, got {self.tau}")
         if not math.isfinite(self.f_d):
             raise ValueError(f"f_d must be finite, got {self.f_d}")
 
@@ -107,9 +108,16 @@ def mode_signature(
     n = chips.size * config.m_rho if n_samples is None else n_samples
     if int(n) != n or n < 1:
         raise ValueError(f"n_samples must be a positive integer, got {n_samples}")
+    if n > MAX_SAMPLES:
+        raise ValueError(f"{n} samples > {MAX_SAMPLES}: shorten the record (or m_rho)")
     if zdot not in ("analytic", "finite-difference"):
         raise ValueError(f"zdot must be 'analytic' or 'finite-difference', got {zdot!r}")
     k = np.arange(int(n))
+    with np.errstate(all="ignore"):  # overflow is reported below as a ValueError, not as warnings
+        return _sample(chips, config, k, zdot)
+
+
+def _sample(chips: np.ndarray, config: SignatureConfig, k: np.ndarray, zdot: ZdotMethod) -> Signature:
     t = k * config.T
     wc = 2 * np.pi * config.f_c
     w = 2 * np.pi * (config.f_c + config.f_d)
@@ -129,6 +137,8 @@ def mode_signature(
         zd_cos = (z_cos - p_prev * np.cos(wc * t_prev)) / config.T
         zd_sin = (z_sin - p_prev * np.sin(wc * t_prev)) / config.T
     chip = chip_index(k, tau, config.m_rho, chips.size)
+    if not all(np.all(np.isfinite(a)) for a in (t, z, z_cos, z_sin, zd, zd_cos, zd_sin)):
+        raise ValueError("non-finite samples: T, f_c or f_d is too large for this record length")
     return Signature(k, t, chip, p, z, z_cos, z_sin, zd, zd_cos, zd_sin)
 
 

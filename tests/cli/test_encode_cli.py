@@ -143,13 +143,26 @@ BAD = [
     (["encode", "pairs", "--degree", "3-x"], "--degree", "expected a degree"),
     (["encode", "signature", "--plot", "x.gif"], "--plot", "unsupported"),
     (["encode", "mseq", "--shift", "abc"], "--shift", "valid integer"),
+    (["encode", "mseq", "--poly", "x^25+x^3+1"], "--poly", "degree 25 > 20"),
+    (["encode", "pairs", "--degree", "1-1000000000"], "--degree", "more than 64"),
+    (["encode", "pairs", "--degree", "4-4"], "--degree", "no degree"),
+    (["encode", "pairs", "--degree", "1_0"], "--degree", "expected a degree"),
+    (["encode", "gps", "--prn", "1-1000000000"], "--prn", "more than 32"),
+    (["encode", "mseq", "--init", "\u0660\u0660\u0660\u0660\u0661"], "--init", "only 0 and 1"),
+    (["encode", "signature", "--length", "1000000000"], "--length", "samples >"),
+    (["encode", "signature", "--mrho", "99999999999"], "--mrho", "samples >"),
+    (["encode", "signature", "--tau", "99999999999999999999"], "--tau", "2^53"),
+    (["encode", "signature", "--T", "1e308"], "--T", "non-finite"),
+    (["encode", "gold", "--all", "--index", "3"], "--all", "drop --index"),
+    (["encode", "mseq", "--out", "/nonexistent-dir/x.csv"], "--out", "does not exist"),
 ]
 
 
 @pytest.mark.parametrize(("args", "option", "text"), BAD)
 def test_bad_input_one_line_exit_2_no_file(capsys, tmp_path, args, option, text):
     target = tmp_path / "out.csv"
-    rc, out, err = run(capsys, *args, "--out", str(target))
+    extra = [] if "--out" in args else ["--out", str(target)]
+    rc, out, err = run(capsys, *args, *extra)
     assert rc == 2
     lines = err.strip().splitlines()
     assert len(lines) == 1 and option in lines[0] and text in lines[0], err
@@ -164,7 +177,11 @@ def test_bad_input_one_line_exit_2_no_file(capsys, tmp_path, args, option, text)
         ("code,chip,value\nA,0,1\nA,1,x\n", "x.csv:3: column 'value'"),
         ("code,chip,value\nA,0,1\nA,1,2\n", "x.csv:3: column 'value': 2 is not a chip"),
         ("code,chip,value\nA,0,1\nA,2,0\n", "chips must be 0..1"),
-        ("code,chip,value\nA,0,1\nA,1,0\nB,0,1\n", "different lengths"),
+        ("code,chip,value\nA,0,1\nA,1,-1\nA,2,0\n", "x.csv:4: column 'value': 0 mixes chip conventions"),
+        ("code,chip,value\nA,0,1\n", "x.csv:2: code 'A' has 1 chip"),
+        ("code,chip,value\nA,99999999999999999999999,1\nA,1,0\n", "x.csv:2: column 'chip'"),
+        ('code,chip,value\n"A\nB",0,1\n', "quoted field spans"),
+        ("code,chip,value\nA,0,1\nA,1,0\nB,0,1\nB,1,0\nB,2,1\n", "different lengths"),
     ],
 )
 def test_bad_csv_names_file_and_line(capsys, tmp_path, content, text):
@@ -229,6 +246,73 @@ def test_real_pipe_and_module_entry():
 
 
 def test_closed_pipe_exits_quietly():
+    """`| true` closes the pipe before anything is read, so the write must fail with EPIPE; with
+    pipefail the pipeline's status is motionsig's own."""
     exe = f"{sys.executable} -m motionsig_cli"
-    r = _sh(f"{exe} encode gps --prn 1-32 | head -n 2")
+    r = _sh(f"{exe} encode gps --prn 1-32 | true")
     assert r.returncode == 0 and r.stderr == "", r.stderr
+
+
+def test_bom_and_strict_stdin_decoding():
+    exe = f"{sys.executable} -m motionsig_cli"
+    r = _sh(
+        f"printf '\\xef\\xbb\\xbfcode,chip,value\\na,0,1\\na,1,0\\na,2,1\\n' | {exe} encode correlations - -q"
+    )
+    assert r.returncode == 0, r.stderr
+    r = _sh(f"printf 'code,chip,value\\na,0,\\xff\\n' | {exe} encode correlations -")
+    assert r.returncode == 2 and "not a UTF-8 text file" in r.stderr
+
+
+def test_bad_out_leaves_no_plot(capsys, tmp_path):
+    plot = tmp_path / "s.png"
+    rc, _, err = run(
+        capsys, "encode", "signature", "--plot", str(plot), "--out", str(tmp_path / "no" / "x.csv")
+    )
+    assert rc == 2 and "--out" in err and not plot.exists()
+
+
+def test_out_follows_symlinks_and_spares_special_files(capsys, tmp_path):
+    import os
+    import stat
+
+    real = tmp_path / "real.csv"
+    link = tmp_path / "link.csv"
+    link.symlink_to(real)
+    assert run(capsys, "encode", "mseq", "--out", str(link))[0] == 0
+    assert link.is_symlink() and real.read_text().startswith("# command")
+    before = os.stat("/dev/null").st_mode
+    assert run(capsys, "encode", "mseq", "--out", "/dev/null")[0] == 0
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode) and os.stat("/dev/null").st_mode == before
+
+
+def test_out_file_permissions_follow_umask(capsys, tmp_path):
+    import os
+
+    old = os.umask(0o022)
+    try:
+        assert run(capsys, "encode", "mseq", "--out", str(tmp_path / "p.csv"))[0] == 0
+    finally:
+        os.umask(old)
+    assert (tmp_path / "p.csv").stat().st_mode & 0o777 == 0o644
+
+
+def test_json_is_strict_even_with_nonfinite_input_meta(capsys, tmp_path):
+    import json
+
+    src = tmp_path / "c.csv"
+    src.write_text("# x: NaN\n# y: Infinity\ncode,chip,value\na,0,1\na,1,0\na,2,1\n")
+    rc, out, _ = run(capsys, "encode", "correlations", str(src), "-f", "json", "-q")
+    doc = json.loads(out, parse_constant=lambda c: pytest.fail(f"non-strict JSON constant {c}"))
+    assert rc == 0 and doc["meta"]["input_meta"]["x"] is None
+
+
+def test_degree_list_is_deduplicated(capsys, tmp_path):
+    rc, out, _ = run(capsys, "encode", "pairs", "--degree", "5,5,5", "-q")
+    assert rc == 0 and len(parse(out, tmp_path).rows) == 12
+
+
+def test_no_gold_bound_without_gold_family(capsys, tmp_path):
+    src = tmp_path / "c.csv"
+    src.write_text("code,chip,value\na,0,1\na,1,0\na,2,1\n")  # N = 3 = 2^2 - 1: no Gold family at n = 2
+    rc, out, _ = run(capsys, "encode", "correlations", str(src), "-q")
+    assert rc == 0 and parse(out, tmp_path).meta["gold_bound"] is None

@@ -109,13 +109,8 @@ def test_random_members_stay_in_gold_values(n, data):
     r = periodic_correlation(np.stack([c1, c2]))
     allowed = set(gold.gold_values(n))
     assert set(np.unique(r[0, 0, 1:]).tolist()) <= allowed
-    same = (k1 == k2) and (sh1 == sh2)
-    if not same:
-        cross = r[0, 1]
-        peak_ok = set(np.unique(cross).tolist()) <= allowed | {period}
-        assert peak_ok
-        if k1 != k2:  # different members are never cyclic shifts of each other
-            assert set(np.unique(cross).tolist()) <= allowed
+    if k1 != k2:  # different members are never cyclic shifts of each other: no peak anywhere
+        assert set(np.unique(r[0, 1]).tolist()) <= allowed
 
 
 def test_index_out_of_range():
