@@ -95,12 +95,16 @@ def summarize(codes: np.ndarray) -> list[PairSummary]:
 
 
 def offpeak_counts(codes: np.ndarray) -> tuple[dict[int, int], dict[int, int]]:
-    """Histogram of off-peak values: ``(auto_counts, cross_counts)``, value → number of lags."""
-    auto: dict[int, int] = {}
-    cross: dict[int, int] = {}
+    """Histogram of off-peak values: ``(auto_counts, cross_counts)``, value → number of lags.
+
+    Values of ±1 codes lie in [−N, N], so each block is counted with one ``bincount``.
+    """
+    n = np.asarray(codes).shape[1]
+    auto = np.zeros(2 * n + 1, dtype=np.int64)
+    cross = np.zeros(2 * n + 1, dtype=np.int64)
     for _, rows in correlation_rows(codes):
-        for target, vals in ((auto, rows[0, 1:]), (cross, rows[1:].ravel())):
-            v, c = np.unique(vals, return_counts=True)
-            for value, count in zip(v.tolist(), c.tolist(), strict=True):
-                target[value] = target.get(value, 0) + count
-    return auto, cross
+        auto += np.bincount(rows[0, 1:] + n, minlength=2 * n + 1)
+        if rows.shape[0] > 1:
+            cross += np.bincount(rows[1:].ravel() + n, minlength=2 * n + 1)
+    as_dict = lambda h: {int(v) - n: int(c) for v, c in enumerate(h) if c}  # noqa: E731
+    return as_dict(auto), as_dict(cross)
