@@ -327,7 +327,7 @@ assert get[(0.01, 1e-1, 80.0)].pct > get[(1.0, 1e-1, 80.0)].pct  # f_r = f_c = 1
 #   candidate equally often. It does not. Its mean under noise differs from candidate to candidate,
 #   and the argmax piles onto mode 3, the unbalanced Gold code with 20 ones, and onto a few code
 #   phases. At an 80 s horizon it picks mode 3 in *every* noise-only trial for $R \le 10^{-3}$.
-#   `detect --calibrate h0-noise` (our extension) subtracts $E_{H_0}[\Lambda(c)]$, computed exactly by
+#   `detect --center h0-noise` (our extension) subtracts $E_{H_0}[\Lambda(c)]$, computed exactly by
 #   a Lyapunov recursion on the gains the bank already has. This makes the code-phase choice uniform
 #   and shrinks the mode bias several-fold, and detection rates stay the same. The mode choice is
 #   still not uniform: mode 3 becomes under-selected. Standardising by the $H_0$ standard deviation
@@ -342,11 +342,11 @@ from scipy.stats import chisquare
 veh0 = Vehicle1D(R=1e-3)
 y0, _ = simulate_trials(veh0, CHIPS, m_rho, 1.0, 400, 99, range(310), signature=False)
 for cal in ("none", "h0-noise"):
-    res = lmp_detect(y0, CHIPS, veh0, m_rho, LMPConfig(calibrate=cal), [400])
+    res = lmp_detect(y0, CHIPS, veh0, m_rho, LMPConfig(center=cal), [400])
     best = res.best()[0][:, 0]
     modes = np.bincount(res.candidates.mode[best], minlength=3)
     taus = np.bincount(res.candidates.tau[best] // m_rho, minlength=31)
     print(
-        f"calibrate={cal:9s} no-signature argmax by mode (310 trials, 20 s; uniform ≈ 103 each): {modes.tolist()}; "
+        f"center={cal:9s} no-signature argmax by mode (310 trials, 20 s; uniform ≈ 103 each): {modes.tolist()}; "
         f"χ² p-value mode {chisquare(modes).pvalue:.1e}, code phase {chisquare(taus).pvalue:.1e}"
     )

@@ -52,7 +52,7 @@ class Weights(StrEnum):
     exact = "exact"
 
 
-class Calibrate(StrEnum):
+class Center(StrEnum):
     """H0 centring of the statistic."""
 
     none = "none"
@@ -77,7 +77,7 @@ def _lmp_config(
     default_fc: float,
     include_logdet: bool,
     weights: Weights,
-    calibrate: Calibrate = Calibrate.none,
+    center: Center = Center.none,
 ) -> LMPConfig:
     q0 = checked("--Q0", float_list, Q0, what="variance")
     if len(q0) != 4:
@@ -109,7 +109,7 @@ def _lmp_config(
         fc_grid=fcs,
         include_logdet=include_logdet,
         weights=weights.value,
-        calibrate=calibrate.value,
+        center=center.value,
     )
 
 
@@ -184,13 +184,13 @@ def detect(
     weights: Annotated[
         Weights, typer.Option("--weights", help="paper: eq 42 (weights dropped); exact: eqs 38/40.")
     ] = Weights.paper,
-    calibrate: Annotated[
-        Calibrate,
+    center: Annotated[
+        Center,
         typer.Option(
-            "--calibrate",
+            "--center",
             help="none: the seed's eq 52; h0-noise: subtract E[Lambda] under white noise (reduces the H0 bias).",
         ),
-    ] = Calibrate.none,
+    ] = Center.none,
     horizons: Annotated[
         str | None, typer.Option("--horizons", help="Horizons [s], e.g. 10,20,40; default every 10 s.")
     ] = None,
@@ -242,7 +242,7 @@ def detect(
             fc_grid,
             include_logdet,
             weights,
-            calibrate,
+            center,
             horizons,
             trials,
             fr_list,
@@ -258,7 +258,7 @@ def detect(
     times, y, meta, src = _read_record(source)
     T, m_rho = float(meta["T"]), int(meta["m_rho"])
     cfg = _lmp_config(
-        c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights, calibrate
+        c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights, center
     )
     try:
         vehicle = Vehicle1D(T=T, K=tuple(meta["K"]), a_sig=float(meta["a_sig"]), R=float(meta["R"]))
@@ -300,7 +300,7 @@ def detect(
         fc_grid=list(cfg.fc_grid),
         include_logdet=cfg.include_logdet,
         weights=cfg.weights,
-        calibrate=cfg.calibrate,
+        center=cfg.center,
         horizons_s=hs,
         threshold=threshold,
         n_candidates=len(cands),
@@ -401,7 +401,7 @@ def _montecarlo(
     fc_grid: str | None,
     include_logdet: bool,
     weights: Weights,
-    calibrate: Calibrate,
+    center: Center,
     horizons: str | None,
     trials: int,
     fr_list: str,
@@ -421,7 +421,7 @@ def _montecarlo(
         raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
     vehicle = Vehicle1D()
     f_c, m_rho = 1.0, 20
-    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, calibrate)
+    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center)
     hs = (
         _horizons(horizons, 80.0, vehicle.T)
         if horizons is None
@@ -487,7 +487,7 @@ def _montecarlo(
         fc_grid=list(cfg.fc_grid),
         include_logdet=cfg.include_logdet,
         weights=cfg.weights,
-        calibrate=cfg.calibrate,
+        center=cfg.center,
         T=vehicle.T,
         m_rho=m_rho,
         f_c=f_c,

@@ -8,7 +8,7 @@ J := ½ Σ ν_jᵀ S_j⁻¹ ν_j (the innovation part of the negative log-likeli
     Λ(c) = 2 J_{H0} − J^c_{H1,cos} − J^c_{H1,sin}                                 eq (52)
     (î, τ̂, f̂_c) = argmax_c Λ(c),  λ* = max_c Λ(c)                               eqs (28)–(29)
 
-``calibrate="h0-noise"`` (our extension, not in the seed) subtracts E[Λ(c)] under white measurement
+``center="h0-noise"`` (our extension, not in the seed) subtracts E[Λ(c)] under white measurement
 noise of the true variance R, computed exactly by a Lyapunov recursion. Under H0 the paper's
 statistic has a candidate-dependent mean (each H1 filter's extra amplitude state absorbs a
 different share of the noise), which biases the argmax towards mode 3 and a few code phases when
@@ -61,7 +61,7 @@ class LMPConfig:
     include_logdet: bool = False
     weights: Literal["paper", "exact"] = "paper"
     zdot: Literal["analytic", "finite-difference"] = "analytic"
-    calibrate: Literal["none", "h0-noise"] = "none"
+    center: Literal["none", "h0-noise"] = "none"
 
     def __post_init__(self) -> None:
         if not self.c_r > 0:
@@ -76,8 +76,8 @@ class LMPConfig:
             raise ValueError("A_r must be cv|identity and tau_grid chips|samples")
         if self.weights not in ("paper", "exact"):
             raise ValueError("weights must be paper|exact")
-        if self.calibrate not in ("none", "h0-noise"):
-            raise ValueError("calibrate must be none|h0-noise")
+        if self.center not in ("none", "h0-noise"):
+            raise ValueError("center must be none|h0-noise")
 
 
 @dataclass(frozen=True)
@@ -183,7 +183,7 @@ def lmp_detect(
     g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(5), N, 2 * C)
     J1 = innovation_costs(F1_at, H1m, g1, np.zeros(5), y, hz, include_logdet=cfg.include_logdet)
     J_cos, J_sin = J1[:C], J1[C:]
-    if cfg.calibrate == "h0-noise":  # centre every J on its expectation under white noise of variance R
+    if cfg.center == "h0-noise":  # centre every J on its expectation under white noise of variance R
         R_true = np.array([[vehicle.R]])
         J0 = J0 - expected_costs_white_noise(lambda k: F0, H0m, g0, R_true, N, hz)[0][None, :]
         E1 = expected_costs_white_noise(F1_at, H1m, g1, R_true, N, hz)

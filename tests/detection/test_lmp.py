@@ -140,14 +140,14 @@ def test_finding_paper_statistic_is_biased_under_h0():
     assert chisquare(taus).pvalue < 1e-10, taus
 
 
-def test_h0_calibration_removes_phase_bias_and_shrinks_mode_bias():
-    """Our extension calibrate="h0-noise" (exact E[Λ] under white noise subtracted), on the same records
+def test_h0_centering_removes_phase_bias_and_shrinks_mode_bias():
+    """Our extension center="h0-noise" (exact E[Λ] under white noise subtracted), on the same records
     as the finding above: the code-phase marginal becomes uniform (χ², level 10⁻³, 310 trials) and the
     mode χ² statistic falls at least 4-fold. Mode uniformity itself is not reached (mode 3 becomes
     under-selected: the argmax of correlated statistics is uniform only for exchangeable candidates);
     the docs report this rather than hide it."""
     modes_p, _ = _h0_argmax(LMPConfig(), R=1e-3)
-    modes_c, taus_c = _h0_argmax(LMPConfig(calibrate="h0-noise"), R=1e-3)
+    modes_c, taus_c = _h0_argmax(LMPConfig(center="h0-noise"), R=1e-3)
     assert chisquare(taus_c).pvalue > 1e-3, taus_c
     assert chisquare(modes_c).statistic < chisquare(modes_p).statistic / 4, (modes_p, modes_c)
 
