@@ -59,6 +59,13 @@ class Center(StrEnum):
     h0_noise = "h0-noise"
 
 
+class Zdot(StrEnum):
+    """Replica derivative in the a-column of eq 44."""
+
+    analytic = "analytic"
+    finite_difference = "finite-difference"
+
+
 class Ar(StrEnum):
     """Reference random-walk model."""
 
@@ -78,6 +85,7 @@ def _lmp_config(
     include_logdet: bool,
     weights: Weights,
     center: Center = Center.none,
+    zdot: Zdot | None = None,
 ) -> LMPConfig:
     q0 = checked("--Q0", float_list, Q0, what="variance")
     if len(q0) != 4:
@@ -110,6 +118,7 @@ def _lmp_config(
         include_logdet=include_logdet,
         weights=weights.value,
         center=center.value,
+        zdot=(zdot or Zdot.analytic).value,
     )
 
 
@@ -184,6 +193,12 @@ def detect(
     weights: Annotated[
         Weights, typer.Option("--weights", help="paper: eq 42 (weights dropped); exact: eqs 38/40.")
     ] = Weights.paper,
+    zdot: Annotated[
+        Zdot,
+        typer.Option(
+            "--zdot", help="Replica derivative: analytic (chip edges ignored) or finite-difference."
+        ),
+    ] = Zdot.analytic,
     center: Annotated[
         Center,
         typer.Option(
@@ -243,6 +258,7 @@ def detect(
             include_logdet,
             weights,
             center,
+            zdot,
             horizons,
             trials,
             fr_list,
@@ -258,7 +274,7 @@ def detect(
     times, y, meta, src = _read_record(source)
     T, m_rho = float(meta["T"]), int(meta["m_rho"])
     cfg = _lmp_config(
-        c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights, center
+        c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights, center, zdot
     )
     try:
         vehicle = Vehicle1D(T=T, K=tuple(meta["K"]), a_sig=float(meta["a_sig"]), R=float(meta["R"]))
@@ -301,6 +317,7 @@ def detect(
         include_logdet=cfg.include_logdet,
         weights=cfg.weights,
         center=cfg.center,
+        zdot=cfg.zdot,
         horizons_s=hs,
         threshold=threshold,
         n_candidates=len(cands),
@@ -402,6 +419,7 @@ def _montecarlo(
     include_logdet: bool,
     weights: Weights,
     center: Center,
+    zdot: Zdot,
     horizons: str | None,
     trials: int,
     fr_list: str,
@@ -421,7 +439,7 @@ def _montecarlo(
         raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
     vehicle = Vehicle1D()
     f_c, m_rho = 1.0, 20
-    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center)
+    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot)
     hs = (
         _horizons(horizons, 80.0, vehicle.T)
         if horizons is None
@@ -488,6 +506,7 @@ def _montecarlo(
         include_logdet=cfg.include_logdet,
         weights=cfg.weights,
         center=cfg.center,
+        zdot=cfg.zdot,
         T=vehicle.T,
         m_rho=m_rho,
         f_c=f_c,

@@ -113,6 +113,12 @@ def simulate(
         CodesVariant, typer.Option("--codes", help="Table I codes: corrected or printed.")
     ] = CodesVariant.corrected,
     no_signature: Annotated[bool, typer.Option("--no-signature", help="Simulate H0 (no signature).")] = False,
+    zdot: Annotated[
+        str,
+        typer.Option(
+            "--zdot", help="Signature derivative in the velocity reference: analytic or finite-difference."
+        ),
+    ] = "analytic",
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     plot: PlotOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
@@ -171,7 +177,9 @@ def simulate(
         th = checked("--theta", float, theta)
         if not math.isfinite(th):
             raise typer.BadParameter("must be finite or 'random'", param_hint="--theta")
-    z, zd = signature_batch(chips, np.array([mode0]), np.array([tau0]), np.array([th]), fc, T, mrho, n)
+    if zdot not in ("analytic", "finite-difference"):
+        raise typer.BadParameter(f"expected analytic or finite-difference, got {zdot!r}", param_hint="--zdot")
+    z, zd = signature_batch(chips, np.array([mode0]), np.array([tau0]), np.array([th]), fc, T, mrho, n, zdot)
     if no_signature:
         z, zd = np.zeros_like(z), np.zeros_like(zd)
     sim = simulate_1d(vehicle, z, zd, draw.w[None, :], draw.v[None, :])
@@ -202,7 +210,7 @@ def simulate(
         n_samples=n,
         codes=codes.value,
         feedback="true state",
-        zdot="analytic",
+        zdot=zdot,
         seed=seed,
         trial=0,
         assumptions="T, m_rho, K (pole placement wn=4pi, zeta=0.7), sigma_a, x0=0, sine reference: spec section 1.8",

@@ -17,7 +17,7 @@ import numpy as np
 from motionsig_cli.detection.lmp import LMPConfig, lmp_detect
 from motionsig_cli.models.vehicle import Vehicle1D, simulate_1d
 from motionsig_cli.rng import trial_rng
-from motionsig_cli.signals.signature import replica_bank
+from motionsig_cli.signals.signature import ZdotMethod, replica_bank
 
 SEED_ANR_LABELS = {1e-1: 2.2, 1e-2: 25.3, 1e-3: 48.3, 1e-5: 94.3}  # seed 000 Figs 4–6 axis labels ("dB")
 
@@ -59,10 +59,11 @@ def signature_batch(
     T: float,
     m_rho: int,
     n: int,
+    zdot: ZdotMethod = "analytic",
 ) -> tuple[np.ndarray, np.ndarray]:
     """z = cos θ z_cos − sin θ z_sin and ż for a batch of (i, τ, θ) (eqs 2–3, f_d = 0)."""
     fcs = np.full(len(modes), f_c)
-    zc, zs, dc, ds = replica_bank(chips, np.asarray(modes), np.asarray(taus), fcs, T, m_rho, n)
+    zc, zs, dc, ds = replica_bank(chips, np.asarray(modes), np.asarray(taus), fcs, T, m_rho, n, zdot)
     c, s = np.cos(thetas)[:, None], np.sin(thetas)[:, None]
     return c * zc - s * zs, c * dc - s * ds
 
