@@ -28,7 +28,7 @@ from motionsig_cli.cli.common import (
     save_figure,
 )
 from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
-from motionsig_cli.detection.lmp import LMPConfig, lmp_detect
+from motionsig_cli.detection.lmp import LMPConfig, candidate_grid, lmp_detect
 from motionsig_cli.experiments.lmp1d import SEED_ANR_LABELS, anr_db, monte_carlo
 from motionsig_cli.models.vehicle import Q0_DIAG, Vehicle1D
 from motionsig_cli.signals.correlation import to_bipolar
@@ -151,7 +151,12 @@ def _read_record(source: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any], s
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
             raise InputError(f"{t.source}:{t.lines[bad[0]]}: column {name!r} is not finite")
-    T = float(t.meta["T"])
+    try:
+        T = float(t.meta["T"])
+        if not (math.isfinite(T) and T > 0):
+            raise ValueError
+    except (TypeError, ValueError):
+        raise InputError(f"{t.source}: metadata 'T' must be a positive number, got {t.meta['T']!r}") from None
     dt = np.diff(times)
     if np.any(dt <= 0):
         i = int(np.flatnonzero(dt <= 0)[0]) + 1
@@ -272,23 +277,21 @@ def detect(
         )
         return
     times, y, meta, src = _read_record(source)
-    T, m_rho = float(meta["T"]), int(meta["m_rho"])
-    cfg = _lmp_config(
-        c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, float(meta["f_c"]), include_logdet, weights, center, zdot
-    )
+    T = float(meta["T"])  # validated by _read_record
     try:
+        f_c = float(meta["f_c"])
+        m_rho = int(meta["m_rho"])
+        if m_rho < 1:
+            raise ValueError(f"m_rho must be >= 1, got {m_rho}")
         vehicle = Vehicle1D(T=T, K=tuple(meta["K"]), a_sig=float(meta["a_sig"]), R=float(meta["R"]))
         chips = to_bipolar(table1_codes(str(meta["codes"]))).astype(float)
     except (ValueError, TypeError) as exc:
         raise InputError(f"{src}: bad metadata: {exc}") from None
+    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot)
     hs = _horizons(horizons, times.size * T, T)
     hz = [round(h / T) for h in hs]
     n_used = max(hz)  # the bank runs only as far as the longest horizon
-    n_cand = (
-        chips.shape[0]
-        * (chips.shape[1] if cfg.tau_grid == "chips" else chips.shape[1] * m_rho)
-        * len(cfg.fc_grid)
-    )
+    n_cand = len(candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg))
     need_gb = (2 * n_cand + 1) * n_used * 7 * 8 / 1e9  # gains, S⁻¹, log det per filter and step
     if need_gb > MAX_BANK_GB:
         raise typer.BadParameter(
@@ -483,11 +486,7 @@ def _montecarlo(
                 cell.trials,
             )
         )
-    n_cand = (
-        chips.shape[0]
-        * (chips.shape[1] if cfg.tau_grid == "chips" else chips.shape[1] * m_rho)
-        * len(cfg.fc_grid)
-    )
+    n_cand = len(candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg))
     meta = make_meta(
         "detect --montecarlo",
         trials=trials,

@@ -155,12 +155,16 @@ def monte_carlo(
             res = lmp_detect(np.concatenate(ys), chips, replace(vehicle, R=R), m_rho, cfg, hz)
             best, _ = res.best()  # (B, H)
             c = res.candidates
-            for b, d in enumerate(truths):
-                fr = fr_list[b // len(ids)]
+            true_mode = np.array([d.mode for d in truths])[:, None]
+            true_tau = np.array([d.tau for d in truths])[:, None]
+            ok_mode = c.mode[best] == true_mode  # (B, H), records ordered f_r-major
+            ok = ok_mode & (c.tau[best] == true_tau)
+            per_fr = len(ids)
+            for f, fr in enumerate(fr_list):
+                rows = slice(f * per_fr, (f + 1) * per_fr)
                 for j, h in enumerate(hz):
-                    ok_mode = c.mode[best[b, j]] == d.mode
-                    counts[(fr, h)][1] += int(ok_mode)
-                    counts[(fr, h)][0] += int(ok_mode and c.tau[best[b, j]] == d.tau)
+                    counts[(fr, h)][0] += int(ok[rows, j].sum())
+                    counts[(fr, h)][1] += int(ok_mode[rows, j].sum())
             if on_chunk:
                 on_chunk(len(ids))
         for fr in fr_list:

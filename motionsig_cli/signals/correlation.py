@@ -106,5 +106,9 @@ def offpeak_counts(codes: np.ndarray) -> tuple[dict[int, int], dict[int, int]]:
         auto += np.bincount(rows[0, 1:] + n, minlength=2 * n + 1)
         if rows.shape[0] > 1:
             cross += np.bincount(rows[1:].ravel() + n, minlength=2 * n + 1)
-    as_dict = lambda h: {int(v) - n: int(c) for v, c in enumerate(h) if c}  # noqa: E731
-    return as_dict(auto), as_dict(cross)
+    return _histogram_dict(auto, n), _histogram_dict(cross, n)
+
+
+def _histogram_dict(counts: np.ndarray, n: int) -> dict[int, int]:
+    """bincount over value + n → {value: count} for the non-empty bins."""
+    return {int(v) - n: int(c) for v, c in enumerate(counts) if c}

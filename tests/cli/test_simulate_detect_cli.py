@@ -129,8 +129,18 @@ def nan_measurement(lines, first):
     return [*lines[:first], f"{k},{t},nan,{rest}", *lines[first + 1 :]]
 
 
+def bad_T_meta(lines, first):
+    return [('# T: "fast"' if ln.startswith("# T:") else ln) for ln in lines]
+
+
+def bad_mrho_meta(lines, first):
+    return [("# m_rho: 0" if ln.startswith("# m_rho:") else ln) for ln in lines]
+
+
 BAD_RECORDS = [
     (drop_R_meta, "missing metadata 'R'"),
+    (bad_T_meta, "metadata 'T' must be a positive number"),
+    (bad_mrho_meta, "bad metadata: m_rho must be >= 1"),
     (rename_y, "missing column 'y'"),
     (repeat_a_row, "time is not increasing"),
     (drop_a_row, "non-uniform time"),
