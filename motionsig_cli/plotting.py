@@ -110,3 +110,38 @@ def montecarlo_figure(
     if title:
         fig.suptitle(title)
     return fig
+
+
+def jamming_figure(
+    panels: list[tuple[str, list[tuple[str, np.ndarray, np.ndarray]], list[tuple[float, str]]]],
+    title: str = "",
+    ylim: tuple[float, float] = (1e-6, 1.5),
+) -> Figure:
+    """ATC-10 Figs 2.1–2.16: N̄/N_T against 10·log10(J/P₀Bτ) on a log ordinate, one panel per quantity.
+
+    Args:
+        panels: (y label, [(curve label, x_db, log10 N̄/N_T)], [(reference level, its label)]).
+    """
+    fig = Figure(figsize=(6.4 * len(panels), 4.4), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, len(panels), squeeze=False)).ravel()
+    for ax, (ylabel, lines, levels) in zip(axes, panels, strict=True):
+        for label, x, log10_y in lines:
+            ax.semilogy(x, 10.0 ** np.maximum(log10_y, -300.0), lw=1.3, label=label)
+        for level, label in levels:
+            ax.axhline(level, color="0.4", ls=":", lw=1)
+            ax.annotate(
+                label,
+                (0.01, level),
+                xycoords=("axes fraction", "data"),
+                fontsize="x-small",
+                va="bottom",
+                color="0.3",
+            )
+        ax.set_ylim(*ylim)
+        ax.set_xlabel(r"$10\log_{10}\,J/(P_0 B\tau)$ [dB]")
+        ax.set_ylabel(ylabel)
+        ax.grid(alpha=0.3, which="both")
+        ax.legend(fontsize="small", loc="best")
+    if title:
+        fig.suptitle(title)
+    return fig

@@ -18,6 +18,9 @@ CORE = [
     "motionsig_cli.filters.kalman",
     "motionsig_cli.detection.lmp",
     "motionsig_cli.experiments.lmp1d",
+    "motionsig_cli.surveillance.jamming",
+    "motionsig_cli.surveillance.antenna",
+    "motionsig_cli.experiments.jamming",
 ]
 
 

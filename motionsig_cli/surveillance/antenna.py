@@ -1,0 +1,110 @@
+"""The jammer's transmitter: a parabolic dish turning rf power into ERP (ATC-10 Table 1.1, spec §2.10).
+
+The report gives only the results (Table 1.1 and "33 dBW ERP … 30 watts of rf power and an antenna
+with a 20° beamwidth"); the chain below is the standard one that reproduces them [A]:
+
+    ERP[dBW] = P_rf[dBW] + G[dBi]                (lossless, ERP = EIRP)
+    G        = η (π D / λ)²                      (aperture efficiency η)
+    θ_3dB    = k λ / D  degrees                  (k = 70 for a parabolic dish)
+    λ        = c / f
+
+so G·θ² = k²π²η, about 26 600 deg² for η = 0.55. The report does not say which of P_rf or D the
+designer fixes; :func:`jammer_antenna` takes either.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+C_M_S = 299_792_458.0
+FOOT_M = 0.3048
+
+
+@dataclass(frozen=True, slots=True)
+class DishAntenna:
+    """Dish model [A: f = 1.6 GHz (L band, "the centre of 1535–1660 MHz"), η = 0.55, k = 70]."""
+
+    freq_hz: float = 1.6e9
+    efficiency: float = 0.55
+    beamwidth_const_deg: float = 70.0
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.freq_hz) and self.freq_hz > 0):
+            raise ValueError(f"freq_hz must be a finite number > 0, got {self.freq_hz}")
+        if not 0 < self.efficiency <= 1:
+            raise ValueError(f"efficiency must lie in (0, 1], got {self.efficiency}")
+        if not (math.isfinite(self.beamwidth_const_deg) and self.beamwidth_const_deg > 0):
+            raise ValueError(f"beamwidth_const_deg must be > 0, got {self.beamwidth_const_deg}")
+
+    @property
+    def wavelength_m(self) -> float:
+        """λ = c/f."""
+        return C_M_S / self.freq_hz
+
+    def gain_dbi(self, diameter_m: float) -> float:
+        """G = 10·log10 η + 20·log10(πD/λ)."""
+        return 10 * math.log10(self.efficiency) + 20 * math.log10(math.pi * diameter_m / self.wavelength_m)
+
+    def diameter_m(self, gain_dbi: float) -> float:
+        """D = (λ/π)·√(G/η)."""
+        return self.wavelength_m / math.pi * math.sqrt(10 ** (gain_dbi / 10) / self.efficiency)
+
+    def beamwidth_deg(self, diameter_m: float) -> float:
+        """θ_3dB = kλ/D in degrees."""
+        return self.beamwidth_const_deg * self.wavelength_m / diameter_m
+
+
+DEFAULT_DISH = DishAntenna()
+
+
+@dataclass(frozen=True, slots=True)
+class JammerTransmitter:
+    """A jammer meeting an ERP: rf power, dish gain, diameter and beamwidth."""
+
+    erp_dbw: float
+    rf_dbw: float
+    gain_dbi: float
+    diameter_m: float
+    beamwidth_deg: float
+
+    @property
+    def diameter_ft(self) -> float:
+        """Dish diameter in feet (Table 1.1's unit)."""
+        return self.diameter_m / FOOT_M
+
+    @property
+    def rf_w(self) -> float:
+        """rf power in watts."""
+        return 10 ** (self.rf_dbw / 10)
+
+
+def jammer_antenna(
+    erp_dbw: float,
+    *,
+    rf_dbw: float | None = None,
+    diameter_m: float | None = None,
+    antenna: DishAntenna = DEFAULT_DISH,
+) -> JammerTransmitter:
+    """Complete the chain from the ERP and exactly one of the rf power or the dish diameter.
+
+    Inverse chain (rf power given): G = ERP − P_rf, then D, then θ. Forward chain (D given): G from
+    D, then P_rf = ERP − G and θ.
+    """
+    if (rf_dbw is None) == (diameter_m is None):
+        raise ValueError("give exactly one of the rf power and the dish diameter")
+    if not math.isfinite(erp_dbw):
+        raise ValueError(f"the ERP must be finite, got {erp_dbw}")
+    if diameter_m is not None:
+        if not (math.isfinite(diameter_m) and diameter_m > 0):
+            raise ValueError(f"the dish diameter must be > 0, got {diameter_m}")
+        gain = antenna.gain_dbi(diameter_m)
+        rf = erp_dbw - gain
+    else:
+        assert rf_dbw is not None
+        if not math.isfinite(rf_dbw):
+            raise ValueError(f"the rf power must be finite, got {rf_dbw}")
+        gain = erp_dbw - rf_dbw
+        diameter_m = antenna.diameter_m(gain)
+        rf = rf_dbw
+    return JammerTransmitter(erp_dbw, rf, gain, diameter_m, antenna.beamwidth_deg(diameter_m))

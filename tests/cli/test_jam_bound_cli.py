@@ -1,0 +1,137 @@
+"""`motionsig jam-bound`: tables against the printed values, curves, conventions, bad input (issue 6)."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from motionsig_cli.cli.app import main
+from motionsig_cli.tables import read_table
+
+
+def run(capsys, *args):
+    rc = main(list(args))
+    out, err = capsys.readouterr()
+    return rc, out, err
+
+
+def table(text, tmp_path, name="t.csv"):
+    p = tmp_path / name
+    p.write_text(text)
+    return read_table(p)
+
+
+def test_table_2_1_cli(capsys, tmp_path):
+    rc, out, err = run(capsys, "jam-bound", "table")
+    assert rc == 0 and "6/6 rows agree" in err
+    t = table(out, tmp_path)
+    assert t.meta["which"] == "2.1" and t.meta["convention"] == "corrected"
+    status = dict(zip(zip(t.column("K"), t.column("P_DL"), strict=True), t.column("status"), strict=True))
+    assert status[("1000", "0.98")] == "unattainable-as-printed"
+    dev = np.array([float(v or "nan") for v in t.column("deviation_db")])
+    tol = np.array([float(v or "nan") for v in t.column("tolerance_db")])
+    ok = ~np.isnan(dev)
+    assert ok.sum() == 5 and np.all(np.abs(dev[ok]) <= tol[ok])
+    assert "> 130" in t.column("printed_erp_dbw")
+
+
+def test_table_1_1_cli_flags(capsys, tmp_path):
+    rc, out, _ = run(capsys, "jam-bound", "table", "--which", "1.1", "-q")
+    assert rc == 0
+    t = table(out, tmp_path)
+    flags = dict(zip(t.column("K"), t.column("flags"), strict=True))
+    assert "beamwidth 15" in flags["1"]
+    assert "Table 2.1 prints 56 dBW for P_DL 0.88, 51 dBW for P_DL 0.999, not 53" in flags["100"]
+    assert abs(t.meta["text_anchor_k1"]["beamwidth_deg"] - 20) < 1
+
+
+def test_curves_figure_preset_and_plot(capsys, tmp_path):
+    out_csv, fig = tmp_path / "f.csv", tmp_path / "f.svg"
+    rc, _, _ = run(
+        capsys, "jam-bound", "curves", "--figure", "2.4", "-o", str(out_csv), "--plot", str(fig), "-q"
+    )
+    assert rc == 0 and fig.stat().st_size > 0
+    t = read_table(out_csv)
+    assert set(t.column("quantity")) == {"nadl"} and set(t.column("K")) == {"10"}
+    assert sorted(set(t.numeric("t"))) == [0.0, 0.1, 0.2, 0.3, 0.5]
+    lv = t.numeric("log10_value")
+    assert np.all(np.isfinite(lv)) and lv.min() < -300  # exact logs where the value underflows
+    empty = [v == "" for v in t.column("value")]
+    assert any(empty) and all(e == (x < -690 / math.log(10)) for e, x in zip(empty, lv, strict=True))
+
+
+def test_report_convention_shifts_nfl_by_3_db(capsys, tmp_path):
+    args = ["jam-bound", "curves", "--K", "100", "--pdl", "0.88", "--t", "0", "--quantity", "nfl", "-q"]
+    _, a, _ = run(capsys, *args, "--x-min", "-20", "--x-max", "-10", "--step", "0.5")
+    shift = 10 * math.log10(2)
+    _, b, _ = run(
+        capsys,
+        *args,
+        "--x-min",
+        str(-20 - shift),
+        "--x-max",
+        str(-10 - shift),
+        "--step",
+        "0.5",
+        "--convention",
+        "report",
+    )
+    ta, tb = table(a, tmp_path, "a.csv"), table(b, tmp_path, "b.csv")
+    assert tb.meta["convention"] == "report"
+    np.testing.assert_allclose(ta.numeric("log10_value"), tb.numeric("log10_value"), rtol=1e-10)
+
+
+def test_threshold_and_design_cli(capsys, tmp_path):
+    rc, out, _ = run(
+        capsys, "jam-bound", "threshold", "--K", "1000", "--pdl", "0.98,0.999", "-f", "json", "-q"
+    )
+    assert rc == 0
+    doc = json.loads(out)
+    rows = {r["P_DL"]: r for r in doc["data"]}
+    assert rows[0.98]["attainable"] is False and rows[0.98]["erp_dbw"] is None
+    assert rows[0.999]["ill_conditioned"] is True and abs(rows[0.999]["erp_dbw"] - 75.73) < 0.01
+    rc, out, _ = run(capsys, "jam-bound", "design", "--K", "10", "--pd", "0.9", "--t", "0.1", "-q")
+    t = table(out, tmp_path)
+    assert abs(t.numeric("P_DL")[0] - 0.9988605978) < 1e-9 and t.column("solved") == ["P_DL"]
+
+
+def test_antenna_cli(capsys, tmp_path):
+    rc, out, _ = run(capsys, "jam-bound", "antenna", "--erp-dbw", "33", "--rf-w", "30", "-q")
+    assert rc == 0 and abs(table(out, tmp_path).numeric("beamwidth_deg")[0] - 20.0) < 0.01
+
+
+@pytest.mark.parametrize(
+    ("args", "option"),
+    [
+        (["curves", "--pdl", "1.5"], "--pdl"),
+        (["curves", "--pdl", "0"], "--pdl"),
+        (["curves", "--K", "0"], "--K"),
+        (["curves", "--t", "1"], "--t"),
+        (["curves", "--K", "1", "--t", "0.1"], "--t"),
+        (["curves", "--B", "0"], "--B"),
+        (["curves", "--alpha", "-1"], "--alpha"),
+        (["curves", "--beta", "nan"], "--beta"),
+        (["curves", "--energy-j", "0"], "--energy-j"),
+        (["curves", "--airborne-frac", "1"], "--airborne-frac"),
+        (["curves", "--vmax-mph", "1e10"], "--vmax-mph"),
+        (["curves", "--figure", "2.17"], "--figure"),
+        (["curves", "--step", "0"], "--step"),
+        (["curves", "--x-min", "5", "--x-max", "0"], "--step"),
+        (["curves", "--pd", "0.3", "--t", "0.5"], "--t"),
+        (["curves", "--pd", "0.9", "--pdl", "0.9"], "--pd"),
+        (["threshold", "--level", "1.5"], "--level"),
+        (["threshold", "--level", "0"], "--level"),
+        (["table", "--eta", "1.5"], "--eta"),
+        (["design", "--K", "10"], "--pdl"),
+        (["design", "--K", "10", "--pdl", "0.999", "--pd", "0.3"], "--pdl"),
+        (["antenna", "--rf-w", "30", "--diameter-ft", "2"], "--diameter-ft"),
+        (["antenna", "--diameter-ft", "-2"], "--diameter-ft"),
+    ],
+)
+def test_bad_input_one_line_exit_2(capsys, tmp_path, args, option):
+    target = tmp_path / "never.csv"
+    rc, out, err = run(capsys, "jam-bound", *args, "-o", str(target))
+    assert rc == 2, err
+    assert len(err.strip().splitlines()) == 1 and option in err and "Traceback" not in err
+    assert not target.exists() and out == ""
