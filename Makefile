@@ -36,7 +36,11 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig encode gold --poly1 45 --poly2 75 --all | $(BIN)/motionsig encode correlations - --view values
 	@echo '== Monte Carlo (Fig 4, 10 trials per cell; make reproduce runs 50)'
 	$(BIN)/motionsig detect --montecarlo --trials 10 --fr-list 0.01 --plot $(OUT)/fig4.png -o $(OUT)/fig4.csv
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png"
+	@echo '== ATC-10 Table 2.1: jammer ERP that mislocates 10 % of the airborne aircraft, ours beside the printed values'
+	$(BIN)/motionsig jam-bound table --which 2.1
+	@echo '== ATC-10 Fig 2.16: ambiguous-detection bound, K = 1000, P_DL = 0.999'
+	$(BIN)/motionsig jam-bound curves --figure 2.16 --plot $(OUT)/fig2_16.png -o $(OUT)/fig2_16.csv
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png fig2_16.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
@@ -69,9 +73,10 @@ bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench]'
 	$(BIN)/python benchmarks/bench_kf_bank.py
 
-## reproduce: every table and figure of seed 000 at full size, into results/seed000/
+## reproduce: every table and figure of seed 000 (results/seed000/) and of ATC-10 §2 (results/atc10_jamming/)
 reproduce: $(RUN_STAMP)
 	$(BIN)/python scripts/reproduce_seed000.py
+	$(BIN)/python scripts/reproduce_atc10_jamming.py
 
 clean:
 	rm -rf site $(OUT) .pytest_cache .ruff_cache docs/javascripts/mathjax
