@@ -90,6 +90,8 @@ def check_outputs(out: Path | None, plot: Path | None = None) -> None:
             f"unsupported figure type {plot.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
             param_hint="--plot",
         )
+    if out is not None and plot is not None and out.resolve() == plot.resolve():
+        raise typer.BadParameter("is the same file as --out", param_hint="--plot")
     for option, path in (("--out", out), ("--plot", plot)):
         try:
             check_output_path(path, option)

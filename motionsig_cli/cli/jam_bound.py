@@ -150,7 +150,9 @@ def _system(
 ) -> JammingSystem:
     if not vmax < c:
         raise typer.BadParameter(f"must be below the speed of light ({c:.6g} mph)", param_hint="--vmax-mph")
-    return JammingSystem(
+    return checked(
+        "--B/--alpha/--beta/--vmax-mph",
+        JammingSystem,
         bandwidth_hz=B,
         alpha_s=alpha,
         beta_s=beta,
@@ -235,7 +237,7 @@ def _probabilities(text: str | None, option: str, *, lo_closed: bool = False) ->
         if not ok:
             interval = "[0, 1)" if lo_closed else "the open interval (0, 1)"
             raise typer.BadParameter(f"{v:g} is not in {interval}", param_hint=option)
-    return list(dict.fromkeys(values))
+    return list(dict.fromkeys(v + 0.0 for v in values))  # + 0.0 turns -0.0 into 0.0
 
 
 def _designs(
@@ -252,7 +254,7 @@ def _designs(
     out = []
     for p in pd:
         for tt in t:
-            design = JammingDesign(K, p, tt)
+            design = checked("--pd", JammingDesign, K, p, tt)
             if design.pdl <= 0.0:
                 raise typer.BadParameter(
                     f"t = {tt:g} >= q = p_d^4 = {design.q:.6g} makes P_DL = 0 (the design is infeasible)",
@@ -313,35 +315,39 @@ def curves(
     double (value is then empty): the bounds reach 10^-222 and below.
     """
     check_outputs(out, plot)
-    preset = None
-    if figure is not None:
-        preset = exp.FIGURES.get(figure.strip().removeprefix("Fig").strip().removeprefix("."))
-        if preset is None:
-            raise typer.BadParameter(
-                f"unknown figure {figure!r}; one of {', '.join(exp.FIGURES)}", param_hint="--figure"
-            )
+    preset = checked("--figure", exp.parse_figure, figure) if figure is not None else None
+    if preset is not None and K is not None and K != preset.K:
+        raise typer.BadParameter(
+            f"Fig. {preset.figure} is drawn for K = {preset.K}; drop --K or --figure", param_hint="--K"
+        )
+    if preset is not None and quantity is not None and quantity.value != preset.quantity:
+        raise typer.BadParameter(
+            f"Fig. {preset.figure} shows {preset.quantity}; drop --quantity or --figure",
+            param_hint="--quantity",
+        )
     K_ = K if K is not None else preset.K if preset else 10
     pdl_ = _probabilities(pdl, "--pdl")
     pd_ = _probabilities(pd, "--pd")
     t_ = _probabilities(t, "--t", lo_closed=True)
     if pdl_ is None and pd_ is None:
-        pdl_ = (
-            list(preset.pdl)
-            if preset and K_ == preset.K
-            else [0.88, 0.999]
-            if K_ > 1
-            else list(exp.PDL_SET_K1)
-        )
+        pdl_ = list(preset.pdl) if preset else [0.88, 0.999] if K_ > 1 else list(exp.PDL_SET_K1)
     if t_ is None:
-        t_ = list(preset.t) if preset and K_ == preset.K else [0.0] if K_ == 1 else list(exp.T_SET)
+        t_ = list(preset.t) if preset else [0.0] if K_ == 1 else list(exp.T_SET)
     quantities: list[Quantity]
     if quantity is None:
         quantities = [preset.quantity] if preset else ["nfl", "nadl"]
     else:
         quantities = ["nfl", "nadl"] if quantity is QuantityChoice.both else [Bound(quantity.value).value]
-    lo, hi = exp.default_x_range(K_) if preset is None or K_ != preset.K else preset.x_range
-    x = checked("--step", exp.x_grid, lo if x_min is None else x_min, hi if x_max is None else x_max, step)
+    lo, hi = preset.x_range if preset else exp.default_x_range(K_)
+    lo, hi = lo if x_min is None else x_min, hi if x_max is None else x_max
+    for name, v in (("--x-min", lo), ("--x-max", hi)):
+        if not (math.isfinite(v) and abs(v) <= exp.X_LIMIT_DB):
+            raise typer.BadParameter(f"{v:g} is not within ±{exp.X_LIMIT_DB:g} dB", param_hint=name)
+    if lo > hi:
+        raise typer.BadParameter(f"{hi:g} is below --x-min {lo:g}", param_hint="--x-max")
     designs = _designs(K_, pdl_, t_, pd_)
+    per_curve = exp.MAX_ROWS // (len(designs) * len(quantities))
+    x = checked("--step", exp.x_grid, lo, hi, step, max_points=per_curve)
     rows = []
     panels = []
     for q in quantities:
@@ -352,7 +358,7 @@ def curves(
             for xi, lp, lv, v in zip(c.x_db, log10_pf, log10_v, c.log_value, strict=True):
                 rows.append(
                     (
-                        figure or "",
+                        preset.figure if preset else "",
                         q,
                         K_,
                         c.pdl,
@@ -374,7 +380,7 @@ def curves(
         panels.append((LABEL[q], lines, levels))
     meta = make_meta(
         "jam-bound curves",
-        figure=figure,
+        figure=preset.figure if preset else None,
         quantities=quantities,
         K=K_,
         pdl=pdl_,
@@ -403,7 +409,7 @@ def curves(
     if plot is not None:
         from motionsig_cli.plotting import jamming_figure
 
-        title = f"Fig. {figure}" if figure else ""
+        title = f"Fig. {preset.figure}" if preset else ""
         save_figure(jamming_figure(panels, title=f"{title} K = {K_}".strip()), plot)
     emit(Table(columns=cols, rows=rows, meta=meta), fmt.value, out)
     note(f"jam-bound curves: {len(designs)} design(s) × {len(quantities)} bound(s) × {len(x)} points", quiet)
@@ -445,7 +451,7 @@ def threshold(
         pdl_ = [0.88, 0.999]
     rows = []
     for target, design in _designs(K, pdl_, t_, pd_):
-        th = required_jamming(quantity.value, level, design, system)
+        th = checked("--level", required_jamming, quantity.value, level, design, system)
         j = th.x_db if th.attainable else None
         rows.append(
             (
@@ -530,7 +536,7 @@ def table(
     check_outputs(out)
     if not (math.isfinite(level) and 0.0 < level <= 1.0):
         raise typer.BadParameter(f"{level:g} is not a fraction of N_T in (0, 1]", param_hint="--level")
-    antenna = DishAntenna(freq_hz, eta, bw_const)
+    antenna = checked("--freq-hz", DishAntenna, freq_hz, eta, bw_const)
     base = {"level": level, **_system_meta(system)}
     if which is WhichTable.t21:
         rows21 = exp.table_2_1(system, level)
@@ -573,7 +579,7 @@ def table(
         agree = sum(r.status in ("agrees", "unattainable-as-printed") for r in rows21)
         msg = f"Table 2.1: {agree}/{len(rows21)} rows agree with the printed values within tolerance"
     else:
-        rows11 = exp.table_1_1(system, antenna, level)
+        rows11 = checked("--freq-hz/--eta/--bw-const", exp.table_1_1, system, antenna, level)
         printed21 = {(r.K, r.pdl): r for r in exp.table_2_1(system, level)}
         rows = []
         for r in rows11:
@@ -750,10 +756,15 @@ def antenna(
         raise typer.BadParameter("must be finite", param_hint="--erp-dbw")
     if rf_dbw is not None and not math.isfinite(rf_dbw):
         raise typer.BadParameter("must be finite", param_hint="--rf-dbw")
-    dish = DishAntenna(freq_hz, eta, bw_const)
+    dish = checked("--freq-hz", DishAntenna, freq_hz, eta, bw_const)
     rf = rf_dbw if rf_dbw is not None else 10 * math.log10(rf_w) if rf_w is not None else None
-    tx = jammer_antenna(
-        erp_dbw, rf_dbw=rf, diameter_m=None if diameter_ft is None else diameter_ft * FOOT_M, antenna=dish
+    tx = checked(
+        given[0],
+        jammer_antenna,
+        erp_dbw,
+        rf_dbw=rf,
+        diameter_m=None if diameter_ft is None else diameter_ft * FOOT_M,
+        antenna=dish,
     )
     cols = ("erp_dbw", "rf_dbw", "rf_w", "gain_dbi", "diameter_ft", "diameter_m", "beamwidth_deg")
     row = (tx.erp_dbw, tx.rf_dbw, tx.rf_w, tx.gain_dbi, tx.diameter_ft, tx.diameter_m, tx.beamwidth_deg)

@@ -9,6 +9,7 @@ Table 1.1 adds the jammer's transmitter (:mod:`motionsig_cli.surveillance.antenn
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -30,7 +31,8 @@ from motionsig_cli.surveillance.jamming import (
 LEVEL_NADL = 0.01  # Tables 1.1/2.1: N̄_ADL = 0.01·N_T, "10 % of the airborne aircraft falsely located"
 T_SET = (0.0, 0.1, 0.2, 0.3, 0.5)  # [A] the (p_d, t) legends are unreadable; t = 0 is certain
 PDL_SET_K1 = (0.88, 0.9, 0.99, 0.999)  # [A] Figs 2.1/2.2: the text cites 0.9, 0.999; Table 1.1 0.88
-MAX_POINTS = 1_000_000
+MAX_POINTS = 1_000_000  # points of one x grid
+MAX_ROWS = 200_000  # rows of one curves table (designs × bounds × points), about 30 MB of CSV
 
 # Tolerances of Table 2.1 (spec §8.1): the printed values are read off log plots to whole dB
 # (±0.6 dB); K = 100 at 0.88 deviates 0.65 dB (±1 dB); K = 1000 is ill-conditioned: p_f* is within
@@ -90,16 +92,34 @@ def default_x_range(K: int) -> tuple[float, float]:
     return (-20.0, 0.0) if K <= 10 else (-20.0, 10.0) if K <= 100 else (-20.0, 80.0)
 
 
-def x_grid(x_min: float, x_max: float, step: float) -> np.ndarray:
-    """Inclusive grid from x_min to x_max in steps of ``step`` dB (refused above MAX_POINTS points)."""
-    if not (math.isfinite(x_min) and math.isfinite(x_max) and x_min < x_max):
-        raise ValueError(f"need finite x_min < x_max, got {x_min}, {x_max}")
+X_LIMIT_DB = 1000.0  # |x| beyond this is physically meaningless (d = 10^(−x/20) leaves double range at ±6000)
+
+
+def x_grid(x_min: float, x_max: float, step: float, *, max_points: int = MAX_POINTS) -> np.ndarray:
+    """Inclusive grid from x_min to x_max in steps of ``step`` dB, values rounded to the step's decimals
+    (no 0.050000000000000044); refused above ``max_points`` points or outside ±X_LIMIT_DB."""
+    for name, v in (("x_min", x_min), ("x_max", x_max)):
+        if not (math.isfinite(v) and abs(v) <= X_LIMIT_DB):
+            raise ValueError(f"{name} must be a number within ±{X_LIMIT_DB:g} dB, got {v:g}")
+    if not x_min <= x_max:
+        raise ValueError(f"x_max must be >= x_min, got {x_min:g} > {x_max:g}")
     if not (math.isfinite(step) and step > 0):
-        raise ValueError(f"the step must be > 0, got {step}")
-    n = math.floor((x_max - x_min) / step + 1e-9) + 1
-    if n > MAX_POINTS:
-        raise ValueError(f"{n} points requested; at most {MAX_POINTS}")
-    return x_min + step * np.arange(n)
+        raise ValueError(f"the step must be > 0, got {step:g}")
+    count = (x_max - x_min) / step
+    if count + 1 > max_points:
+        raise ValueError(f"{count + 1:.3g} points per curve requested; at most {max_points} here")
+    n = math.floor(count + 1e-9) + 1
+    decimals = max(0, 9 - math.floor(math.log10(step)))
+    return np.round(x_min + step * np.arange(n), decimals)
+
+
+def parse_figure(text: str) -> FigurePreset:
+    """A figure name: '2.4', 'Fig. 2.4', 'fig2.4', 'Figure 2.16' (case and spaces ignored)."""
+    m = re.fullmatch(r"\s*(?:fig(?:ure)?\.?\s*)?2\.0*(\d+)\s*", text, flags=re.IGNORECASE)
+    preset = FIGURES.get(f"2.{int(m.group(1))}") if m else None
+    if preset is None:
+        raise ValueError(f"unknown figure {text!r}; one of {', '.join(FIGURES)}")
+    return preset
 
 
 @dataclass(frozen=True, slots=True)

@@ -36,6 +36,8 @@ class DishAntenna:
             raise ValueError(f"efficiency must lie in (0, 1], got {self.efficiency}")
         if not (math.isfinite(self.beamwidth_const_deg) and self.beamwidth_const_deg > 0):
             raise ValueError(f"beamwidth_const_deg must be > 0, got {self.beamwidth_const_deg}")
+        if not math.isfinite(C_M_S / self.freq_hz):
+            raise ValueError(f"freq_hz = {self.freq_hz:g} gives an infinite wavelength")
 
     @property
     def wavelength_m(self) -> float:
@@ -95,16 +97,28 @@ def jammer_antenna(
         raise ValueError("give exactly one of the rf power and the dish diameter")
     if not math.isfinite(erp_dbw):
         raise ValueError(f"the ERP must be finite, got {erp_dbw}")
-    if diameter_m is not None:
-        if not (math.isfinite(diameter_m) and diameter_m > 0):
-            raise ValueError(f"the dish diameter must be > 0, got {diameter_m}")
-        gain = antenna.gain_dbi(diameter_m)
-        rf = erp_dbw - gain
-    else:
-        assert rf_dbw is not None
-        if not math.isfinite(rf_dbw):
-            raise ValueError(f"the rf power must be finite, got {rf_dbw}")
-        gain = erp_dbw - rf_dbw
-        diameter_m = antenna.diameter_m(gain)
-        rf = rf_dbw
-    return JammerTransmitter(erp_dbw, rf, gain, diameter_m, antenna.beamwidth_deg(diameter_m))
+    if diameter_m is not None and not (math.isfinite(diameter_m) and diameter_m > 0):
+        raise ValueError(f"the dish diameter must be > 0, got {diameter_m}")
+    if rf_dbw is not None and not math.isfinite(rf_dbw):
+        raise ValueError(f"the rf power must be finite, got {rf_dbw}")
+    try:
+        if diameter_m is not None:
+            gain = antenna.gain_dbi(diameter_m)
+            rf = erp_dbw - gain
+        else:
+            assert rf_dbw is not None
+            gain = erp_dbw - rf_dbw
+            diameter_m = antenna.diameter_m(gain)
+            rf = rf_dbw
+        tx = JammerTransmitter(erp_dbw, rf, gain, diameter_m, antenna.beamwidth_deg(diameter_m))
+        ok = all(math.isfinite(v) for v in (tx.rf_dbw, tx.gain_dbi, tx.diameter_m, tx.beamwidth_deg, tx.rf_w))
+    except (OverflowError, ZeroDivisionError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError("the chain leaves floating-point range for these inputs")
+    if tx.gain_dbi <= 0.0 or tx.beamwidth_deg > 180.0:
+        raise ValueError(
+            f"not a dish: gain {tx.gain_dbi:.3g} dBi, beamwidth {tx.beamwidth_deg:.3g} deg "
+            "(the rf power must be below the ERP, the dish larger than a wavelength)"
+        )
+    return tx

@@ -88,6 +88,10 @@ class JammingSystem:
             raise ValueError(f"satellites must be an integer >= 1, got {self.satellites}")
         if self.pf_form not in ("d17", "report"):
             raise ValueError(f"pf_form must be d17|report, got {self.pf_form!r}")
+        for name in ("n_alpha", "n_beta", "n_v"):
+            n = getattr(self, name)
+            if not (math.isfinite(n) and n > 0):
+                raise ValueError(f"the sample count {name} = {n:g} is not a finite positive number")
 
     @property
     def n_alpha(self) -> float:
@@ -107,7 +111,7 @@ class JammingSystem:
     @property
     def eb_dbw(self) -> float:
         """10·log10(E·B) = 10·log10(P₀Bτ) in dBW: ERP[dBW] = x[dB] + eb_dbw (§2.8)."""
-        return 10.0 * math.log10(self.energy_j * self.bandwidth_hz)
+        return 10.0 * (math.log10(self.energy_j) + math.log10(self.bandwidth_hz))
 
     def pf_scale(self, quantity: Quantity, K: int) -> float:
         """Factor on d in p_f = Φ(z_d − scale·d): 1, or 1/√2 for the report's misprinted N̄_FL (K > 1)."""
@@ -162,19 +166,37 @@ def log_pf(x_db: np.ndarray | float, p_d: np.ndarray | float, *, scale: float = 
 # --- the first-stage decision: P_DL and its inversion (App. A) --------------------------------------
 
 
+def _log1pmx(x: np.ndarray) -> np.ndarray:
+    """ln(1 + x) − x, without cancellation for small |x| (Taylor series to x²⁰ for |x| < 0.1)."""
+    x = np.asarray(x, dtype=float)
+    small = np.abs(x) < 0.1
+    xs = np.where(small, x, 0.0)
+    acc = np.zeros_like(xs)
+    for k in range(20, 1, -1):  # Horner: Σ_{k≥2} (−1)^{k+1} x^k / k
+        acc = acc * xs + (-1.0) ** (k + 1) / k
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(small, acc * xs * xs, np.log1p(x) - x)
+
+
 def detection_exponent(q: np.ndarray | float, t: np.ndarray | float) -> np.ndarray:
     """E(t, q) = max_{ν ≥ 0} [ν(1−t) − ln((1−q)e^ν + q)] in closed form (A.17–A.18).
 
     Setting the derivative to zero gives e^ν* = q(1−t)/(t(1−q)), admissible iff t ≤ q; the maximum is
     the binary Kullback–Leibler divergence D(t‖q) = t ln(t/q) + (1−t) ln((1−t)/(1−q)). At t = 0 the
     supremum (ν → ∞) is −ln(1−q); for t ≥ q the maximum is at ν = 0 and E = 0; for q = 1, E = ∞.
+
+    When q is close to t (large K), the two terms cancel to first order; there D is evaluated as
+    −t·[ln(1+a) − a] − (1−t)·[ln(1+b) − b] with a = (q−t)/t, b = (t−q)/(1−t), since t·a + (1−t)·b = 0.
     """
     q, t = np.broadcast_arrays(np.asarray(q, dtype=float), np.asarray(t, dtype=float))
     with np.errstate(divide="ignore", invalid="ignore"):
         log1mq = np.log1p(-q)
-        kl = (
-            np.where(t > 0, t * (np.log(t) - np.log(q)), 0.0) + (1.0 - t) * (np.log1p(-t) - log1mq)  # D(t‖q)
-        )
+        direct = np.where(t > 0, t * (np.log(t) - np.log(q)), 0.0) + (1.0 - t) * (np.log1p(-t) - log1mq)
+        a = np.where(t > 0, (q - t) / np.where(t > 0, t, 1.0), np.inf)
+        b = (t - q) / (1.0 - t)
+        near = (np.abs(a) < 0.1) & (np.abs(b) < 0.1)
+        series = -t * _log1pmx(np.where(near, a, 0.0)) - (1.0 - t) * _log1pmx(np.where(near, b, 0.0))
+        kl = np.where(near, series, direct)  # D(t‖q)
         out = np.where(t >= q, 0.0, np.where(q >= 1.0, np.inf, kl))
     return np.asarray(out, dtype=float)
 
@@ -230,8 +252,25 @@ def p_d_for(K: int, pdl: float, t: float = 0.0, *, satellites: int = 4) -> float
             return K * float(detection_exponent(q_, t)) - L
 
         w_hi = math.log1p(-t) - 1e-15
+        if gap(w_hi) >= 0.0:
+            raise ValueError(
+                f"K = {K} needs q = p_d^S within double precision of t = {t}; use a smaller K or t = 0"
+            )
+        if gap(-700.0) <= 0.0:
+            raise ValueError(f"P_DL = {pdl} with t = {t} needs p_d = 1 to double precision")
         q = -math.expm1(brentq(gap, -700.0, w_hi, xtol=1e-15, rtol=4 * np.finfo(float).eps))
-    return q ** (1.0 / satellites)
+    p_d = q ** (1.0 / satellites)
+    if not 0.0 < p_d < 1.0:
+        raise ValueError(
+            f"P_DL = {pdl} at K = {K}, t = {t} needs p_d = {p_d:g} (not in (0, 1) in double precision)"
+        )
+    achieved = float(p_dl(p_d, K, t, satellites=satellites))
+    if not abs(achieved - pdl) <= 1e-9 * pdl:
+        raise ValueError(
+            f"P_DL = {pdl} at K = {K}, t = {t} cannot be met in double precision "
+            f"(the nearest p_d gives {achieved:.10g})"
+        )
+    return p_d
 
 
 def t_for(K: int, p_d: float, pdl: float, *, satellites: int = 4) -> float:
@@ -240,14 +279,14 @@ def t_for(K: int, p_d: float, pdl: float, *, satellites: int = 4) -> float:
     Raises ValueError when even t = 0 falls short (1 − (1 − p_d^S)^K < P_DL).
     """
     _check_design(K, 0.0)
+    if K == 1:
+        raise ValueError("with K = 1, P_DL = p_d^S is fixed and t must be 0: there is no t to solve for")
     if not 0.0 < p_d < 1.0 or not 0.0 < pdl < 1.0:
         raise ValueError("p_d and P_DL must lie in the open interval (0, 1)")
     q = p_d**satellites
     L = -math.log1p(-pdl)
     best = K * float(detection_exponent(q, 0.0))
-    if K == 1 or best < L:
-        if best >= L:
-            return 0.0
+    if best < L:
         raise ValueError(f"infeasible: P_DL at t = 0 is {-math.expm1(-best):.6g} < {pdl}")
     return brentq(lambda t: K * float(detection_exponent(q, t)) - L, 0.0, q, xtol=1e-15)
 
@@ -295,6 +334,8 @@ class JammingDesign:
         _check_design(self.K, self.t)
         if not 0.0 < self.p_d < 1.0:
             raise ValueError(f"p_d must lie in the open interval (0, 1), got {self.p_d}")
+        if not self.p_d**self.satellites > 0.0:
+            raise ValueError(f"p_d = {self.p_d:g} is so small that q = p_d^{self.satellites} underflows")
 
     @classmethod
     def from_pdl(cls, K: int, pdl: float, t: float = 0.0, *, satellites: int = 4) -> JammingDesign:
@@ -375,8 +416,10 @@ class Threshold:
 
     @property
     def ill_conditioned(self) -> bool:
-        """True when p_f* is within 10 % of its ceiling p_d (K = 1000 in the report)."""
-        return self.attainable and self.pf_over_pd > 0.9
+        """True when p_f* is within 10 % of its ceiling p_d (K = 1000 in the report), or when the bound
+        changes by less than 0.1 % per dB at x* (the level sits on the plateau: a 1 % change of the
+        level moves x* by more than 10 dB)."""
+        return self.attainable and (self.pf_over_pd > 0.9 or abs(self.dlog_per_db) < 1e-3)
 
 
 def required_jamming(
@@ -390,6 +433,11 @@ def required_jamming(
     """
     if not 0.0 < level <= 1.0:
         raise ValueError(f"the target level is a fraction of N_T and must lie in (0, 1], got {level}")
+    if quantity == "nfl" and level >= 1.0 - system.airborne_frac:
+        raise ValueError(
+            f"an N̄_FL target must be below its supremum N_T − N = {1.0 - system.airborne_frac:g} N_T "
+            f"(the report's 0.9 N_T is that supremum), got {level:g}"
+        )
     log_level = math.log(level)
     log_sup = log_supremum(quantity, design, system)
     u_hi = math.log(design.p_d)
@@ -406,6 +454,8 @@ def required_jamming(
     u = brentq(g, u_lo, u_hi, xtol=1e-13, rtol=4 * np.finfo(float).eps, maxiter=500)
     scale = system.pf_scale(quantity, design.K)
     d = (float(ndtri(design.p_d)) - float(ndtri_exp(u))) / scale  # p_f = Φ(z_d − scale·d)
+    if not d > 0.0:  # the level is within rounding of the supremum: no finite jammer power resolves it
+        return Threshold(False, math.inf, math.inf, u_hi, 0.0, log_sup, 1.0, 0.0)
     x = -20.0 * math.log10(d)
     h = 1e-3
     slope = float(

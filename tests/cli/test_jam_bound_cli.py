@@ -79,7 +79,8 @@ def test_report_convention_shifts_nfl_by_3_db(capsys, tmp_path):
     )
     ta, tb = table(a, tmp_path, "a.csv"), table(b, tmp_path, "b.csv")
     assert tb.meta["convention"] == "report"
-    np.testing.assert_allclose(ta.numeric("log10_value"), tb.numeric("log10_value"), rtol=1e-10)
+    # x is rounded to 11 decimals: 5e-12 dB × slope (< 25 decades/dB here) < 1e-9 relative
+    np.testing.assert_allclose(ta.numeric("log10_value"), tb.numeric("log10_value"), rtol=1e-9)
 
 
 def test_threshold_and_design_cli(capsys, tmp_path):
@@ -94,6 +95,25 @@ def test_threshold_and_design_cli(capsys, tmp_path):
     rc, out, _ = run(capsys, "jam-bound", "design", "--K", "10", "--pd", "0.9", "--t", "0.1", "-q")
     t = table(out, tmp_path)
     assert abs(t.numeric("P_DL")[0] - 0.9988605978) < 1e-9 and t.column("solved") == ["P_DL"]
+
+
+def test_same_file_for_out_and_plot_is_refused(capsys, tmp_path):
+    target = tmp_path / "same.png"
+    rc, _, err = run(capsys, "jam-bound", "curves", "-o", str(target), "--plot", str(target))
+    assert rc == 2 and "--plot" in err and not target.exists()
+
+
+def test_figure_name_is_normalised(capsys, tmp_path):
+    rc, out, _ = run(capsys, "jam-bound", "curves", "--figure", "Fig. 2.04", "--step", "1", "-q")
+    t = table(out, tmp_path)
+    assert rc == 0 and t.meta["figure"] == "2.4" and set(t.column("figure")) == {"2.4"}
+
+
+def test_level_at_the_supremum_is_unattainable_not_a_crash(capsys, tmp_path):
+    rc, out, _ = run(
+        capsys, "jam-bound", "threshold", "--K", "1000", "--pdl", "0.999", "--level", "0.02021399050431", "-q"
+    )
+    assert rc == 0 and table(out, tmp_path).column("attainable") == ["false"]
 
 
 def test_antenna_cli(capsys, tmp_path):
@@ -117,7 +137,19 @@ def test_antenna_cli(capsys, tmp_path):
         (["curves", "--vmax-mph", "1e10"], "--vmax-mph"),
         (["curves", "--figure", "2.17"], "--figure"),
         (["curves", "--step", "0"], "--step"),
-        (["curves", "--x-min", "5", "--x-max", "0"], "--step"),
+        (["curves", "--x-min", "5", "--x-max", "0"], "--x-max"),
+        (["curves", "--x-min", "-7000"], "--x-min"),
+        (["curves", "--K", "1000", "--x-min", "-20", "--x-max", "80", "--step", "0.0002"], "--step"),
+        (["curves", "--figure", "2.4", "--K", "100"], "--K"),
+        (["curves", "--figure", "2.4", "--quantity", "nfl"], "--quantity"),
+        (["curves", "--pd", "1e-300"], "--pd"),
+        (["threshold", "--quantity", "nfl", "--level", "0.9"], "--level"),
+        (["threshold", "--B", "1e308"], "--B"),
+        (["design", "--K", "1", "--pd", "0.99", "--pdl", "0.5"], "--pdl"),
+        (["design", "--K", "100000000000000000000000000000", "--pdl", "0.9", "--t", "0.3"], "--pdl"),
+        (["antenna", "--erp-dbw", "33", "--rf-dbw", "40"], "--rf-dbw"),
+        (["antenna", "--rf-dbw", "-10000"], "--rf-dbw"),
+        (["table", "--which", "1.1", "--freq-hz", "1e-300"], "--freq-hz"),
         (["curves", "--pd", "0.3", "--t", "0.5"], "--t"),
         (["curves", "--pd", "0.9", "--pdl", "0.9"], "--pd"),
         (["threshold", "--level", "1.5"], "--level"),

@@ -285,7 +285,11 @@ def test_unattainable_targets(K, pdl):
     th = required_jamming("nadl", 0.01, design(K, pdl), S)
     assert not th.attainable and th.x_db == math.inf
     assert oracle.threshold_x("nadl", 0.01, p_d_for(K, pdl), K, 0.0) is None
-    assert not required_jamming("nfl", 0.9, design(10, 0.88), S).attainable  # 0.9 N_T is the supremum
+    with pytest.raises(ValueError, match="supremum"):  # 0.9 N_T = N_T − N is the supremum itself: invalid
+        required_jamming("nfl", 0.9, design(10, 0.88), S)
+    # a level within rounding of the supremum is unattainable, not a crash (d* would be 0)
+    d = design(1000, 0.999)
+    assert not required_jamming("nadl", math.exp(log_supremum("nadl", d, S)) * (1 - 1e-15), d, S).attainable
 
 
 def test_k1000_is_flagged_ill_conditioned():
@@ -351,3 +355,15 @@ def test_system_validation():
             JammingSystem(**bad)
     with pytest.raises(ValueError, match="fraction"):
         required_jamming("nadl", 1.5, design(10, 0.88), S)
+    with pytest.raises(ValueError, match="double precision"):
+        p_d_for(10**29, 0.9, 0.3)  # q would need to be t + 1e-15: refused, not silently wrong
+    with pytest.raises(ValueError, match="K = 1"):
+        t_for(1, 0.99, 0.5)
+
+
+def test_exponent_stable_when_q_is_close_to_t():
+    """Large K needs q − t ~ 1e−5: D(t‖q) ≈ (q−t)²/(2t(1−t)); the cancelling direct form loses ~6 digits."""
+    for K in (10**6, 10**9):
+        p = p_d_for(K, 0.9, 0.1)
+        assert float(p_dl(p, K, 0.1)) == pytest.approx(0.9, rel=1e-12)
+        assert float(p_dl(p, K, 0.1)) == pytest.approx(float(oracle.p_dl(p, K, 0.1)), rel=1e-12)

@@ -135,4 +135,13 @@ def test_x_grid_guards():
     with pytest.raises(ValueError):
         exp.x_grid(0, -1, 0.1)
     with pytest.raises(ValueError, match="at most"):
-        exp.x_grid(0, 1e6, 1e-3)
+        exp.x_grid(-1000, 1000, 1e-4)
+    with pytest.raises(ValueError, match="within"):
+        exp.x_grid(0, 1e6, 1.0)
+    x = exp.x_grid(-20, 0, 0.05)
+    assert x[7] == -19.65 and x[-1] == 0.0  # no 0.050000000000000044 drift
+    assert (
+        exp.parse_figure("Fig. 2.04").figure == "2.4" and exp.parse_figure(" figure 2.16 ").figure == "2.16"
+    )
+    with pytest.raises(ValueError, match="unknown figure"):
+        exp.parse_figure("2.17")
