@@ -422,7 +422,10 @@ def threshold(
         Bound, typer.Option("--quantity", help="Which bound reaches the level.")
     ] = Bound.nadl,
     level: Annotated[
-        float, typer.Option("--level", help="Target N̄/N_T in (0, 1] (report: N̄_ADL = 0.01 N_T).")
+        float,
+        typer.Option(
+            "--level", callback=_half_open_unit, help="Target N̄/N_T in (0, 1] (report: N̄_ADL = 0.01 N_T)."
+        ),
     ] = 0.01,
     K: Annotated[int, typer.Option("--K", min=1, help="Tracking length K.")] = 10,
     pdl: Annotated[str | None, typer.Option("--pdl", help="Design P_DL values (default 0.88,0.999).")] = None,
@@ -442,8 +445,6 @@ def threshold(
     (the report's "> 130 dBW"). ill_conditioned = true when p_f* > 0.9 p_d (K = 1000).
     """
     check_outputs(out)
-    if not (math.isfinite(level) and 0.0 < level <= 1.0):
-        raise typer.BadParameter(f"{level:g} is not a fraction of N_T in (0, 1]", param_hint="--level")
     pdl_ = _probabilities(pdl, "--pdl")
     pd_ = _probabilities(pd, "--pd")
     t_ = _probabilities(t, "--t", lo_closed=True) or [0.0]
@@ -513,7 +514,10 @@ def table(
         WhichTable, typer.Option("--which", help="Table 2.1 (ERP vs K, P_DL) or Table 1.1 (ERP and antenna).")
     ] = WhichTable.t21,
     level: Annotated[
-        float, typer.Option("--level", help="N̄_ADL target as a fraction of N_T (report 0.01).")
+        float,
+        typer.Option(
+            "--level", callback=_half_open_unit, help="N̄_ADL target as a fraction of N_T (report 0.01)."
+        ),
     ] = 0.01,
     freq_hz: Annotated[
         float, typer.Option("--freq-hz", **_pos, help="Jammer frequency [assumption: 1.6 GHz, L band].")
@@ -534,8 +538,6 @@ def table(
     """Tables 2.1 and 1.1 recomputed, with the printed values, the deviation in dB and the report's
     internal inconsistencies flagged (t = 0 curves, N̄_ADL = 0.01 N_T)."""
     check_outputs(out)
-    if not (math.isfinite(level) and 0.0 < level <= 1.0):
-        raise typer.BadParameter(f"{level:g} is not a fraction of N_T in (0, 1]", param_hint="--level")
     antenna = checked("--freq-hz", DishAntenna, freq_hz, eta, bw_const)
     base = {"level": level, **_system_meta(system)}
     if which is WhichTable.t21:
