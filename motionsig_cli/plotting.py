@@ -145,3 +145,58 @@ def jamming_figure(
     if title:
         fig.suptitle(title)
     return fig
+
+
+def psi_figure(alpha: np.ndarray, exact: np.ndarray, large: np.ndarray, small: np.ndarray,
+               marks: list[tuple[float, float, str]] = ()) -> Figure:  # fmt: skip
+    """ATC-10 Fig 4.1: ψ(α) and its two approximations on a log α axis (each drawn where it is
+    meaningful: the large-α form for α ≥ 0.15, the small-α form for α ≤ 1), with Table 4.3's points."""
+    fig = Figure(figsize=(7, 4.2), layout="constrained")
+    ax = fig.add_subplot()
+    ax.semilogx(alpha, exact, color="k", lw=1.6, label=r"$\psi(\alpha)$ exact (4.5.34)")
+    sel = alpha >= 0.15
+    ax.semilogx(alpha[sel], large[sel], "--", color="C0", label=r"$1 - 4/(27\alpha)$ ($\alpha \geq 1$)")
+    sel = alpha <= 1.0
+    ax.semilogx(
+        alpha[sel],
+        small[sel],
+        "-.",
+        color="C3",
+        label=r"$1.89[\alpha^{1/3} - (\alpha/2)^{2/3}]$ ($\alpha \leq 0.3$)",
+    )
+    for i, (a, p, label) in enumerate(marks):
+        ax.plot(a, p, "o", mfc="none", color="C2", label="Table 4.3 (printed)" if i == 0 else None)
+        ax.annotate(label, (a, p), textcoords="offset points", xytext=(4, -10), fontsize="x-small")
+    ax.set_ylim(0, 1.02)
+    ax.set_xlabel(r"$\alpha = (8/27)\,\sigma_0^2\beta/\sigma^2$")
+    ax.set_ylabel(r"$\psi(\alpha)$")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small", loc="upper left")
+    return fig
+
+
+def rms_error_figure(
+    n: np.ndarray,
+    series: list[tuple[str, np.ndarray, dict[str, object]]],
+    *,
+    outage: tuple[int, int] | None = None,
+    title: str = "",
+    bands: list[tuple[np.ndarray, np.ndarray, str]] = (),
+) -> Figure:
+    """ATC-10 Figs 4.2/4.3: RMS position error [ft] against update number n on a log ordinate, with the
+    three-satellite outage shaded. ``series`` = (label, values, matplotlib style)."""
+    fig = Figure(figsize=(8, 4.6), layout="constrained")
+    ax = fig.add_subplot()
+    if outage is not None and outage[1] > outage[0]:
+        ax.axvspan(outage[0], outage[1], color="0.92", label="3 satellites (outage)")
+    for lo, hi, color in bands:
+        ax.fill_between(n, lo, hi, color=color, alpha=0.25, lw=0)
+    for label, y, style in series:
+        ax.semilogy(n, y, label=label, **style)
+    ax.set_xlabel("update n (one per second)")
+    ax.set_ylabel(r"RMS position error $\sqrt{E\|\xi_{p_n}\|^2}$ [ft]")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="x-small", ncol=2, loc="upper left")
+    if title:
+        ax.set_title(title)
+    return fig
