@@ -46,10 +46,10 @@ def psi(alpha: np.ndarray | float) -> np.ndarray:
     a = np.asarray(alpha, dtype=float)
     if np.any(~(a >= 0)):
         raise ValueError("alpha must be >= 0 (alpha = (8/27) sigma0^2 beta / sigma^2)")
-    s = np.sqrt1p(a) if hasattr(np, "sqrt1p") else np.sqrt(1.0 + a)
-    x = 1.5 * np.cbrt(a) * (np.cbrt(1.0 + s) + np.cbrt(-a / (1.0 + s)))  # (4.5.34)
+    s = np.sqrt(1.0 + a)
     c = 6.75 * a  # 27α/4
     with np.errstate(invalid="ignore", divide="ignore"):
+        x = 1.5 * np.cbrt(a) * (np.cbrt(1.0 + s) + np.cbrt(-a / (1.0 + s)))  # (4.5.34)
         for _ in range(2):  # Newton on f(ψ) = ψ³ + c(ψ − 1), f' = 3ψ² + c > 0
             f = x**3 + c * (x - 1.0)
             fp = 3.0 * x**2 + c

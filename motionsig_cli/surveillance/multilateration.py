@@ -179,18 +179,30 @@ def metrics(U: np.ndarray) -> GeometryMetrics:
     beta = np.einsum("...k,...k->...", w, w)
     if K == 3:
         beta = np.zeros_like(beta)  # exactly: U invertible ⇒ P = I (eq 4.5.2 with K = 3)
-    Rinv = np.linalg.inv(R)
-    tr = np.einsum("...ij,...ij->...", Rinv, Rinv)
+    singular = ~np.all(np.diagonal(R, axis1=-2, axis2=-1) > 0, axis=-1)  # rank(U) < 3: no position fix
+    Rinv = np.linalg.inv(np.where(singular[..., None, None], np.eye(3), R))
+    tr = np.where(singular, np.inf, np.einsum("...ij,...ij->...", Rinv, Rinv))
     q1 = np.einsum("...kj,...k->...j", Q, np.ones(U.shape[:-1]))
     v = np.einsum("...ij,...j->...i", Rinv, q1)  # R⁻¹Q'1 = (U'U)⁻¹U'1
-    b = np.einsum("...i,...i->...", v, v)
+    b = np.where(singular, np.inf, np.einsum("...i,...i->...", v, v))
     s = np.einsum("...ji,...j->...i", Rinv, np.ones((*U.shape[:-2], 3)))  # R⁻ᵀ1
-    b_literal = np.einsum("...i,...i->...", s, s)
+    b_literal = np.where(singular, np.inf, np.einsum("...i,...i->...", s, s))
     sv = np.linalg.svd(U, compute_uv=False)
     cond = sv[..., 0] / np.where(sv[..., -1] > 0, sv[..., -1], np.nan)
     return GeometryMetrics(
         K=K, beta=beta, tr=tr, b=b, b_literal=b_literal, cond=np.nan_to_num(cond, nan=np.inf)
     )
+
+
+def ls_position_covariance(U: np.ndarray, sigma: float) -> np.ndarray:
+    """Position-error covariance of the snapshot least-squares fix (eq 4.5.6, c = 1 units):
+    σ²(U'U)⁻¹ + (σ²/β)(U'U)⁻¹U'11'U(U'U)⁻¹ — the same matrix as (4.1.1). Its trace is σ²k²."""
+    Q, R, w = qr_parts(np.asarray(U, dtype=float))
+    beta = np.einsum("...k,...k->...", w, w)
+    Rinv = np.linalg.inv(R)
+    v = np.einsum("...ij,...kj,...k->...i", Rinv, Q, np.ones(w.shape))  # (U'U)⁻¹U'1
+    base = np.einsum("...ij,...kj->...ik", Rinv, Rinv)  # (U'U)⁻¹ = R⁻¹R⁻ᵀ
+    return sigma**2 * (base + np.einsum("...i,...j->...ij", v, v) / beta[..., None, None])
 
 
 def check_geometry(U: np.ndarray, *, labels: str = "", need_clock: bool = True) -> GeometryMetrics:

@@ -88,7 +88,7 @@ def psi_oracle(alpha: float) -> float:
         return 0.0
     with mp.workdps(_DPS):
         c = mp.mpf(27) * mp.mpf(alpha) / 4
-        roots = mp.polyroots([1, 0, c, -c], maxsteps=500, extraprec=200)
+        roots = mp.polyroots([-c, c, 0, 1], maxsteps=500, extraprec=200, asc=True)
         real = [mp.re(r) for r in roots if abs(mp.im(r)) < mp.mpf(10) ** (-30) and 0 < mp.re(r) < 1]
         if len(real) != 1:  # fall back to bisection on the monotone cubic
             real = [mp.findroot(lambda x: x**3 + c * (x - 1), (mp.mpf(0), mp.mpf(1)), solver="bisect")]
