@@ -21,6 +21,10 @@ CORE = [
     "motionsig_cli.surveillance.jamming",
     "motionsig_cli.surveillance.antenna",
     "motionsig_cli.experiments.jamming",
+    "motionsig_cli.surveillance.multilateration",
+    "motionsig_cli.surveillance.clock",
+    "motionsig_cli.surveillance.clock_tracking",
+    "motionsig_cli.experiments.satellite_tracking",
 ]
 
 
