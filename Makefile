@@ -40,7 +40,11 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig jam-bound table --which 2.1
 	@echo '== ATC-10 Fig 2.16: ambiguous-detection bound, K = 1000, P_DL = 0.999'
 	$(BIN)/motionsig jam-bound curves --figure 2.16 --plot $(OUT)/fig2_16.png -o $(OUT)/fig2_16.csv
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png fig2_16.png"
+	@echo '== ATC-10 Table 4.3: position error with clock tracking, report and corrected conventions beside the printed values'
+	$(BIN)/motionsig track-sat table --which 4.3
+	@echo '== ATC-10 Fig 4.3: RMS error vs update, tracking then a 60 s three-satellite outage (Example II)'
+	$(BIN)/motionsig track-sat rms --figure 4.3 --plot $(OUT)/fig4_3.png -o $(OUT)/fig4_3.csv
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png fig2_16.png fig4_3.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
@@ -73,10 +77,11 @@ bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench]'
 	$(BIN)/python benchmarks/bench_kf_bank.py
 
-## reproduce: every table and figure of seed 000 (results/seed000/) and of ATC-10 §2 (results/atc10_jamming/)
+## reproduce: every table and figure of seed 000 (results/seed000/), ATC-10 §2 (results/atc10_jamming/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)
 	$(BIN)/python scripts/reproduce_seed000.py
 	$(BIN)/python scripts/reproduce_atc10_jamming.py
+	$(BIN)/python scripts/reproduce_atc10_tracking.py
 
 clean:
 	rm -rf site $(OUT) .pytest_cache .ruff_cache docs/javascripts/mathjax
