@@ -98,9 +98,29 @@ class Figure4(StrEnum):
     f43 = "4.3"
 
 
+MAX_NS = 1e9
+"""Largest σ, σ0 accepted [ns]: one second per update."""
+MAX_RSAT_KM = 1e6
+MAX_SATS = 1000
+
+
 def _positive(value: float | None) -> float | None:
     if value is not None and not (math.isfinite(value) and value > 0):
         raise typer.BadParameter(f"{value:g} is not a finite number > 0")
+    return value
+
+
+def _ns_scale(value: float) -> float:
+    """Option callback: a time scale in (0, 1e9] ns."""
+    if not (math.isfinite(value) and 0 < value <= MAX_NS):
+        raise typer.BadParameter(f"{value:g} is not in (0, {MAX_NS:g}] ns")
+    return value
+
+
+def _sigma0_one(value: float) -> float:
+    """Option callback: σ0 in [0, 1e9] ns."""
+    if not (math.isfinite(value) and 0 <= value <= MAX_NS):
+        raise typer.BadParameter(f"{value:g} is not in [0, {MAX_NS:g}] ns")
     return value
 
 
@@ -115,6 +135,14 @@ ConventionOpt = Annotated[
         "9.235 Earth radii, the printed b3 (reproduces Tables 4.2/4.3).",
     ),
 ]
+RadiusConventionOpt = Annotated[
+    Convention,
+    typer.Option(
+        "--convention",
+        help="Sets the default orbit radius: report 9.235 Earth radii, corrected geosynchronous "
+        "(both b = 1'U(U'U)^-2 U'1 and the report's literal 1'(U'U)^-1 1 are always listed).",
+    ),
+]
 ParamsOpt = Annotated[
     Params,
     typer.Option(
@@ -126,22 +154,35 @@ ParamsOpt = Annotated[
 RsatReOpt = Annotated[
     float | None,
     typer.Option(
-        "--rsat-re", callback=_positive, help="Orbit radius in Earth radii (overrides the convention)."
+        "--rsat-re",
+        callback=_positive,
+        help="Orbit radius in Earth radii (default by --convention: report 9.235, corrected geosynchronous 6.61).",
     ),
 ]
 RsatKmOpt = Annotated[
     float | None,
-    typer.Option("--rsat-km", callback=_positive, help="Orbit radius in km (overrides the convention)."),
+    typer.Option("--rsat-km", callback=_positive, help="Orbit radius in km (instead of --rsat-re)."),
+]
+SimRsatReOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--rsat-re", callback=_positive, help="Orbit radius in Earth radii (default geosynchronous)."
+    ),
 ]
 SigmaOpt = Annotated[
-    float, typer.Option("--sigma", callback=_positive, help="TOA error σ per satellite [ns] (report: 50).")
+    float, typer.Option("--sigma", callback=_ns_scale, help="TOA error σ per satellite [ns] (report: 50).")
 ]
-EpochsOpt = Annotated[int, typer.Option("--epochs", min=0, help="Last update n (updates once per second).")]
+EpochsOpt = Annotated[
+    int, typer.Option("--epochs", min=0, max=100_000, help="Last update n (updates once per second).")
+]
 OutageStartOpt = Annotated[
     int, typer.Option("--outage-start", min=0, help="N: last update with all satellites [assumption 100].")
 ]
 OutageLenOpt = Annotated[
-    int, typer.Option("--outage-length", min=0, help="M: updates with satellites 1,2,3 only [assumption 60].")
+    int,
+    typer.Option(
+        "--outage-length", min=0, help="M: updates with the --outage-sats triplet only [assumption 60]."
+    ),
 ]
 ReinitOpt = Annotated[
     bool,
@@ -162,14 +203,20 @@ OutageSatsOpt = Annotated[
 def _rsat_km(convention: Convention, rsat_re: float | None, rsat_km: float | None) -> float:
     if rsat_re is not None and rsat_km is not None:
         raise typer.BadParameter("give --rsat-re or --rsat-km, not both", param_hint="--rsat-km")
-    if rsat_re is not None:
-        return rsat_re * R_EARTH_KM
-    return rsat_km if rsat_km is not None else exp.default_rsat_km(convention)
+    option, r = ("--rsat-re", rsat_re * R_EARTH_KM) if rsat_re is not None else ("--rsat-km", rsat_km)
+    if r is None:
+        return exp.default_rsat_km(convention)
+    lo = R_EARTH_KM + exp.MAX_ALT_KM
+    if not lo < r <= MAX_RSAT_KM:
+        raise typer.BadParameter(
+            f"orbit radius {r:.6g} km is not in ({lo:g}, {MAX_RSAT_KM:g}] km", param_hint=option
+        )
+    return r
 
 
 def _triplet(text: str, K: int) -> tuple[int, int, int]:
     idx = checked("--outage-sats", int_list, text, what="satellite number")
-    if len(idx) != 3 or not all(1 <= i <= K for i in idx):
+    if len(idx) != 3 or len(text.split(",")) != 3 or not all(1 <= i <= K for i in idx):
         raise typer.BadParameter(
             f"expected three distinct satellite numbers in 1..{K}; got {text!r}", param_hint="--outage-sats"
         )
@@ -184,21 +231,43 @@ def _aircraft(text: str) -> tuple[float, float, float]:
         raise typer.BadParameter(
             f"latitude {vals[0]:g} is outside [-90, 90] degrees", param_hint="--aircraft"
         )
-    return (vals[0], vals[1], vals[2] if len(vals) == 3 else 0.0)
+    if not -360.0 <= vals[1] <= 360.0:
+        raise typer.BadParameter(
+            f"longitude {vals[1]:g} is outside [-360, 360] degrees", param_hint="--aircraft"
+        )
+    alt = vals[2] if len(vals) == 3 else 0.0
+    if not exp.MIN_ALT_KM <= alt <= exp.MAX_ALT_KM:
+        raise typer.BadParameter(
+            f"altitude {alt:g} km is outside [{exp.MIN_ALT_KM:g}, {exp.MAX_ALT_KM:g}] km",
+            param_hint="--aircraft",
+        )
+    return (vals[0], vals[1], alt)
 
 
 def _user_sats(path: Path) -> tuple[tuple[float, ...], tuple[float, ...], tuple[str, ...]]:
     """Satellites from a CSV with latitude_deg, longitude_deg (and optionally satellite) columns."""
     t = read_table(path, required=("latitude_deg", "longitude_deg"))
     lat, lon = t.numeric("latitude_deg"), t.numeric("longitude_deg")
+    seen: dict[tuple[float, float], int] = {}
     for i, (a, b) in enumerate(zip(lat, lon, strict=True)):
         if not (math.isfinite(a) and -90.0 <= a <= 90.0):
-            raise InputError(f"{t.source}:{t.lines[i]}: latitude {a:g} is outside [-90, 90] degrees")
-        if not math.isfinite(b):
-            raise InputError(f"{t.source}:{t.lines[i]}: longitude {b!r} is not finite")
+            raise InputError(f"{t.source}:{t.lines[i]}: latitude {float(a):g} is outside [-90, 90] degrees")
+        if not (math.isfinite(b) and -360.0 <= b <= 360.0):
+            raise InputError(f"{t.source}:{t.lines[i]}: longitude {float(b):g} is not in [-360, 360] degrees")
+        key = (float(a), float(b) % 360.0)
+        if key in seen:
+            raise InputError(f"{t.source}:{t.lines[i]}: the same sub-satellite point as line {seen[key]}")
+        seen[key] = t.lines[i]
     if len(lat) < 3:
         raise InputError(f"{t.source}: {len(lat)} satellite(s); at least three are needed to fix a position")
-    labels = tuple(str(s) for s in t.column("satellite")) if "satellite" in t.columns else ()
+    if len(lat) > MAX_SATS:
+        raise InputError(f"{t.source}: {len(lat)} satellites; at most {MAX_SATS}")
+    labels: tuple[str, ...] = ()
+    if "satellite" in t.columns:
+        labels = tuple(str(v) for v in t.column("satellite"))
+        dup = [v for v in labels if not v or labels.count(v) > 1]
+        if dup:
+            raise InputError(f"{t.source}: satellite labels must be non-empty and distinct (got {dup[0]!r})")
     return tuple(map(float, lat)), tuple(map(float, lon)), labels
 
 
@@ -217,15 +286,19 @@ def _constellation(
         labels, name = (), f"Example {example.value} (Table 4.1)"
     ac = _aircraft(aircraft) if aircraft is not None else (45.0, 120.0, 0.0)
     triplet = _triplet(outage_sats, len(lat))
-    con = checked(
-        "--sats" if sats else "--rsat-km", exp.Constellation, lat, lon, r_sat_km, ac, triplet, labels, name
+    return checked(
+        "--sats" if sats else "--example", exp.Constellation, lat, lon, r_sat_km, ac, triplet, labels, name
     )
-    return con
 
 
-def _check(con: exp.Constellation, option: str, quiet: bool) -> None:
-    for w in checked(option, con.check):
-        note(f"track-sat: warning: {w}", quiet)
+def _check(con: exp.Constellation, *, sats: bool, aircraft: bool, quiet: bool) -> None:
+    """Observability checks, each error naming the option that caused it; warnings on one line."""
+    checked("--aircraft" if aircraft else "--rsat-km/--rsat-re", con.check_horizon)
+    checked("--sats" if sats else "--example", con.check_all)
+    checked("--outage-sats", con.check_triplet)
+    w = con.warnings()
+    if w:
+        note("track-sat: warning: " + "; ".join(w), quiet)
 
 
 def _timeline(epochs: int, start: int, length: int, reinit: bool) -> exp.Timeline:
@@ -252,7 +325,7 @@ def constellation(
         typer.Option("--aircraft", help="Aircraft latitude,longitude[,altitude km] (default 45,120,0)."),
     ] = None,
     outage_sats: OutageSatsOpt = "1,2,3",
-    convention: ConventionOpt = Convention.corrected,
+    convention: RadiusConventionOpt = Convention.corrected,
     rsat_re: RsatReOpt = None,
     rsat_km: RsatKmOpt = None,
     view: Annotated[
@@ -268,7 +341,7 @@ def constellation(
     check_outputs(out)
     rs = _rsat_km(convention, rsat_re, rsat_km)
     con = _constellation(example, sats, aircraft, rs, outage_sats)
-    _check(con, "--sats" if sats else "--outage-sats", quiet)
+    _check(con, sats=sats is not None, aircraft=aircraft is not None, quiet=quiet)
     z = con.zenith_deg()
     meta = make_meta(
         "track-sat constellation",
@@ -324,7 +397,7 @@ def table(
         WhichTable, typer.Option("--which", help="Table 4.2 (constellation) or 4.3 (estimation).")
     ] = WhichTable.t43,
     convention: Annotated[
-        TableConvention, typer.Option("--convention", help="Rows for both conventions, or one.")
+        TableConvention, typer.Option("--convention", help="Table 4.3: rows for both conventions, or one.")
     ] = TableConvention.both,
     params: ParamsOpt = Params.auto,
     fmt: FormatOpt = OutputFormat.csv,
@@ -336,6 +409,12 @@ def table(
     a status per value."""
     check_outputs(out)
     if which is WhichTable.t42:
+        if convention is not TableConvention.both or params is not Params.auto:
+            raise typer.BadParameter(
+                "Table 4.2 always shows the printed, report and corrected values; --convention and "
+                "--params apply to Table 4.3",
+                param_hint="--which",
+            )
         rows, cols, meta, msg = _table_4_2()
     else:
         convs = (
@@ -456,7 +535,7 @@ def psi_cmd(
     else:
         a = _grid(grid)
     p = psi(a)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         lg, sm = psi_large(a), psi_small(a)
         rel_l = np.where(p > 0, lg / p - 1.0, np.nan)
         rel_s = np.where(p > 0, sm / p - 1.0, np.nan)
@@ -497,8 +576,10 @@ def _grid(text: str) -> np.ndarray:
 
 def _sigma0_list(text: str) -> list[float]:
     vals = checked("--sigma0", float_list, text, what="sigma0 [ns]")
-    if any(v < 0 for v in vals):
-        raise typer.BadParameter("sigma0 must be >= 0", param_hint="--sigma0")
+    if any(not 0 <= v <= MAX_NS for v in vals):
+        raise typer.BadParameter(f"sigma0 must be in [0, {MAX_NS:g}] ns", param_hint="--sigma0")
+    if len(vals) > 20:
+        raise typer.BadParameter("at most 20 values", param_hint="--sigma0")
     return vals
 
 
@@ -536,8 +617,13 @@ def rms(
     tl = _timeline(epochs, outage_start, outage_length, reinit_after_outage)
     src = _source(convention, params)
     rs = _rsat_km(convention, rsat_re, rsat_km)
+    if src is ParamSource.table and (rsat_re is not None or rsat_km is not None):
+        raise typer.BadParameter(
+            "the printed Table 4.2 constants carry no orbit radius; add --params geometry",
+            param_hint="--rsat-re" if rsat_re is not None else "--rsat-km",
+        )
     if src is ParamSource.geometry:
-        _check(exp.example(ex.value, r_sat_km=rs), "--rsat-km", quiet)
+        _check(exp.example(ex.value, r_sat_km=rs), sats=False, aircraft=False, quiet=quiet)
     p = checked("--params", exp.constellation_params, ex.value, convention, src, r_sat_km=rs)
     c_ft = exp.c_ft_per_ns(convention)
     curves = exp.rms_curves(p, sigma, s0, tl, c_ft, steady_gain=gain is Gain.steady)
@@ -557,6 +643,7 @@ def rms(
         example=ex.value,
         convention=convention.value,
         constants={"beta": p.beta, "tr": p.tr, "b": p.b, "tr3": p.tr3, "b3": p.b3, "source": p.source},
+        r_sat_km=rs if src is ParamSource.geometry else None,
         sigma_ns=sigma,
         outage={
             "N": tl.outage_start,
@@ -595,7 +682,7 @@ def rms(
 def simulate(
     example: ExampleOpt = Example.I,
     sigma0: Annotated[
-        float, typer.Option("--sigma0", min=0.0, help="Clock scale σ0 [ns] (σ1 = σ2 = σ0).")
+        float, typer.Option("--sigma0", callback=_sigma0_one, help="Clock scale σ0 [ns] (σ1 = σ2 = σ0).")
     ] = 50.0,
     sigma: SigmaOpt = 50.0,
     rho: Annotated[
@@ -610,13 +697,19 @@ def simulate(
     epochs: EpochsOpt = 160,
     outage_start: OutageStartOpt = 100,
     outage_length: OutageLenOpt = 60,
-    reinit_after_outage: ReinitOpt = False,
+    reinit_after_outage: Annotated[
+        bool,
+        typer.Option(
+            "--reinit-after-outage",
+            help="Restart the report's tracker by least squares after the outage (kf2 continues).",
+        ),
+    ] = False,
     gain: GainOpt = Gain.recursive,
     velocity_enu: Annotated[
         str, typer.Option("--velocity-enu", help="Aircraft velocity east,north,up [m/s] (default static).")
     ] = "0,0,0",
     outage_sats: OutageSatsOpt = "1,2,3",
-    rsat_re: RsatReOpt = None,
+    rsat_re: SimRsatReOpt = None,
     rsat_km: RsatKmOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
     out: OutOpt = None,
@@ -639,17 +732,29 @@ def simulate(
     vel = checked("--velocity-enu", float_list, velocity_enu, what="velocity component [m/s]")
     if len(vel) != 3:
         raise typer.BadParameter("expected three components east,north,up", param_hint="--velocity-enu")
+    if math.hypot(*vel) > exp.MAX_SPEED_MPS:
+        raise typer.BadParameter(
+            f"speed must be at most {exp.MAX_SPEED_MPS:g} m/s", param_hint="--velocity-enu"
+        )
     rs = _rsat_km(Convention.corrected, rsat_re, rsat_km)
+    if runs * (epochs + 1) > exp.MAX_WORK:
+        raise typer.BadParameter(
+            f"runs x (epochs + 1) = {runs * (epochs + 1):,} exceeds {exp.MAX_WORK:,} (about 4 minutes of work)",
+            param_hint="--runs",
+        )
     con = _constellation(example, None, None, rs, outage_sats)
-    _check(con, "--outage-sats", quiet)
     tl = _timeline(epochs, outage_start, outage_length, reinit_after_outage)
     cfg = checked(
         "--rho", exp.SimulationConfig, con, sigma, sigma0, rho, tl, names, (vel[0], vel[1], vel[2]),
         steady_gain=gain is Gain.steady,
     )  # fmt: skip
+    checked("--velocity-enu", exp.check_track, cfg)
+    _check(con, sats=False, aircraft=False, quiet=quiet)
     with progress(quiet) as bar:
         task = bar.add_task("track-sat simulate", total=runs)
-        res = exp.simulate(cfg, runs, seed, on_progress=lambda k: bar.advance(task, k))
+        res = checked(
+            "--velocity-enu", exp.simulate, cfg, runs, seed, on_progress=lambda k: bar.advance(task, k)
+        )
     rows = []
     for j, n in enumerate(res.n):
         row: list[object] = [int(n), int(res.K[j]), float(res.analytic_report[j])]
@@ -662,9 +767,10 @@ def simulate(
     per_estimator = tuple(c for e in names for c in (f"rms_{e}_ft", f"se_{e}_ft"))
     cols = ("n", "K", "analytic_report_ft", "analytic_no_tracking_ft", *per_estimator)
     z = None
-    if "report" in names:
-        zz = (res.rms["report"] - res.analytic_report) / res.se["report"]
-        z = float(np.nanmax(np.abs(zz)))
+    if "report" in names and rho == 1.0 and runs > 1 and not any(vel):
+        with np.errstate(all="ignore"):
+            zz = np.abs((res.rms["report"] - res.analytic_report) / res.se["report"])
+        z = float(np.max(zz[np.isfinite(zz)])) if np.isfinite(zz).any() else None
     meta = make_meta(
         "track-sat simulate",
         example=example.value,
@@ -690,6 +796,8 @@ def simulate(
         tau0="uniform +-1 ms, unknown to the estimators",
         se="standard error of the RMS by the delta method: sd(e^2)/(2 RMS sqrt(runs))",
         max_abs_z_report_vs_analytic=z,
+        analytic="the recursion for a rho = 1 clock at the initial (static) geometry: a reference, not a "
+        "prediction, when --rho < 1 or the aircraft moves",
     )
     emit(Table(columns=cols, rows=rows, meta=meta), fmt.value, out)
     if plot is not None:

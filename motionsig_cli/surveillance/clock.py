@@ -38,23 +38,27 @@ def alpha_of(sigma0: np.ndarray | float, sigma: np.ndarray | float, beta: np.nda
 def psi(alpha: np.ndarray | float) -> np.ndarray:
     """ψ(α), the steady-state clock gain γβ: the real root in [0, 1) of ψ³ + (27α/4)(ψ − 1) = 0 (eq 4.5.34).
 
-    The closed form (3/2)α^{1/3}{[1 + √(1+α)]^{1/3} + [1 − √(1+α)]^{1/3}} uses real cube roots, with
-    1 − √(1+α) rewritten as −α/(1 + √(1+α)) (no cancellation); two Newton steps on the cubic then
-    remove the remaining rounding at the extremes (spec §7: the raw form has relative error 2·10⁻⁷ at
-    α = 10⁻¹⁵ and exceeds 1 at α = 10¹²). ψ(0) = 0; ψ → 1 as α → ∞.
+    For α ≤ 1 the closed form (3/2)α^{1/3}{[1 + √(1+α)]^{1/3} + [1 − √(1+α)]^{1/3}} with real cube roots
+    and 1 − √(1+α) rewritten as −α/(1 + √(1+α)) starts Newton's method on the cubic; for α > 1, where
+    the two cube roots cancel, Newton starts at ψ = 1. Six steps reach working precision over the whole
+    range (spec §7: the raw closed form errs by 2·10⁻⁷ at α = 10⁻¹⁵ and exceeds 1 at α = 10¹²).
+    ψ(0) = 0; ψ → 1 as α → ∞.
     """
     a = np.asarray(alpha, dtype=float)
     if np.any(~(a >= 0)):
         raise ValueError("alpha must be >= 0 (alpha = (8/27) sigma0^2 beta / sigma^2)")
-    s = np.sqrt(1.0 + a)
-    c = 6.75 * a  # 27α/4
-    with np.errstate(invalid="ignore", divide="ignore"):
-        x = 1.5 * np.cbrt(a) * (np.cbrt(1.0 + s) + np.cbrt(-a / (1.0 + s)))  # (4.5.34)
-        for _ in range(2):  # Newton on f(ψ) = ψ³ + c(ψ − 1), f' = 3ψ² + c > 0
+    with np.errstate(all="ignore"):
+        c = 6.75 * a  # 27α/4
+        s = np.sqrt(1.0 + a)
+        closed = 1.5 * np.cbrt(a) * (np.cbrt(1.0 + s) + np.cbrt(-a / (1.0 + s)))  # (4.5.34)
+        # For α > 1 the two cube roots cancel (catastrophically for α ≳ 1e15): start Newton at ψ = 1
+        # instead, where f(ψ) = ψ³ + c(ψ − 1) is convex and increasing, so Newton descends monotonically.
+        x = np.where(a > 1.0, 1.0, closed)
+        for _ in range(6):  # f' = 3ψ² + c > 0; quadratic convergence from either start
             f = x**3 + c * (x - 1.0)
             fp = 3.0 * x**2 + c
             x = np.where(fp > 0, x - f / np.where(fp > 0, fp, 1.0), x)
-    x = np.clip(np.where(np.isinf(a), 1.0, x), 0.0, 1.0)
+    x = np.clip(np.where(np.isinf(c), 1.0, x), 0.0, 1.0) + 0.0  # + 0.0: no −0.0 at α = −0.0
     return x if x.ndim else x[()]
 
 
@@ -146,9 +150,9 @@ class ClockModel:
     def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
         """One path x_0..x_n (x_0 = 0). ρ = 1: Σw_i(σ1) + n·a_0(σ2) directly; ρ < 1: Cholesky of
         :meth:`covariance` (the σ1 term keeps it positive definite; n ≤ 5000)."""
-        if self.rho == 1.0:
+        if self.rho == 1.0 or self.sigma1 == self.sigma2 == 0.0:
             w = rng.standard_normal(n) * self.sigma1
-            a0 = rng.standard_normal() * self.sigma2
+            a0 = rng.standard_normal() * self.sigma2 * (self.rho == 1.0)  # a perfect clock (σ = 0) stays 0
             return np.concatenate([[0.0], np.cumsum(w) + a0 * np.arange(1, n + 1)])
         return np.concatenate([[0.0], self.cholesky(n) @ rng.standard_normal(n)])
 

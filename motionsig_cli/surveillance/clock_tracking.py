@@ -119,11 +119,13 @@ def clock_error_recursion(
                 R = sigma2 / beta[..., n]
                 if g_fixed is None:
                     g = vm / (vm + R)  # (4.5.20): g = γ_n β_n
-                    v = (1.0 - g) * vm  # (4.5.18): σ²γ_n
+                    a = R / (vm + R)  # a_n = 1 − g without cancellation when σ0 ≫ σ
+                    v = a * vm  # (4.5.18): σ²γ_n
                 else:
                     g = g_fixed
-                    v = (1.0 - g) ** 2 * vm + g**2 * R
-                c = (1.0 - g) * cm  # (4.5.22): a_n(χ + σ0²)
+                    a = 1.0 - g
+                    v = a**2 * vm + g**2 * R
+                c = a * cm  # (4.5.22): a_n(χ + σ0²)
             else:
                 g = np.zeros(shape)
                 v, c = vm, cm  # (4.5.27) in recursive form
@@ -262,9 +264,10 @@ class ReportClock:
             return
         g = self.gain(vm, beta)
         R = self.sigma2 / beta
+        a = 1.0 - g if self.steady_gain is not None else R / (vm + R)  # a = 1 − g, no cancellation
         self.tau = tm + g * (y - tm)
-        self.V = (1.0 - g) ** 2 * vm + g**2 * R
-        self.chi = (1.0 - g) * cm
+        self.V = a**2 * vm + g**2 * R
+        self.chi = a * cm
 
 
 class RateKalmanClock:

@@ -109,7 +109,7 @@ def test_simulate_small_run_and_seed_reproducibility(capsys, tmp_path):
         (("constellation", "--outage-sats", "1,2"), "--outage-sats"),
         (("constellation", "--outage-sats", "1,2,9"), "--outage-sats"),
         (("constellation", "--outage-sats", "6,7,1"), None),  # nearly singular but legal
-        (("constellation", "--rsat-km", "6000"), "Earth radius"),
+        (("constellation", "--rsat-km", "6000"), "--rsat-km"),
         (("constellation", "--rsat-km", "50000", "--rsat-re", "8"), "not both"),
         (("simulate", "--runs", "0"), "--runs"),
         (("simulate", "--rho", "0.4"), "--rho"),
@@ -118,6 +118,18 @@ def test_simulate_small_run_and_seed_reproducibility(capsys, tmp_path):
         (("psi", "--alpha", "-1"), "--alpha"),
         (("psi", "--grid", "1:0.1:5"), "--grid"),
         (("table", "--which", "4.4"), "--which"),
+        (("table", "--which", "4.2", "--convention", "report"), "--which"),
+        (("rms", "--epochs", "1000000", "--outage-length", "0"), "--epochs"),
+        (("rms", "--sigma", "1e300"), "--sigma"),
+        (("rms", "--convention", "report", "--rsat-re", "8"), "--params geometry"),
+        (("rms", "--rsat-re", "1.001", "--params", "geometry"), "--rsat-re"),
+        (("simulate", "--sigma0", "inf"), "--sigma0"),
+        (("simulate", "--runs", "50000", "--epochs", "5000"), "--runs"),
+        (("simulate", "--velocity-enu", "1e300,0,0"), "--velocity-enu"),
+        (("simulate", "--velocity-enu", "0,0,-100", "--runs", "2"), "--velocity-enu"),
+        (("constellation", "--aircraft", "45,120,-6000"), "--aircraft"),
+        (("constellation", "--aircraft", "-45,-60"), "--aircraft"),
+        (("constellation", "--outage-sats", "1,2,3,3"), "--outage-sats"),
     ],
 )
 def test_bad_input_one_line_exit_2(capsys, args, needle):
@@ -160,3 +172,22 @@ def test_output_file_is_atomic_on_error(capsys, tmp_path):
     out = tmp_path / "o.csv"
     rc, _, _ = run(capsys, "track-sat", "rms", "--epochs", "10", "-o", str(out))
     assert rc == 2 and not out.exists()
+
+
+def test_rho_below_one_with_a_perfect_clock_runs(capsys, tmp_path):
+    rc, out, err = run(capsys, "track-sat", "simulate", "--rho", "0.9", "--sigma0", "0", "--runs", "3",
+                       "--epochs", "12", "--outage-start", "6", "--outage-length", "4", "-q")  # fmt: skip
+    assert rc == 0 and err == ""
+    assert (
+        table(out, tmp_path).meta["max_abs_z_report_vs_analytic"] is None
+    )  # the analytic column assumes rho = 1
+
+
+def test_user_file_duplicates_and_labels(capsys, tmp_path):
+    f = tmp_path / "sats.csv"
+    f.write_text("satellite,latitude_deg,longitude_deg\nA,30,100\nB,40,120\nC,30,100\nD,50,140\n")
+    rc, _, err = run(capsys, "track-sat", "constellation", "--sats", str(f))
+    assert rc == 2 and f"{f}:4" in err and "line 2" in err
+    f.write_text("satellite,latitude_deg,longitude_deg\nA,30,100\nB,40,120\nA,35,110\nD,50,140\n")
+    rc, _, err = run(capsys, "track-sat", "constellation", "--sats", str(f))
+    assert rc == 2 and "distinct" in err

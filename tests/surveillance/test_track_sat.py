@@ -86,6 +86,27 @@ def test_psi_at_table_4_3_alphas():
         assert abs(p - row["psi"]) <= 0.006
 
 
+def test_psi_is_robust_over_the_whole_double_range():
+    """No NaN, no ψ < 0.5 for α > 1 (the closed form's cube roots cancel there; Newton starts at 1)."""
+    a = np.geomspace(1e-300, 1e300, 6001)
+    p = psi(a)
+    assert np.all(np.isfinite(p)) and np.all((p >= 0) & (p <= 1)) and np.all(np.diff(p) >= 0)
+    big = a > 1e6
+    # 1 − ψ ≈ 4/(27α), to the absolute resolution of a double near 1
+    assert np.all(np.abs((1 - p[big]) - 4 / (27 * a[big])) <= 1e-5 * 4 / (27 * a[big]) + 2.3e-16)
+    for x in (1.4893610777109215e94, 1.8030177408594518e215):
+        assert psi(x) == 1.0
+
+
+def test_recursion_keeps_precision_when_sigma0_dwarfs_sigma():
+    """σ0 ≫ σ: the prediction is worthless, every update is least squares, V_n = σ²/β to rounding
+    (1 − g written as R/(V⁻ + R), not 1 − V⁻/(V⁻ + R))."""
+    beta = PRINTED_42["I"]["beta"]
+    for s0 in (1e9, 1e55):  # V = R·V⁻/(V⁻ + R) differs from R by R/V⁻ < 1e-13 here
+        rec = clock_error_recursion(50.0, s0, np.full(5, beta), np.ones(5, bool))
+        np.testing.assert_allclose(rec.V, 50.0**2 / beta, rtol=1e-9)
+
+
 def test_psi_approximations_error_bands():
     """T3: small-α form within 1 % for α ≤ 0.01 and 6 % for α ≤ 0.3; large-α form within 1 % for α ≥ 3
     and 5 % for α ≥ 1."""
@@ -220,7 +241,9 @@ def test_constellation_validation():
     with pytest.raises(GeometryError, match="below the aircraft's horizon"):
         far.check()
     warn = st.example("I", r_sat_km=RSAT_GEO_KM).check()
-    assert len(warn) == 1 and "satellite 1 at zenith 47.2" in warn[0]
+    assert warn == ["satellite(s) 1 (47.2 deg) outside the 45 deg cone"]
+    near = st.example("I", r_sat_km=RSAT_GEO_KM, triplet=(5, 6, 0)).warnings()
+    assert any("outage satellites are nearly singular" in w for w in near)
 
 
 def test_gauss_newton_least_squares_recovers_exact_fix():
@@ -372,12 +395,13 @@ def test_improvement_ratios_rules_1_and_2():
 
 
 def test_long_outage_slope():
-    """T14: RMS grows linearly in a long outage with slope c·σ0·√b3 (12.0 ft/s, Ex I, σ0 = 5, report)."""
+    """T14: RMS grows linearly in a long outage with slope c·σ0·√b3 (12.0 ft/s, Ex I, σ0 = 5, report),
+    measured between m = 500 and 1000 (the gap closes like 1/m: 0.03 % there)."""
     for ex, s0 in (("I", 5.0), ("II", 5.0), ("I", 50.0)):
         p = report_params(ex)
         c = st.rms_curves(p, 50.0, [s0], Timeline(1100, 100, 1000), 1.0)
         slope = (c.rms_tracking[0, 1100] - c.rms_tracking[0, 600]) / 500.0
-        assert slope == pytest.approx(s0 * math.sqrt(p.b3), rel=0.01)
+        assert slope == pytest.approx(s0 * math.sqrt(p.b3), rel=1e-3)  # the issue's 0.1 % (spec T14: 1 %)
     assert 5.0 * math.sqrt(report_params("I").b3) == pytest.approx(12.0, abs=0.05)
 
 
