@@ -4,6 +4,7 @@ seed, option-level error mapping and progress bars on stderr."""
 from __future__ import annotations
 
 import contextlib
+import math
 import sys
 from collections.abc import Callable, Iterator
 from enum import StrEnum
@@ -54,6 +55,13 @@ SeedOpt = Annotated[
 DEFAULT_SEED_VALUE = DEFAULT_SEED
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
+
+
+def positive(value: float | None) -> float | None:
+    """Option callback: a finite number > 0 (None passes: the option was not given)."""
+    if value is not None and not (math.isfinite(value) and value > 0):
+        raise typer.BadParameter(f"{value:g} is not a finite number > 0")
+    return value
 
 
 def checked(option: str, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:

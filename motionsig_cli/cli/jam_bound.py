@@ -29,6 +29,7 @@ from motionsig_cli.cli.common import (
     checked,
     float_list,
     note,
+    positive,
     save_figure,
 )
 from motionsig_cli.cli.io import Table, emit, make_meta
@@ -84,13 +85,6 @@ class WhichTable(StrEnum):
 # --- shared system options ------------------------------------------------------------------------
 
 
-def _positive(value: float | None) -> float | None:
-    """Option callback: a finite number > 0."""
-    if value is not None and not (math.isfinite(value) and value > 0):
-        raise typer.BadParameter(f"{value:g} is not a finite number > 0")
-    return value
-
-
 def _open_unit(value: float | None) -> float | None:
     """Option callback: a number in the open interval (0, 1)."""
     if value is not None and not 0.0 < value < 1.0:
@@ -105,7 +99,7 @@ def _half_open_unit(value: float | None) -> float | None:
     return value
 
 
-_pos = {"callback": _positive}
+_pos = {"callback": positive}
 BOpt = Annotated[float, typer.Option("--B", **_pos, help="Bandwidth B [Hz] (report: 10 MHz).")]
 AlphaOpt = Annotated[float, typer.Option("--alpha", **_pos, help="Signature period α [s] (report: 1 s).")]
 BetaOpt = Annotated[
@@ -301,7 +295,7 @@ def curves(
         float | None, typer.Option("--x-min", help="Smallest 10 log10(J/P₀Bτ) [dB] (default by K).")
     ] = None,
     x_max: Annotated[float | None, typer.Option("--x-max", help="Largest 10 log10(J/P₀Bτ) [dB].")] = None,
-    step: Annotated[float, typer.Option("--step", callback=_positive, help="Grid step [dB].")] = 0.05,
+    step: Annotated[float, typer.Option("--step", callback=positive, help="Grid step [dB].")] = 0.05,
     system: JammingSystem = DEFAULT_SYSTEM,
     fmt: FormatOpt = OutputFormat.csv,
     out: OutOpt = None,
@@ -721,11 +715,11 @@ def antenna(
     erp_dbw: Annotated[float, typer.Option("--erp-dbw", help="Jammer ERP per satellite [dBW].")] = 33.0,
     rf_dbw: Annotated[float | None, typer.Option("--rf-dbw", help="rf power [dBW] (inverse chain).")] = None,
     rf_w: Annotated[
-        float | None, typer.Option("--rf-w", callback=_positive, help="rf power [W] (inverse chain).")
+        float | None, typer.Option("--rf-w", callback=positive, help="rf power [W] (inverse chain).")
     ] = None,
     diameter_ft: Annotated[
         float | None,
-        typer.Option("--diameter-ft", callback=_positive, help="Dish diameter [ft] (forward chain)."),
+        typer.Option("--diameter-ft", callback=positive, help="Dish diameter [ft] (forward chain)."),
     ] = None,
     freq_hz: Annotated[
         float, typer.Option("--freq-hz", **_pos, help="Frequency [Hz] [assumption 1.6 GHz].")

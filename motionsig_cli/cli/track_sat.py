@@ -31,6 +31,7 @@ from motionsig_cli.cli.common import (
     float_list,
     int_list,
     note,
+    positive,
     progress,
     save_figure,
 )
@@ -104,12 +105,6 @@ MAX_RSAT_KM = 1e6
 MAX_SATS = 1000
 
 
-def _positive(value: float | None) -> float | None:
-    if value is not None and not (math.isfinite(value) and value > 0):
-        raise typer.BadParameter(f"{value:g} is not a finite number > 0")
-    return value
-
-
 def _ns_scale(value: float) -> float:
     """Option callback: a time scale in (0, 1e9] ns."""
     if not (math.isfinite(value) and 0 < value <= MAX_NS):
@@ -155,18 +150,18 @@ RsatReOpt = Annotated[
     float | None,
     typer.Option(
         "--rsat-re",
-        callback=_positive,
+        callback=positive,
         help="Orbit radius in Earth radii (default by --convention: report 9.235, corrected geosynchronous 6.61).",
     ),
 ]
 RsatKmOpt = Annotated[
     float | None,
-    typer.Option("--rsat-km", callback=_positive, help="Orbit radius in km (instead of --rsat-re)."),
+    typer.Option("--rsat-km", callback=positive, help="Orbit radius in km (instead of --rsat-re)."),
 ]
 SimRsatReOpt = Annotated[
     float | None,
     typer.Option(
-        "--rsat-re", callback=_positive, help="Orbit radius in Earth radii (default geosynchronous)."
+        "--rsat-re", callback=positive, help="Orbit radius in Earth radii (default geosynchronous)."
     ),
 ]
 SigmaOpt = Annotated[

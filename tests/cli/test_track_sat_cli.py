@@ -6,20 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from motionsig_cli.cli.app import main
-from motionsig_cli.tables import read_table
-
-
-def run(capsys, *args):
-    rc = main(list(args))
-    out, err = capsys.readouterr()
-    return rc, out, err
-
-
-def table(text, tmp_path, name="t.csv"):
-    p = tmp_path / name
-    p.write_text(text)
-    return read_table(p)
+from tests.cli.helpers import run, table
 
 
 def test_table_4_3_both_conventions(capsys, tmp_path):
