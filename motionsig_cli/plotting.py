@@ -200,3 +200,55 @@ def rms_error_figure(
     if title:
         ax.set_title(title)
     return fig
+
+
+def slrt_figure(panels: list[tuple[str, np.ndarray, dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]]],
+                thresholds: tuple[float, float] | None = None) -> Figure:  # fmt: skip
+    """Seed 001's figures: mean log LR against scan, one panel per case, methods overlaid, with the 5–95 %
+    band over runs. ``panels`` = (title, scans, {method: (mean, q05, q95)})."""
+    n = len(panels)
+    cols = min(n, 2)
+    rows = (n + cols - 1) // cols
+    fig = Figure(figsize=(6.2 * cols, 3.8 * rows), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
+    colors = {"ckf": "C0", "dkf": "C3", "lkf": "C2"}
+    for ax, (title, k, curves) in zip(axes, panels, strict=False):
+        for name, (mean, lo, hi) in curves.items():
+            c = colors.get(name, None)
+            ax.fill_between(k, lo, hi, color=c, alpha=0.15, lw=0)
+            ax.plot(k, mean, color=c, lw=1.5, label=f"{name.upper()} (mean)")
+        if thresholds is not None:
+            for v, lab in zip(thresholds, ("log A (delete)", "log B (confirm)"), strict=True):
+                ax.axhline(v, color="0.4", ls=":", lw=1)
+                ax.annotate(lab, (k[-1], v), fontsize="x-small", ha="right", va="bottom", color="0.3")
+        ax.set_title(title, fontsize="medium")
+        ax.set_xlabel("scan k")
+        ax.set_ylabel("log LR(k)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="x-small", loc="best")
+    for ax in axes[n:]:
+        ax.set_visible(False)
+    return fig
+
+
+def slrt_scan_figure(sensors: np.ndarray, clutter_xy: list[np.ndarray], target_xy: list[np.ndarray],
+                     truth: np.ndarray, title: str = "") -> Figure:  # fmt: skip
+    """A single scan in Cartesian x–y: radars, each radar's false alarms and target detections, the track."""
+    fig = Figure(figsize=(6.4, 6.0), layout="constrained")
+    ax = fig.add_subplot()
+    for s, (c, t) in enumerate(zip(clutter_xy, target_xy, strict=True)):
+        ax.plot(
+            c[:, 0] / 1e3, c[:, 1] / 1e3, ".", color=f"C{s}", ms=4, alpha=0.7, label=f"radar {s + 1}: clutter"
+        )
+        if len(t):
+            ax.plot(t[:, 0] / 1e3, t[:, 1] / 1e3, "x", color=f"C{s}", ms=8, mew=2)
+    ax.plot(sensors[:, 0] / 1e3, sensors[:, 1] / 1e3, "k^", ms=9, label="radars")
+    ax.plot(truth[:, 0] / 1e3, truth[:, 2] / 1e3, "k-", lw=1.2, label="target track (× detections)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [km]")
+    ax.set_ylabel("y [km]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="x-small", loc="upper left", ncol=2)
+    if title:
+        ax.set_title(title)
+    return fig

@@ -1,0 +1,45 @@
+"""Wald's sequential probability-ratio test on a log likelihood ratio (seed 001; spec §2.1).
+
+Thresholds from the error probabilities α = P(confirm | h0) and β = P(delete | h1):
+log A = log(β/(1 − α)), log B = log((1 − β)/α). Continue while log A < log LR(k) < log B; at or below
+log A delete the track (accept h0); at or above log B confirm it (accept h1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Decisions", "first_crossing", "wald_thresholds"]
+
+CONFIRM, DELETE, UNDECIDED = 1, -1, 0
+
+
+def wald_thresholds(alpha: float, beta: float) -> tuple[float, float]:
+    """(log A, log B) = (log β/(1−α), log (1−β)/α) for α, β in (0, 0.5)."""
+    for name, v in (("alpha", alpha), ("beta", beta)):
+        if not 0.0 < v < 0.5:
+            raise ValueError(f"{name} = {v:g} is outside (0, 0.5)")
+    return math.log(beta) - math.log1p(-alpha), math.log1p(-beta) - math.log(alpha)
+
+
+@dataclass(frozen=True)
+class Decisions:
+    """First-crossing decisions per run: ``decision`` ∈ {1 confirm, −1 delete, 0 undecided} and the scan
+    (1-based) at which it was taken (0 if undecided)."""
+
+    decision: np.ndarray
+    time: np.ndarray
+
+
+def first_crossing(loglr: np.ndarray, log_a: float, log_b: float) -> Decisions:
+    """The SPRT's decision on each row of ``loglr`` (runs × scans): the first scan at which the score
+    leaves (log A, log B)."""
+    out = (loglr >= log_b) | (loglr <= log_a)
+    hit = out.any(axis=-1)
+    k = np.argmax(out, axis=-1)
+    val = np.take_along_axis(loglr, k[..., None], axis=-1)[..., 0]
+    decision = np.where(hit, np.where(val >= log_b, CONFIRM, DELETE), UNDECIDED)
+    return Decisions(decision=decision, time=np.where(hit, k + 1, 0))

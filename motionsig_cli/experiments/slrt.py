@@ -1,0 +1,201 @@
+"""The seed-001 scenario and its Monte Carlo: S radars on a circle, a nearly-constant-velocity target (or
+none), Poisson clutter uniform in each field of view, and the three track-existence scores (spec §2.5).
+
+Run r draws only from ``trial_rng(seed, r)`` (truth, detections, clutter, the initial track draw), so a
+result does not depend on the number of runs or on their order.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from motionsig_cli.detection.sprt import Decisions, first_crossing, wald_thresholds
+from motionsig_cli.detection.track_existence import METHODS, ScanData, TrackExistenceModel, run_methods
+from motionsig_cli.models.radar import MeasurementModel, cv_model, wrap_angle
+from motionsig_cli.rng import trial_rng
+
+__all__ = ["SlrtScenario", "decisions", "generate", "run", "summarise"]
+
+MAX_WORK = 5_000_000
+"""Largest runs × scans × sensors accepted."""
+
+
+@dataclass(frozen=True)
+class SlrtScenario:
+    """Spec §2.5 defaults; every value the slides leave open is an option (marked [A] in the spec).
+
+    Attributes:
+        n_sensors: radars on a circle of radius ``radius`` m at equally spaced azimuths from 0°.
+        target: a target is present (h1) or only clutter (h0).
+        pd_true: detection probability of the data; ``pd_filter``: the one the filters assume.
+        clutter_rate: mean false alarms per sensor per scan (λ_F).
+        sigma_r, sigma_phi_deg: range–bearing noise (m, degrees); Cartesian sensors use σ_r on both axes.
+        meas_model: ``range_bearing`` or ``cartesian``.
+        q: acceleration psd q̃ [m²/s³]; T: scan period [s]; scans: number of scans.
+        x0: truth initial state [x, ẋ, y, ẏ]; p0_sd: track prior standard deviations (position, velocity).
+        fov_range: field-of-view radius [m].
+    """
+
+    n_sensors: int = 4
+    radius: float = 13_000.0
+    target: bool = True
+    pd_true: float = 0.9
+    pd_filter: float = 0.9
+    clutter_rate: float = 5.0
+    sigma_r: float = 50.0
+    sigma_phi_deg: float = 0.2
+    meas_model: str = "range_bearing"
+    q: float = 10.0
+    T: float = 1.0
+    scans: int = 30
+    x0: tuple[float, float, float, float] = (0.0, 150.0, 0.0, 50.0)
+    p0_sd: tuple[float, float] = (200.0, 50.0)
+    fov_range: float = 26_000.0
+
+    def __post_init__(self) -> None:
+        if self.n_sensors < 1:
+            raise ValueError("at least one sensor is needed")
+        if not (math.isfinite(self.radius) and self.radius >= 0):
+            raise ValueError("sensor circle radius must be >= 0")
+        if self.n_sensors > 1 and self.radius == 0:
+            raise ValueError("all sensors at one point: give a circle radius > 0")
+        for name, v in (("p_D (data)", self.pd_true), ("p_D (filters)", self.pd_filter)):
+            if not 0.0 < v <= 1.0:
+                raise ValueError(f"{name} = {v:g} is outside (0, 1]")
+        if not (math.isfinite(self.clutter_rate) and self.clutter_rate >= 0):
+            raise ValueError("the clutter rate must be a finite number >= 0")
+        if self.pd_filter == 1.0 and self.clutter_rate > 0:
+            raise ValueError("p_D = 1 for the filters is only meaningful without clutter")
+        if not (
+            self.sigma_r > 0 and self.sigma_phi_deg > 0 and math.isfinite(self.sigma_r * self.sigma_phi_deg)
+        ):
+            raise ValueError(
+                "measurement noise standard deviations must be finite and > 0 (R positive definite)"
+            )
+        if self.scans < 1:
+            raise ValueError("at least one scan")
+        if not all(v > 0 and math.isfinite(v) for v in self.p0_sd):
+            raise ValueError("track prior standard deviations must be > 0")
+
+    @property
+    def sensors(self) -> np.ndarray:
+        """(S, 2) sensor positions."""
+        az = 2.0 * math.pi * np.arange(self.n_sensors) / self.n_sensors
+        return self.radius * np.stack([np.cos(az), np.sin(az)], axis=-1)
+
+    def measurement(self) -> MeasurementModel:
+        if self.meas_model == "range_bearing":
+            R = np.diag([self.sigma_r**2, math.radians(self.sigma_phi_deg) ** 2])
+        else:
+            R = np.diag([self.sigma_r**2, self.sigma_r**2])
+        return MeasurementModel(self.meas_model, R, self.fov_range)
+
+    def model(self) -> TrackExistenceModel:
+        F, Q = cv_model(self.T, self.q)
+        p, v = self.p0_sd
+        return TrackExistenceModel(
+            F,
+            Q,
+            self.sensors,
+            self.measurement(),
+            self.pd_filter,
+            self.clutter_rate,
+            np.diag([p * p, v * v, p * p, v * v]),
+        )
+
+
+@dataclass(frozen=True)
+class Generated:
+    """Truth, initial track means and the measurements of every scan for a batch of runs."""
+
+    truth: np.ndarray  # (R, K, 4)
+    m0: np.ndarray  # (R, 4)
+    scans: list[ScanData]
+    clutter_counts: np.ndarray  # (R, K, S)
+
+
+def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
+    """Draw the scenario for the given run indices (spec §2.5)."""
+    F, Q = cv_model(sc.T, sc.q)
+    meas = sc.measurement()
+    sensors = sc.sensors
+    LQ = np.linalg.cholesky(Q + 1e-12 * np.eye(4))
+    LR = np.linalg.cholesky(meas.R)
+    p, v = sc.p0_sd
+    L0 = np.diag([p, v, p, v])
+    S, K = sc.n_sensors, sc.scans
+    truth = np.empty((len(runs), K, 4))
+    m0 = np.empty((len(runs), 4))
+    per_run: list[list[list[np.ndarray]]] = []
+    counts = np.zeros((len(runs), K, S), dtype=int)
+    for i, r in enumerate(runs):
+        g = trial_rng(seed, r)
+        x = np.asarray(sc.x0, dtype=float)
+        m0[i] = x + L0 @ g.standard_normal(4)  # the same draw around x0 with or without a target
+        zs: list[list[np.ndarray]] = []
+        for k in range(K):
+            x = F @ x + LQ @ g.standard_normal(4)  # first scan at t = T
+            truth[i, k] = x
+            row = []
+            for s in range(S):
+                n_fa = g.poisson(sc.clutter_rate)
+                counts[i, k, s] = n_fa
+                z = meas.clutter(g, n_fa, sensors[s])
+                detect = g.random() < sc.pd_true
+                noise = LR @ g.standard_normal(2)
+                if sc.target and detect:
+                    zt = meas.h(x, sensors[s]) + noise
+                    if meas.angular is not None:
+                        zt[1] = wrap_angle(zt[1])
+                    if meas.in_fov(zt, sensors[s]):
+                        z = np.vstack([zt[None, :], z])
+                row.append(z)
+            zs.append(row)
+        per_run.append(zs)
+    scans = []
+    for k in range(K):
+        Zs, Vs = [], []
+        for s in range(S):
+            M = max(len(per_run[i][k][s]) for i in range(len(runs)))
+            Z = np.zeros((len(runs), M, 2))
+            V = np.zeros((len(runs), M), dtype=bool)
+            for i in range(len(runs)):
+                z = per_run[i][k][s]
+                Z[i, : len(z)] = z
+                V[i, : len(z)] = True
+            Zs.append(Z)
+            Vs.append(V)
+        scans.append(ScanData(tuple(Zs), tuple(Vs)))
+    return Generated(truth, m0, scans, counts)
+
+
+def run(
+    sc: SlrtScenario, runs: int, seed: int, methods: Sequence[str] = METHODS, *, lkf_mean: str = "lr"
+) -> tuple[dict[str, np.ndarray], Generated]:
+    """log LR (runs × scans) per method, and the generated data."""
+    if runs < 1:
+        raise ValueError("the number of Monte Carlo runs must be >= 1")
+    if runs * sc.scans * sc.n_sensors > MAX_WORK:
+        raise ValueError(f"runs x scans x sensors = {runs * sc.scans * sc.n_sensors:,} exceeds {MAX_WORK:,}")
+    gen = generate(sc, range(runs), seed)
+    return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean), gen
+
+
+def summarise(loglr: np.ndarray) -> dict[str, np.ndarray]:
+    """Mean, median and the 5 / 95 % quantiles over runs, per scan."""
+    return {
+        "mean": loglr.mean(axis=0),
+        "median": np.median(loglr, axis=0),
+        "q05": np.quantile(loglr, 0.05, axis=0),
+        "q95": np.quantile(loglr, 0.95, axis=0),
+    }
+
+
+def decisions(loglr: np.ndarray, alpha: float, beta: float) -> Decisions:
+    """Wald's first-crossing decisions on each run."""
+    log_a, log_b = wald_thresholds(alpha, beta)
+    return first_crossing(loglr, log_a, log_b)

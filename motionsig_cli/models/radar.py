@@ -1,0 +1,109 @@
+"""Planar target motion and sensor measurement models for the track-existence test (seed 001; spec §2.2, §2.5).
+
+State x = [x, ẋ, y, ẏ] (m, m/s). Nearly constant velocity with continuous white-noise acceleration of
+power spectral density q̃ (spec §2.5: q̃ = 10 m²/s³): per axis F = [[1, T], [0, 1]],
+Q = q̃ [[T³/3, T²/2], [T²/2, T]].
+
+Measurements from a sensor at position s: range–bearing z = [‖p − s‖, atan2(dy, dx)] (the default,
+"non-linear scenario" of the slides, EKF-linearised), or linear Cartesian position z = [x, y]
+(``cartesian``, for the exactness check P7). All functions broadcast over leading axes (runs).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["MeasurementModel", "cv_model", "wrap_angle"]
+
+
+def wrap_angle(a: np.ndarray) -> np.ndarray:
+    """Wrap angles to (−π, π]."""
+    return np.pi - np.mod(np.pi - np.asarray(a), 2.0 * np.pi)
+
+
+def cv_model(T: float, q: float) -> tuple[np.ndarray, np.ndarray]:
+    """F and Q of the nearly-constant-velocity model, state [x, ẋ, y, ẏ] (spec §2.5)."""
+    if not (math.isfinite(T) and T > 0 and math.isfinite(q) and q >= 0):
+        raise ValueError("scan period T must be > 0 and the acceleration psd q >= 0")
+    f = np.array([[1.0, T], [0.0, 1.0]])
+    qa = q * np.array([[T**3 / 3.0, T**2 / 2.0], [T**2 / 2.0, T]])
+    F = np.zeros((4, 4))
+    Q = np.zeros((4, 4))
+    for i in (0, 2):
+        F[i : i + 2, i : i + 2] = f
+        Q[i : i + 2, i : i + 2] = qa
+    return F, Q
+
+
+@dataclass(frozen=True)
+class MeasurementModel:
+    """A sensor's measurement model.
+
+    Attributes:
+        kind: ``range_bearing`` or ``cartesian``.
+        R: (2, 2) measurement noise covariance (m², rad² for range–bearing).
+        fov_range: field-of-view radius [m]: a polar box r ∈ [0, fov_range], φ ∈ [−π, π) for range–bearing,
+            a square of half-width fov_range about the sensor for Cartesian.
+    """
+
+    kind: str
+    R: np.ndarray
+    fov_range: float = 26_000.0
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("range_bearing", "cartesian"):
+            raise ValueError(f"unknown measurement model {self.kind!r}")
+        R = np.asarray(self.R, dtype=float)
+        if R.shape != (2, 2) or not np.allclose(R, R.T) or np.any(np.linalg.eigvalsh(R) <= 0):
+            raise ValueError("measurement noise R must be a symmetric positive definite 2x2 matrix")
+        if not (math.isfinite(self.fov_range) and self.fov_range > 0):
+            raise ValueError("field of view must be > 0")
+        object.__setattr__(self, "R", R)
+
+    @property
+    def angular(self) -> int | None:
+        """Index of the angle component (wrapped residuals), or None."""
+        return 1 if self.kind == "range_bearing" else None
+
+    @property
+    def fov_volume(self) -> float:
+        """|FoV| in measurement-space units (m·rad for range–bearing, m² for Cartesian)."""
+        if self.kind == "range_bearing":
+            return self.fov_range * 2.0 * math.pi
+        return (2.0 * self.fov_range) ** 2
+
+    def h(self, x: np.ndarray, sensor: np.ndarray) -> np.ndarray:
+        """Noise-free measurement of states x (..., 4) from a sensor at (2,)."""
+        dx, dy = x[..., 0] - sensor[0], x[..., 2] - sensor[1]
+        if self.kind == "range_bearing":
+            return np.stack([np.hypot(dx, dy), np.arctan2(dy, dx)], axis=-1)
+        return np.stack([x[..., 0], x[..., 2]], axis=-1)
+
+    def jacobian(self, x: np.ndarray, sensor: np.ndarray) -> np.ndarray:
+        """∂h/∂x at x (..., 4): (..., 2, 4)."""
+        H = np.zeros((*x.shape[:-1], 2, 4))
+        if self.kind == "range_bearing":
+            dx, dy = x[..., 0] - sensor[0], x[..., 2] - sensor[1]
+            r2 = dx**2 + dy**2
+            r = np.sqrt(r2)
+            H[..., 0, 0], H[..., 0, 2] = dx / r, dy / r
+            H[..., 1, 0], H[..., 1, 2] = -dy / r2, dx / r2
+        else:
+            H[..., 0, 0] = H[..., 1, 2] = 1.0
+        return H
+
+    def in_fov(self, z: np.ndarray, sensor: np.ndarray) -> np.ndarray:
+        """Whether measurements z (..., 2) lie in the sensor's field of view."""
+        if self.kind == "range_bearing":
+            return z[..., 0] <= self.fov_range
+        return np.all(np.abs(z - sensor) <= self.fov_range, axis=-1)
+
+    def clutter(self, rng: np.random.Generator, n: int, sensor: np.ndarray) -> np.ndarray:
+        """n false alarms uniform over the field of view (in measurement space)."""
+        u = rng.random((n, 2))
+        if self.kind == "range_bearing":
+            return np.stack([u[:, 0] * self.fov_range, (2.0 * u[:, 1] - 1.0) * math.pi], axis=-1)
+        return sensor + (2.0 * u - 1.0) * self.fov_range
