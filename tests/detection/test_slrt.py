@@ -1,0 +1,212 @@
+"""Track-existence SLRT (seed 001; issue 10) against an independent loop-based oracle written from the spec
+(tests/detection/slrt_oracle.py), quadrature of the product of Gaussians, exactness properties P6/P7 and
+the Monte Carlo targets R7–R10 of the spec with statistical tolerances."""
+
+import math
+
+import numpy as np
+import pytest
+
+from motionsig_cli.detection.sprt import CONFIRM, DELETE, UNDECIDED, first_crossing, wald_thresholds
+from motionsig_cli.detection.track_existence import log_product_constant
+from motionsig_cli.experiments import slrt
+from motionsig_cli.models.radar import cv_model, wrap_angle
+from tests.detection import slrt_oracle as orc
+
+
+def oracle_scores(sc, gen, run):
+    """The oracle's log LR for one run of generated data."""
+    model = sc.model()
+    data = [[scan.Z[s][run][scan.valid[s][run]] for s in range(sc.n_sensors)] for scan in gen.scans]
+    sensors = [np.asarray(p) for p in sc.sensors]
+    return orc.run_methods(
+        data, sensors, model.F, model.Q, gen.m0[run], model.m0_cov, model.pd,
+        math.exp(model.log_rho), model.meas.R, sc.meas_model,
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "kw",
+    [
+        {},
+        {"pd_true": 0.5, "pd_filter": 0.5},
+        {"target": False},
+        {"n_sensors": 3, "clutter_rate": 20.0, "pd_true": 0.2, "pd_filter": 0.2},
+        {"meas_model": "cartesian", "clutter_rate": 2.0},
+    ],
+)
+def test_vectorised_methods_equal_the_loop_oracle(kw):
+    """CKF, DKF and LKF (batched over runs, PDA shortcut) equal the oracle (one run at a time, explicit
+    components, moment matching by the sum) to 1e-9 relative, with clutter, misses and wrapped bearings."""
+    sc = slrt.SlrtScenario(scans=12, **kw)
+    out, gen = slrt.run(sc, 4, 77)
+    for r in range(4):
+        o = oracle_scores(sc, gen, r)
+        for m in ("ckf", "dkf", "lkf"):
+            np.testing.assert_allclose(out[m][r], o[m.upper()], rtol=1e-9, atol=1e-7)
+
+
+@pytest.mark.parametrize("dim", [1, 2])
+def test_product_constant_equals_quadrature_and_ignores_order(dim):
+    rng = np.random.default_rng(dim)
+    means = [rng.normal(size=dim) for _ in range(3)]
+    covs = []
+    for _ in range(3):
+        A = rng.normal(size=(dim, dim))
+        covs.append(A @ A.T + 0.5 * np.eye(dim))
+    ours = float(log_product_constant([m[None] for m in means], [c[None] for c in covs])[0])
+    assert ours == pytest.approx(orc.gaussian_product_constant_quadrature(means, covs), abs=1e-8)
+    rev = float(log_product_constant([m[None] for m in means[::-1]], [c[None] for c in covs[::-1]])[0])
+    assert rev == pytest.approx(ours, abs=1e-12)
+
+
+def test_product_constant_four_states_order_invariant_and_single_is_zero():
+    rng = np.random.default_rng(4)
+    means = [rng.normal(size=(5, 4)) * 100 for _ in range(4)]
+    covs = []
+    for _ in range(4):
+        A = rng.normal(size=(5, 4, 4))
+        covs.append(A @ np.swapaxes(A, -1, -2) + np.eye(4))
+    a = log_product_constant(means, covs)
+    b = log_product_constant(means[::-1], covs[::-1])
+    c = log_product_constant([means[i] for i in (2, 0, 3, 1)], [covs[i] for i in (2, 0, 3, 1)])
+    np.testing.assert_allclose(a, b, rtol=1e-12)
+    np.testing.assert_allclose(a, c, rtol=1e-12)
+    np.testing.assert_array_equal(log_product_constant(means[:1], covs[:1]), np.zeros(5))
+    np.testing.assert_allclose(
+        a, [orc.gaussian_product_constant_closed([m[i] for m in means], [c[i] for c in covs]) for i in range(5)],
+        rtol=1e-10,
+    )  # fmt: skip
+
+
+def test_p6_one_sensor_all_methods_identical():
+    """P6: with one sensor DKF = CKF = LKF (c ≡ 1, relaxed Q = Q) to 1e-12."""
+    sc = slrt.SlrtScenario(n_sensors=1, scans=20)
+    out, _ = slrt.run(sc, 6, 5)
+    np.testing.assert_allclose(out["dkf"], out["ckf"], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(out["lkf"], out["ckf"], rtol=1e-12, atol=1e-12)
+
+
+def test_p7_first_scan_exact_and_gap_afterwards():
+    """P7: linear Cartesian sensors, p_D = 1, no clutter, consistent initialisation: DKF's first-scan
+    log Λ equals CKF's to 1e-9. With range–bearing sensors (different linearisations) DKF is an
+    approximation after that: the gap is measured (and reported in the notebook), not zero."""
+    kw = dict(pd_true=1.0, pd_filter=1.0, clutter_rate=0.0, scans=10)
+    out, _ = slrt.run(slrt.SlrtScenario(meas_model="cartesian", **kw), 5, 9)
+    np.testing.assert_allclose(out["dkf"][:, 0], out["ckf"][:, 0], rtol=1e-9)
+    # identical linear sensors: the local covariances stay equal, so DKF = CKF at every scan (oracle finding)
+    np.testing.assert_allclose(out["dkf"], out["ckf"], rtol=1e-9)
+    out, _ = slrt.run(slrt.SlrtScenario(**kw), 5, 9)
+    gap = np.abs(out["dkf"] - out["ckf"])[:, -1]
+    assert np.all(gap > 1e-6) and np.all(gap < 0.05 * np.abs(out["ckf"][:, -1]))
+
+
+@pytest.fixture(scope="module")
+def default_runs():
+    """Spec R7–R10: 50 runs × 30 scans for p_D = 0.9, 0.5, 0.2 and no target (seed 2008)."""
+    res = {}
+    for pd in (0.9, 0.5, 0.2):
+        res[pd] = slrt.run(slrt.SlrtScenario(pd_true=pd, pd_filter=pd), 50, 2008)[0]
+    res["none"] = slrt.run(slrt.SlrtScenario(target=False), 50, 2008)[0]
+    return res
+
+
+def test_r7_r8_dkf_close_to_ckf_and_far_above_lkf(default_runs):
+    for pd, lo in ((0.9, 0.85), (0.5, 0.85), (0.2, 0.75)):
+        last = {m: default_runs[pd][m][:, -1].mean() for m in ("ckf", "dkf", "lkf")}
+        assert lo <= last["dkf"] / last["ckf"] <= 1.05
+        assert last["lkf"] <= 0.5 * last["dkf"]
+
+
+def test_r9_no_target_drift(default_runs):
+    """P9/R9: with no target every mean score falls, is negative after 5 scans, and DKF, CKF ≤ LKF."""
+    r = default_runs["none"]
+    means = {m: r[m].mean(axis=0) for m in ("ckf", "dkf", "lkf")}
+    for m, v in means.items():
+        assert np.all(v[4:] < 0), m
+        assert np.all(np.diff(v) < 0), m
+    assert means["dkf"][-1] <= means["lkf"][-1] and means["ckf"][-1] <= means["lkf"][-1]
+
+
+def test_r10_decisions_and_wald_bounds(default_runs):
+    """R10 and Wald's bounds (false confirm ≤ α/(1−β), missed ≤ β/(1−α)) within 3 binomial standard errors."""
+    alpha, beta = 1e-3, 0.1
+    n = 50
+
+    def tol(p):
+        return 3 * math.sqrt(p * (1 - p) / n)
+
+    for pd, within in ((0.9, 5), (0.2, 15)):
+        for m in ("ckf", "dkf"):
+            d = slrt.decisions(default_runs[pd][m], alpha, beta)
+            ok = (d.decision == CONFIRM) & (d.time <= within)
+            assert ok.mean() >= 0.9 - tol(0.9), (pd, m, ok.mean())
+            missed = (d.decision == DELETE).mean()
+            assert missed <= beta / (1 - alpha) + tol(beta / (1 - alpha))
+    for m in ("ckf", "dkf", "lkf"):
+        d = slrt.decisions(default_runs["none"][m], alpha, beta)
+        assert (d.decision == CONFIRM).sum() == 0 and (d.decision == DELETE).mean() >= 0.95
+
+
+def test_wald_thresholds_and_first_crossing():
+    log_a, log_b = wald_thresholds(1e-3, 0.1)
+    assert log_a == pytest.approx(math.log(0.1 / 0.999)) and log_a == pytest.approx(-2.302, abs=1e-3)
+    assert log_b == pytest.approx(math.log(0.9 / 1e-3)) and log_b == pytest.approx(6.802, abs=1e-3)
+    x = np.array([[0.0, 3.0, 7.0, -9.0], [-1.0, -2.5, 8.0, 9.0], [1.0, 2.0, 3.0, 4.0]])
+    d = first_crossing(x, log_a, log_b)
+    np.testing.assert_array_equal(d.decision, [CONFIRM, DELETE, UNDECIDED])
+    np.testing.assert_array_equal(d.time, [3, 2, 0])
+    for bad in ((0.0, 0.1), (0.5, 0.1), (0.1, 0.6)):
+        with pytest.raises(ValueError):
+            wald_thresholds(*bad)
+
+
+def test_long_run_stays_finite():
+    """The log domain holds over a long run (2000 scans here; `make reproduce` runs 10⁵): the target leaves
+    the field of view after ~170 scans and the scores fall by 10⁴–10⁵ without underflow, overflow or NaN."""
+    out, _ = slrt.run(slrt.SlrtScenario(scans=2000, target=True), 1, 3)
+    for m, v in out.items():
+        assert np.all(np.isfinite(v)), m
+    assert out["dkf"][0, -1] < -1e4
+
+
+def test_runs_are_independent_of_batch_size():
+    sc = slrt.SlrtScenario(scans=8)
+    a, _ = slrt.run(sc, 6, 21)
+    b, _ = slrt.run(sc, 3, 21)
+    for m in a:
+        np.testing.assert_allclose(a[m][:3], b[m], rtol=1e-12, atol=1e-12)
+
+
+def test_models():
+    F, Q = cv_model(1.0, 10.0)
+    np.testing.assert_allclose(Q[:2, :2], 10.0 * np.array([[1 / 3, 1 / 2], [1 / 2, 1.0]]))
+    np.testing.assert_allclose(F[:2, :2], [[1, 1], [0, 1]])
+    np.testing.assert_allclose(
+        wrap_angle(np.array([np.pi, -np.pi, 3 * np.pi / 2])), [np.pi, np.pi, -np.pi / 2]
+    )
+    meas = slrt.SlrtScenario().measurement()
+    x = np.array([3000.0, 10.0, -4000.0, 5.0])
+    s = np.array([1000.0, 500.0])
+    H = meas.jacobian(x, s)
+    eps = 1e-3
+    num = np.stack(
+        [(meas.h(x + eps * e, s) - meas.h(x - eps * e, s)) / (2 * eps) for e in np.eye(4)], axis=-1
+    )
+    np.testing.assert_allclose(H, num, rtol=1e-6, atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        ({"pd_true": 0.0}, "outside"),
+        ({"pd_filter": 1.2}, "outside"),
+        ({"clutter_rate": -1.0}, "clutter"),
+        ({"n_sensors": 0}, "sensor"),
+        ({"radius": 0.0}, "one point"),
+        ({"sigma_r": 0.0}, "positive definite"),
+    ],
+)
+def test_scenario_validation(kw, match):
+    with pytest.raises(ValueError, match=match):
+        slrt.SlrtScenario(**kw)
