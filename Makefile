@@ -44,7 +44,9 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig track-sat table --which 4.3
 	@echo '== ATC-10 Fig 4.3: RMS error vs update, tracking then a 60 s three-satellite outage (Example II)'
 	$(BIN)/motionsig track-sat rms --figure 4.3 --plot $(OUT)/fig4_3.png -o $(OUT)/fig4_3.csv
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png fig2_16.png fig4_3.png"
+	@echo '== Seed 001: track existence from four radars in clutter, CKF / DKF / LKF and Wald decisions (20 runs)'
+	$(BIN)/motionsig slrt --view decisions --runs 20 --plot $(OUT)/slrt.png
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png fig2_16.png fig4_3.png slrt.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
@@ -77,9 +79,13 @@ bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench]'
 	$(BIN)/python benchmarks/bench_kf_bank.py
 
-## reproduce: every table and figure of seed 000 (results/seed000/), ATC-10 §2 (results/atc10_jamming/) and §4 (results/atc10_tracking/)
+## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), ATC-10 §2 (results/atc10_jamming/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)
 	$(BIN)/python scripts/reproduce_seed000.py
+	@mkdir -p results/seed001
+	$(BIN)/motionsig slrt --plot results/seed001/slrt.png --plot-scan results/seed001/scan.png -o results/seed001/slrt_curves.csv -q
+	$(BIN)/motionsig slrt --view decisions --runs 200 -o results/seed001/slrt_decisions.csv -q
+	$(BIN)/python scripts/check_slrt_long_run.py | tee results/seed001/long_run.txt
 	$(BIN)/python scripts/reproduce_atc10_jamming.py
 	$(BIN)/python scripts/reproduce_atc10_tracking.py
 
