@@ -91,16 +91,27 @@ def int_list(text: str, *, what: str = "value", max_count: int = 10_000) -> list
     return list(dict.fromkeys(out))
 
 
-def check_outputs(out: Path | None, plot: Path | None = None) -> None:
-    """Validate ``--out`` and ``--plot`` before any work is done (nothing is written if either is bad)."""
-    if plot is not None and plot.suffix.lower() not in PLOT_SUFFIXES:
-        raise typer.BadParameter(
-            f"unsupported figure type {plot.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
-            param_hint="--plot",
-        )
-    if out is not None and plot is not None and out.resolve() == plot.resolve():
-        raise typer.BadParameter("is the same file as --out", param_hint="--plot")
-    for option, path in (("--out", out), ("--plot", plot)):
+def check_outputs(
+    out: Path | None, plot: Path | None = None, *, extra: dict[str, Path | None] | None = None
+) -> None:
+    """Validate ``--out``, ``--plot`` and any further figure options (``extra``: option name → path) before
+    any work is done: figure suffixes, existing directories, and no two options naming the same file."""
+    figures = {"--plot": plot, **(extra or {})}
+    for option, path in figures.items():
+        if path is not None and path.suffix.lower() not in PLOT_SUFFIXES:
+            raise typer.BadParameter(
+                f"unsupported figure type {path.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
+                param_hint=option,
+            )
+    seen: dict[Path, str] = {}
+    for option, path in {"--out": out, **figures}.items():
+        if path is None:
+            continue
+        key = path.resolve()
+        if key in seen:
+            raise typer.BadParameter(f"is the same file as {seen[key]}", param_hint=option)
+        seen[key] = option
+    for option, path in {"--out": out, **figures}.items():
         try:
             check_output_path(path, option)
         except InputError as exc:

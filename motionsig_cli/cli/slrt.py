@@ -33,7 +33,7 @@ from motionsig_cli.cli.common import (
     save_figure,
 )
 from motionsig_cli.cli.io import Table, emit, make_meta
-from motionsig_cli.detection.sprt import wald_thresholds
+from motionsig_cli.detection.sprt import freeze_at_decision, wald_thresholds
 from motionsig_cli.detection.track_existence import METHODS
 from motionsig_cli.experiments import slrt as exp
 
@@ -63,6 +63,30 @@ def _unit_interval(value: float) -> float:
     if not 0.0 < value < 0.5:
         raise typer.BadParameter(f"{value:g} is outside (0, 0.5)")
     return value
+
+
+def _check_ranges(
+    sensors: int, radius: float, sigma_r: float, sigma_phi_deg: float, q: float, T: float
+) -> None:
+    """Scenario values checked one option at a time, so each error names its own option."""
+    fov = exp.SlrtScenario().fov_range
+    if not (math.isfinite(radius) and radius < fov):
+        raise typer.BadParameter(
+            f"{radius:g} m: sensors at or beyond the {fov:g} m field of view never see the target",
+            param_hint="--radius",
+        )
+    if sensors > 1 and radius < 1.0:
+        raise typer.BadParameter(
+            "all sensors at one point: use a radius of at least 1 m", param_hint="--radius"
+        )
+    if not 1e-3 <= sigma_r <= 1e5:
+        raise typer.BadParameter(f"{sigma_r:g} is not in [1e-3, 1e5] m", param_hint="--sigma-r")
+    if not 1e-6 <= sigma_phi_deg <= 90.0:
+        raise typer.BadParameter(f"{sigma_phi_deg:g} is not in [1e-6, 90] deg", param_hint="--sigma-phi-deg")
+    if not (math.isfinite(q) and q <= 1e6):
+        raise typer.BadParameter(f"{q:g} is not in [0, 1e6]", param_hint="--q")
+    if not T <= 3600.0:
+        raise typer.BadParameter(f"{T:g} is not in (0, 3600] s", param_hint="--T")
 
 
 def slrt(
@@ -111,6 +135,12 @@ def slrt(
     view: Annotated[
         View, typer.Option("--view", help="curves (per scan) or decisions (SPRT table).")
     ] = View.curves,
+    stop: Annotated[
+        bool,
+        typer.Option(
+            "--stop/--no-stop", help="Freeze each run's score at its decision (default: keep accumulating)."
+        ),
+    ] = False,
     plot_scan: Annotated[
         Path | None,
         typer.Option("--plot-scan", help="Also draw one scan (radars, clutter, target) of run 0."),
@@ -128,34 +158,37 @@ def slrt(
       motionsig slrt --plot slrt.png                          # the slides' four panels, 50 runs
       motionsig slrt --view decisions --runs 200              # confirm / delete / undecided, mean decision time
     """
-    check_outputs(out, plot)
-    check_outputs(None, plot_scan)
-    pds = checked("--pd", float_list, pd, what="p_D")
+    check_outputs(out, plot, extra={"--plot-scan": plot_scan})
+    pds = list(dict.fromkeys(checked("--pd", float_list, pd, what="p_D")))
     if any(not 0.0 < v <= 1.0 for v in pds) or len(pds) > 10:
         raise typer.BadParameter("each p_D must be in (0, 1] (at most 10 values)", param_hint="--pd")
+    _check_ranges(sensors, radius, sigma_r, sigma_phi_deg, q, T)
     if not 0.0 < filter_pd <= 1.0:
         raise typer.BadParameter(f"{filter_pd:g} is outside (0, 1]", param_hint="--filter-pd")
     names = tuple(dict.fromkeys(m.strip() for m in methods.split(",") if m.strip()))
     if not names or any(m not in METHODS for m in names):
         raise typer.BadParameter(f"choose from {', '.join(METHODS)}; got {methods!r}", param_hint="--methods")
+    if meas is Meas.cartesian:
+        note("slrt: --meas cartesian: --sigma-r applies to both axes, --sigma-phi-deg is unused", quiet)
     cases: list[tuple[str, exp.SlrtScenario]] = []
     common = dict(n_sensors=sensors, radius=radius, clutter_rate=clutter, sigma_r=sigma_r, sigma_phi_deg=sigma_phi_deg,
                   meas_model=meas.value.replace("-", "_"), q=q, T=T, scans=scans)  # fmt: skip
-    option = "--radius" if sensors > 1 and radius == 0 else "--pd"
     for v in pds:
         cases.append(
             (
                 f"target, p_D = {v:g}",
-                checked(option, exp.SlrtScenario, target=True, pd_true=v, pd_filter=v, **common),
+                checked("--pd", exp.SlrtScenario, target=True, pd_true=v, pd_filter=v, **common),
             )
         )
     if no_target:
-        cases.append(("no target", checked(option if option == "--radius" else "--filter-pd", exp.SlrtScenario,
+        cases.append(("no target", checked("--filter-pd", exp.SlrtScenario,
                                            target=False, pd_true=filter_pd, pd_filter=filter_pd, **common)))  # fmt: skip
-    work = runs * scans * sensors
-    if work > exp.MAX_WORK:
+    seconds, nbytes = exp.cost(cases[0][1], runs, len(cases))
+    if seconds > exp.MAX_SECONDS or nbytes > exp.MAX_BYTES:
         raise typer.BadParameter(
-            f"runs x scans x sensors = {work:,} exceeds {exp.MAX_WORK:,}", param_hint="--runs"
+            f"estimated {seconds:.0f} s and {nbytes / 1e9:.2g} GB for {len(cases)} case(s) of {runs} runs x {scans} "
+            f"scans x {sensors} sensors; the limits are {exp.MAX_SECONDS:.0f} s and 2 GB",
+            param_hint="--runs",
         )
     log_a, log_b = wald_thresholds(alpha, beta)
     results = []
@@ -167,8 +200,10 @@ def slrt(
             bar.advance(task)
     for label, _, scores, _ in results:
         for m, v in scores.items():
-            if not np.all(np.isfinite(v)):
-                raise RuntimeError(f"non-finite log LR in {label}, {m}")
+            if np.any(np.isnan(v) | (v == np.inf)):
+                raise RuntimeError(f"NaN or +inf log LR in {label}, {m}")
+            if stop:
+                scores[m] = freeze_at_decision(v, log_a, log_b)
     k = np.arange(1, scans + 1)
     if view is View.curves:
         rows = []
@@ -200,7 +235,7 @@ def slrt(
                 bound = beta / (1 - alpha) if sc.target else alpha / (1 - beta)
                 rows.append((label, sc.target, sc.pd_filter, m, runs, float(conf.mean()), float(dele.mean()),
                              float(1 - decided.mean()), float(d.time[decided].mean()) if decided.any() else None,
-                             int(d.time.max()), float(wrong.mean()), bound,
+                             int(d.time.max()) if decided.any() else None, float(wrong.mean()), bound,
                              float(math.sqrt(max(wrong.mean() * (1 - wrong.mean()), 1 / runs) / runs))))  # fmt: skip
         cols = ("case", "target", "pd", "method", "runs", "confirmed", "deleted", "undecided", "mean_decision_scan",
                 "max_decision_scan", "error_rate", "wald_bound", "error_rate_se")  # fmt: skip
@@ -222,7 +257,16 @@ def slrt(
         no_target_filter_pd=filter_pd if no_target else None,
         sprt={"alpha": alpha, "beta": beta, "log_A": log_a, "log_B": log_b, "rule": "first crossing"},
         dkf="relaxed evolution model S*Q, locals initialised at S*P0, no feedback; c by the sequential product "
-        "with P^(s+1) (slides' P^s corrected)",
+        "with P^(s+1) (slides' P^s corrected)"
+        if "dkf" in names
+        else None,
+        stop=stop,
+        clutter_floor="with --clutter 0 the clutter density is floored at 1e-300 per field of view: absolute scores "
+        "are arbitrary, only differences between methods mean something"
+        if clutter == 0
+        else None,
+        minus_inf="a log LR of -inf means the filters' p_D = 1 and a sensor saw nothing: the target hypothesis is "
+        "impossible (certain deletion)",
         assumptions="measurement model, noise, FoV, scan period, sensor angles, initial track and thresholds are "
         "not given by the slides (spec §2.5 defaults)",
     )

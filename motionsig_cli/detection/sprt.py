@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Decisions", "first_crossing", "wald_thresholds"]
+__all__ = ["Decisions", "first_crossing", "freeze_at_decision", "wald_thresholds"]
 
 CONFIRM, DELETE, UNDECIDED = 1, -1, 0
 
@@ -32,6 +32,15 @@ class Decisions:
 
     decision: np.ndarray
     time: np.ndarray
+
+
+def freeze_at_decision(loglr: np.ndarray, log_a: float, log_b: float) -> np.ndarray:
+    """The score with the test stopped: after the first crossing each row keeps its value at the decision."""
+    d = first_crossing(loglr, log_a, log_b)
+    k = np.arange(loglr.shape[-1])
+    stop = np.where(d.decision != UNDECIDED, d.time - 1, loglr.shape[-1])
+    at = np.take_along_axis(loglr, np.minimum(stop, loglr.shape[-1] - 1)[..., None], axis=-1)
+    return np.where(k > stop[..., None], at, loglr)
 
 
 def first_crossing(loglr: np.ndarray, log_a: float, log_b: float) -> Decisions:

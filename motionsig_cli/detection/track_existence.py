@@ -148,7 +148,9 @@ def run_methods(
                 lkf_score[s] += lp
             if lkf_mean == "lr":
                 top = lkf_score.max(axis=0)
-                fused = top + np.log(np.mean(np.exp(lkf_score - top), axis=0))  # log of the mean LR
+                safe = np.where(np.isneginf(top), 0.0, top)
+                with np.errstate(divide="ignore"):
+                    fused = safe + np.log(np.mean(np.exp(lkf_score - safe), axis=0))  # log of the mean LR
             else:
                 fused = lkf_score.mean(axis=0)
             out["lkf"][:, k] = fused

@@ -20,8 +20,10 @@ from motionsig_cli.rng import trial_rng
 
 __all__ = ["SlrtScenario", "decisions", "generate", "run", "summarise"]
 
-MAX_WORK = 5_000_000
-"""Largest runs × scans × sensors accepted."""
+MAX_SECONDS = 240.0
+"""Largest estimated run time accepted (:func:`cost`)."""
+MAX_BYTES = 2 * 1024**3
+"""Largest estimated memory for the generated measurements."""
 
 
 @dataclass(frozen=True)
@@ -59,10 +61,17 @@ class SlrtScenario:
     def __post_init__(self) -> None:
         if self.n_sensors < 1:
             raise ValueError("at least one sensor is needed")
-        if not (math.isfinite(self.radius) and self.radius >= 0):
-            raise ValueError("sensor circle radius must be >= 0")
-        if self.n_sensors > 1 and self.radius == 0:
-            raise ValueError("all sensors at one point: give a circle radius > 0")
+        if not (math.isfinite(self.radius) and 0 <= self.radius < self.fov_range):
+            raise ValueError(
+                f"sensor circle radius must be in [0, {self.fov_range:g}) m (beyond it the target starts "
+                "outside every field of view)"
+            )
+        if self.n_sensors > 1 and self.radius < 1.0:
+            raise ValueError("all sensors at one point: give a circle radius of at least 1 m")
+        if not (math.isfinite(self.q) and 0 <= self.q <= 1e6) or not (
+            math.isfinite(self.T) and 0 < self.T <= 3600
+        ):
+            raise ValueError("acceleration psd must be in [0, 1e6] and the scan period in (0, 3600] s")
         for name, v in (("p_D (data)", self.pd_true), ("p_D (filters)", self.pd_filter)):
             if not 0.0 < v <= 1.0:
                 raise ValueError(f"{name} = {v:g} is outside (0, 1]")
@@ -70,11 +79,10 @@ class SlrtScenario:
             raise ValueError("the clutter rate must be a finite number >= 0")
         if self.pd_filter == 1.0 and self.clutter_rate > 0:
             raise ValueError("p_D = 1 for the filters is only meaningful without clutter")
-        if not (
-            self.sigma_r > 0 and self.sigma_phi_deg > 0 and math.isfinite(self.sigma_r * self.sigma_phi_deg)
-        ):
+        if not (1e-3 <= self.sigma_r <= 1e5 and 1e-6 <= self.sigma_phi_deg <= 90.0):
             raise ValueError(
-                "measurement noise standard deviations must be finite and > 0 (R positive definite)"
+                "measurement noise must satisfy 1e-3 <= sigma_r <= 1e5 m and 1e-6 <= sigma_phi <= 90 deg "
+                "(R positive definite and well conditioned)"
             )
         if self.scans < 1:
             raise ValueError("at least one scan")
@@ -179,19 +187,38 @@ def run(
     """log LR (runs × scans) per method, and the generated data."""
     if runs < 1:
         raise ValueError("the number of Monte Carlo runs must be >= 1")
-    if runs * sc.scans * sc.n_sensors > MAX_WORK:
-        raise ValueError(f"runs x scans x sensors = {runs * sc.scans * sc.n_sensors:,} exceeds {MAX_WORK:,}")
+    nbytes = cost(sc, runs)[1]
+    if nbytes > MAX_BYTES:  # the time budget is the command layer's call (scripts may run longer)
+        raise ValueError(f"the measurements would need about {nbytes / 1e9:.1f} GB; the limit is 2 GB")
     gen = generate(sc, range(runs), seed)
     return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean), gen
 
 
+def cost(sc: SlrtScenario, runs: int, cases: int = 1) -> tuple[float, float]:
+    """Rough (seconds, bytes) of ``cases`` Monte Carlo cases: a fixed cost per sensor-scan (≈ 0.9 ms of
+    Python) plus a per-run cost that grows with the clutter."""
+    per_sensor_scan = (
+        0.9e-3 + 3e-5 * runs * (1.0 + sc.clutter_rate / 5.0) + 2e-5 * runs
+    )  # filters + generation
+    seconds = cases * sc.scans * sc.n_sensors * per_sensor_scan
+    nbytes = (
+        sc.scans
+        * sc.n_sensors
+        * runs
+        * (sc.clutter_rate + 4.0 * math.sqrt(sc.clutter_rate + 1.0) + 2.0)
+        * 17.0
+    )
+    return seconds, nbytes
+
+
 def summarise(loglr: np.ndarray) -> dict[str, np.ndarray]:
-    """Mean, median and the 5 / 95 % quantiles over runs, per scan."""
+    """Mean, median and the 5 / 95 % quantiles over runs, per scan (quantiles without interpolation, so a
+    score of −inf — p_D = 1 and a missed target — stays −inf instead of becoming NaN)."""
     return {
         "mean": loglr.mean(axis=0),
-        "median": np.median(loglr, axis=0),
-        "q05": np.quantile(loglr, 0.05, axis=0),
-        "q95": np.quantile(loglr, 0.95, axis=0),
+        "median": np.quantile(loglr, 0.5, axis=0, method="inverted_cdf"),
+        "q05": np.quantile(loglr, 0.05, axis=0, method="inverted_cdf"),
+        "q95": np.quantile(loglr, 0.95, axis=0, method="inverted_cdf"),
     }
 
 

@@ -71,9 +71,15 @@ def local_update(
     logw = np.where(valid, logw, -np.inf)
     logw0 = math.log1p(-pd) if pd < 1.0 else -np.inf  # log p*⁰
     top = np.maximum(np.max(logw, axis=-1, initial=-np.inf), logw0)
-    log_pbar = top + np.log(np.exp(logw0 - top) + np.sum(np.exp(logw - top[:, None]), axis=-1))  # logsumexp
-    p = np.exp(logw - log_pbar[:, None])  # (R, M), zero where invalid
-    p0 = np.exp(logw0 - log_pbar)
+    impossible = np.isneginf(top)  # p_D = 1 and no measurement: Λ = 0, log p̄ = −inf (certain deletion)
+    top = np.where(impossible, 0.0, top)
+    with np.errstate(divide="ignore"):
+        log_pbar = top + np.log(
+            np.exp(logw0 - top) + np.sum(np.exp(logw - top[:, None]), axis=-1)
+        )  # logsumexp
+    ref = np.where(impossible, 0.0, log_pbar)
+    p = np.exp(logw - ref[:, None])  # (R, M), zero where invalid
+    p0 = np.where(impossible, 1.0, np.exp(logw0 - ref))  # an impossible update leaves the prior unchanged
     nu = np.where(valid[..., None], nu, 0.0)
     K = np.swapaxes(np.linalg.solve(S, HP), -1, -2)  # PHᵀS⁻¹ (S symmetric)
     nubar = np.einsum("rm,rmi->ri", p, nu)

@@ -98,7 +98,7 @@ class MeasurementModel:
     def in_fov(self, z: np.ndarray, sensor: np.ndarray) -> np.ndarray:
         """Whether measurements z (..., 2) lie in the sensor's field of view."""
         if self.kind == "range_bearing":
-            return z[..., 0] <= self.fov_range
+            return (z[..., 0] >= 0.0) & (z[..., 0] <= self.fov_range)
         return np.all(np.abs(z - sensor) <= self.fov_range, axis=-1)
 
     def clutter(self, rng: np.random.Generator, n: int, sensor: np.ndarray) -> np.ndarray:

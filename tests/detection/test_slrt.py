@@ -148,6 +148,15 @@ def test_r10_decisions_and_wald_bounds(default_runs):
         assert (d.decision == CONFIRM).sum() == 0 and (d.decision == DELETE).mean() >= 0.95
 
 
+def test_freeze_at_decision():
+    from motionsig_cli.detection.sprt import freeze_at_decision
+
+    x = np.array([[0.0, 3.0, 7.0, -9.0], [1.0, 2.0, 3.0, 4.0]])
+    np.testing.assert_array_equal(
+        freeze_at_decision(x, -2.3, 6.8), [[0.0, 3.0, 7.0, 7.0], [1.0, 2.0, 3.0, 4.0]]
+    )
+
+
 def test_wald_thresholds_and_first_crossing():
     log_a, log_b = wald_thresholds(1e-3, 0.1)
     assert log_a == pytest.approx(math.log(0.1 / 0.999)) and log_a == pytest.approx(-2.302, abs=1e-3)
@@ -204,9 +213,28 @@ def test_models():
         ({"clutter_rate": -1.0}, "clutter"),
         ({"n_sensors": 0}, "sensor"),
         ({"radius": 0.0}, "one point"),
+        ({"radius": 30_000.0}, "field of view"),
+        ({"sigma_r": 1e-170}, "positive definite"),
         ({"sigma_r": 0.0}, "positive definite"),
     ],
 )
 def test_scenario_validation(kw, match):
     with pytest.raises(ValueError, match=match):
         slrt.SlrtScenario(**kw)
+
+
+def test_pd_one_without_measurements_is_impossible_not_nan():
+    """p_D = 1 and an empty scan: Λ = 0 exactly, log p̄ = −inf, and the filter keeps its prior."""
+    from motionsig_cli.filters.pda import local_update
+
+    meas = slrt.SlrtScenario().measurement()
+    m = np.array([[1000.0, 10.0, 2000.0, 5.0]])
+    P = np.eye(4)[None] * 100.0
+    mp, Pp, lp = local_update(
+        m, P, np.zeros((1, 0, 2)), np.zeros((1, 0), bool), np.zeros(2), meas, 1.0, -10.0
+    )
+    assert lp[0] == -np.inf
+    np.testing.assert_array_equal(mp, m)
+    np.testing.assert_array_equal(Pp, P)
+    z = np.array([[-5.0, 0.1], [100.0, 0.1], [30_000.0, 0.0]])
+    np.testing.assert_array_equal(meas.in_fov(z, np.zeros(2)), [False, True, False])  # r in [0, 26 km]
