@@ -117,35 +117,46 @@ def run_methods(
     out = {name: np.zeros((R, len(scans))) for name in methods}
     P0b = np.broadcast_to(P0, (R, 4, 4))
     ckf = (m0.copy(), P0b.copy())
-    lkf = [(m0.copy(), P0b.copy()) for _ in range(S)]
+    # the S local filters of LKF and DKF are independent: one batch of S·R filters, sensor-major
+    lkf = (np.tile(m0, (S, 1)), np.tile(P0b, (S, 1, 1)))
     lkf_score = np.zeros((S, R))
-    dkf = [(m0.copy(), S * P0b) for _ in range(S)]  # relaxed: ∏ N(·; m0, S·P0) ∝ N(·; m0, P0)
+    dkf = (np.tile(m0, (S, 1)), S * np.tile(P0b, (S, 1, 1)))  # relaxed: ∏ N(·; m0, S·P0) ∝ N(·; m0, P0)
+    sensor_rows = np.repeat(model.sensors, R, axis=0)  # (S·R, 2)
     total = {name: np.zeros(R) for name in methods}
 
     def upd(
-        m: np.ndarray, P: np.ndarray, scan: ScanData, s: int
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        return local_update(
-            m, P, scan.Z[s], scan.valid[s], model.sensors[s], model.meas, model.pd, model.log_rho
-        )
+        m: np.ndarray, P: np.ndarray, Z: np.ndarray, V: np.ndarray, sensor: np.ndarray
+    ) -> tuple[np.ndarray, ...]:
+        return local_update(m, P, Z, V, sensor, model.meas, model.pd, model.log_rho)
+
+    def stacked(scan: ScanData) -> tuple[np.ndarray, np.ndarray]:
+        """All sensors' measurements as one (S·R, M, 2) batch, padded to a common M."""
+        M = max(z.shape[1] for z in scan.Z)
+        Z = np.zeros((S, R, M, 2))
+        V = np.zeros((S, R, M), dtype=bool)
+        for s, (z, v) in enumerate(zip(scan.Z, scan.valid, strict=True)):
+            Z[s, :, : z.shape[1]] = z
+            V[s, :, : z.shape[1]] = v
+        return Z.reshape(S * R, M, 2), V.reshape(S * R, M)
 
     for k, scan in enumerate(scans):
         if "ckf" in methods:
             m, P = ckf
             m, P = m @ F.T, F @ P @ F.T + Q
             lam = np.zeros(R)
-            for s in range(S):
-                m, P, lp = upd(m, P, scan, s)
+            for s in range(S):  # sequential by construction: each sensor updates the running estimate
+                m, P, lp = upd(m, P, scan.Z[s], scan.valid[s], model.sensors[s])
                 lam += lp
             ckf = (m, P)
             total["ckf"] = total["ckf"] + lam
             out["ckf"][:, k] = total["ckf"]
+        if "lkf" in methods or "dkf" in methods:
+            Zs, Vs = stacked(scan)
         if "lkf" in methods:
-            for s in range(S):
-                m, P = lkf[s]
-                m, P, lp = upd(m @ F.T, F @ P @ F.T + Q, scan, s)
-                lkf[s] = (m, P)
-                lkf_score[s] += lp
+            m, P = lkf
+            m, P, lp = upd(m @ F.T, F @ P @ F.T + Q, Zs, Vs, sensor_rows)
+            lkf = (m, P)
+            lkf_score += lp.reshape(S, R)
             if lkf_mean == "lr":
                 top = lkf_score.max(axis=0)
                 safe = np.where(np.isneginf(top), 0.0, top)
@@ -155,16 +166,12 @@ def run_methods(
                 fused = lkf_score.mean(axis=0)
             out["lkf"][:, k] = fused
         if "dkf" in methods:
-            pred = [(m @ F.T, F @ P @ F.T + S * Q) for m, P in dkf]  # relaxed evolution model
-            log_c_prior = log_product_constant([p[0] for p in pred], [p[1] for p in pred])
-            lam = np.zeros(R)
-            new = []
-            for s in range(S):
-                m, P, lp = upd(*pred[s], scan, s)
-                new.append((m, P))
-                lam += lp
-            dkf = new
-            log_c_post = log_product_constant([p[0] for p in new], [p[1] for p in new])
-            total["dkf"] = total["dkf"] + lam + log_c_post - log_c_prior
+            m, P = dkf
+            m, P = m @ F.T, F @ P @ F.T + S * Q  # relaxed evolution model
+            log_c_prior = log_product_constant(list(m.reshape(S, R, 4)), list(P.reshape(S, R, 4, 4)))
+            m, P, lp = upd(m, P, Zs, Vs, sensor_rows)
+            dkf = (m, P)
+            log_c_post = log_product_constant(list(m.reshape(S, R, 4)), list(P.reshape(S, R, 4, 4)))
+            total["dkf"] = total["dkf"] + lp.reshape(S, R).sum(axis=0) + log_c_post - log_c_prior
             out["dkf"][:, k] = total["dkf"]
     return out

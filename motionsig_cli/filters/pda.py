@@ -51,7 +51,7 @@ def local_update(
     Args:
         m, P: priors (R, 4), (R, 4, 4).
         Z: (R, M, 2) measurements (padded); valid: (R, M) mask.
-        sensor: (2,) sensor position.
+        sensor: (2,) sensor position, or (R, 2): one per filter (a batch of several sensors' filters).
         model: measurement model.
         pd: detection probability in (0, 1]; with pd = 1 the j = 0 term is omitted.
         log_rho: log of the clutter density ρ_F in measurement space.

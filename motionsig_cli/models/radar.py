@@ -77,7 +77,7 @@ class MeasurementModel:
 
     def h(self, x: np.ndarray, sensor: np.ndarray) -> np.ndarray:
         """Noise-free measurement of states x (..., 4) from a sensor at (2,)."""
-        dx, dy = x[..., 0] - sensor[0], x[..., 2] - sensor[1]
+        dx, dy = x[..., 0] - sensor[..., 0], x[..., 2] - sensor[..., 1]
         if self.kind == "range_bearing":
             return np.stack([np.hypot(dx, dy), np.arctan2(dy, dx)], axis=-1)
         return np.stack([x[..., 0], x[..., 2]], axis=-1)
@@ -86,7 +86,7 @@ class MeasurementModel:
         """∂h/∂x at x (..., 4): (..., 2, 4)."""
         H = np.zeros((*x.shape[:-1], 2, 4))
         if self.kind == "range_bearing":
-            dx, dy = x[..., 0] - sensor[0], x[..., 2] - sensor[1]
+            dx, dy = x[..., 0] - sensor[..., 0], x[..., 2] - sensor[..., 1]
             r2 = dx**2 + dy**2
             r = np.sqrt(r2)
             H[..., 0, 0], H[..., 0, 2] = dx / r, dy / r
