@@ -235,13 +235,7 @@ label = "target, p_D = 0.9"
 scores, gen = results[label]
 sc = cases[0][1]
 kk = sc.scans - 1
-clutter_xy, target_xy = [], []
-for s in range(sc.n_sensors):
-    Zs = gen.scans[kk].Z[s][0][gen.scans[kk].valid[s][0]]
-    xy = sc.sensors[s] + Zs[:, :1] * np.stack([np.cos(Zs[:, 1]), np.sin(Zs[:, 1])], -1)
-    n_t = len(xy) - int(gen.clutter_counts[0, kk, s])
-    target_xy.append(xy[:n_t])
-    clutter_xy.append(xy[n_t:])
+clutter_xy, target_xy = slrt.scan_xy(sc, gen, 0, kk)
 slrt_scan_figure(sc.sensors, clutter_xy, target_xy, gen.truth[0], title=f"{label}: run 0, scan {kk + 1}")
 
 # %% [markdown]

@@ -298,21 +298,9 @@ def _scan_picture(
     from motionsig_cli.plotting import slrt_scan_figure
 
     label, sc, _, gen = result
-    sensors = sc.sensors
-    meas = sc.measurement()
     k = sc.scans - 1
-    clutter_xy, target_xy = [], []
-    for s in range(sc.n_sensors):
-        Z = gen.scans[k].Z[s][0][gen.scans[k].valid[s][0]]
-        n_fa = int(gen.clutter_counts[0, k, s])
-        xy = (
-            Z
-            if meas.kind == "cartesian"
-            else sensors[s] + Z[:, :1] * np.stack([np.cos(Z[:, 1]), np.sin(Z[:, 1])], -1)
-        )
-        n_t = len(xy) - n_fa
-        target_xy.append(xy[:n_t])
-        clutter_xy.append(xy[n_t:])
+    clutter_xy, target_xy = exp.scan_xy(sc, gen, 0, k)
+    sensors = sc.sensors
     fig = slrt_scan_figure(
         sensors, clutter_xy, target_xy, gen.truth[0, : k + 1], title=f"{label}: run 0, scan {k + 1}"
     )

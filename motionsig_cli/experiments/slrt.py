@@ -194,6 +194,24 @@ def run(
     return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean), gen
 
 
+def scan_xy(
+    sc: SlrtScenario, gen: Generated, run: int, scan: int
+) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """One scan of one run in Cartesian x–y, per sensor: (false alarms, target detections). The generator puts
+    the target detection (if any) first in each sensor's list."""
+    clutter_xy, target_xy = [], []
+    for s in range(sc.n_sensors):
+        Z = gen.scans[scan].Z[s][run][gen.scans[scan].valid[s][run]]
+        if sc.meas_model == "cartesian":
+            xy = Z
+        else:
+            xy = sc.sensors[s] + Z[:, :1] * np.stack([np.cos(Z[:, 1]), np.sin(Z[:, 1])], axis=-1)
+        n_t = len(xy) - int(gen.clutter_counts[run, scan, s])
+        target_xy.append(xy[:n_t])
+        clutter_xy.append(xy[n_t:])
+    return clutter_xy, target_xy
+
+
 def cost(sc: SlrtScenario, runs: int, cases: int = 1) -> tuple[float, float]:
     """Rough (seconds, bytes) of ``cases`` Monte Carlo cases: a fixed cost per sensor-scan (≈ 0.9 ms of
     Python) plus a per-run cost that grows with the clutter."""

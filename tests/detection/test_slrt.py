@@ -238,3 +238,17 @@ def test_pd_one_without_measurements_is_impossible_not_nan():
     np.testing.assert_array_equal(Pp, P)
     z = np.array([[-5.0, 0.1], [100.0, 0.1], [30_000.0, 0.0]])
     np.testing.assert_array_equal(meas.in_fov(z, np.zeros(2)), [False, True, False])  # r in [0, 26 km]
+
+
+def test_scan_xy_maps_detections_back_to_the_target():
+    """With p_D = 1 every radar reports the target: mapped to x–y it lies within 5 σ of the truth
+    (σ ≈ σ_r along range and r·σ_φ across it), and the clutter count is exact."""
+    sc = slrt.SlrtScenario(pd_true=1.0, pd_filter=0.9, clutter_rate=3.0, scans=4)
+    gen = slrt.generate(sc, range(2), 5)
+    for run in range(2):
+        clutter_xy, target_xy = slrt.scan_xy(sc, gen, run, 3)
+        truth = gen.truth[run, 3, [0, 2]]
+        for s, (c, t) in enumerate(zip(clutter_xy, target_xy, strict=True)):
+            assert len(t) == 1 and len(c) == gen.clutter_counts[run, 3, s]
+            r = np.linalg.norm(truth - sc.sensors[s])
+            assert np.linalg.norm(t[0] - truth) < 5 * (sc.sigma_r + r * math.radians(sc.sigma_phi_deg))
