@@ -252,3 +252,31 @@ def slrt_scan_figure(sensors: np.ndarray, clutter_xy: list[np.ndarray], target_x
     if title:
         ax.set_title(title)
     return fig
+
+
+def radar_trajectory_figure(t: np.ndarray, x: np.ndarray, r: np.ndarray, y: np.ndarray) -> Figure:
+    """The 2-D radar example (seed 000 §IV.B): the planar path, the reference, and the range/bearing
+    measurements mapped back to the plane; right, range and bearing against time.
+
+    Args:
+        t: Times (N,).  x: True [x, ẋ, y, ẏ] (N, 4).  r: References [r_x, ṙ_x, r_y, ṙ_y] (N, 4).
+        y: Measurements [range, bearing] (N, 2), bearing in radians.
+    """
+    fig = Figure(figsize=(10, 4.2), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
+    mx, my = y[:, 0] * np.cos(y[:, 1]), y[:, 0] * np.sin(y[:, 1])
+    ax.plot(mx, my, ".", color="C3", ms=1.5, alpha=0.3, label="measurements (κ cos χ, κ sin χ)")
+    ax.plot(r[:, 0], r[:, 2], color="0.6", lw=1, ls="--", label="nominal reference")
+    ax.plot(x[:, 0], x[:, 2], color="C0", lw=1.2, label="vehicle")
+    ax.plot([0.0], [0.0], "k^", ms=8, label="radar")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.legend(fontsize="small", loc="best")
+    ax2.plot(t, y[:, 0], color="C0", lw=0.8, label="range κ [m]")
+    ax2.set_xlabel("time t [s]")
+    ax2.set_ylabel("range [m]", color="C0")
+    ax3 = ax2.twinx()
+    ax3.plot(t, np.degrees(y[:, 1]), color="C1", lw=0.8)
+    ax3.set_ylabel("bearing χ [deg]", color="C1")
+    return fig

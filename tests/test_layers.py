@@ -25,6 +25,9 @@ CORE = [
     "motionsig_cli.surveillance.clock",
     "motionsig_cli.surveillance.clock_tracking",
     "motionsig_cli.experiments.satellite_tracking",
+    "motionsig_cli.models.vehicle2d",
+    "motionsig_cli.filters.unscented",
+    "motionsig_cli.experiments.lmp2d",
 ]
 
 

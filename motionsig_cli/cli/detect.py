@@ -27,14 +27,25 @@ from motionsig_cli.cli.common import (
     progress,
     save_figure,
 )
+from motionsig_cli.cli.detect_radar import detect_radar_record, montecarlo_radar, radar_config
 from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
+from motionsig_cli.cli.records import (
+    emit_record_result,
+    finite_column,
+    parse_horizons,
+    sigma_meta,
+    truth_of,
+    uniform_times,
+)
 from motionsig_cli.detection.lmp import LMPConfig, candidate_grid, lmp_detect
 from motionsig_cli.experiments.lmp1d import SEED_ANR_LABELS, anr_db, monte_carlo
+from motionsig_cli.filters.unscented import SigmaPointParams
 from motionsig_cli.models.vehicle import Q0_DIAG, Vehicle1D
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
 
 NEEDED_META = ("T", "m_rho", "K", "R", "codes", "f_c", "a_sig")
+Q0_DEFAULT = ",".join(f"{q:g}" for q in Q0_DIAG)
 MAX_BANK_GB = 4.0
 
 
@@ -64,6 +75,21 @@ class Zdot(StrEnum):
 
     analytic = "analytic"
     finite_difference = "finite-difference"
+
+
+class FilterKind(StrEnum):
+    """Filter bank."""
+
+    auto = "auto"
+    kf = "kf"
+    ukf = "ukf"
+
+
+class ExampleKind(StrEnum):
+    """Example of seed 000 for --montecarlo."""
+
+    one_d = "1d"
+    two_d = "2d"
 
 
 class Ar(StrEnum):
@@ -122,51 +148,17 @@ def _lmp_config(
     )
 
 
-def _horizons(text: str | None, duration: float, T: float) -> list[float]:
-    if text is None:
-        hs = [float(h) for h in range(10, math.floor(duration + 1e-9) + 1, 10)] or [duration]
-        return hs
-    hs = checked("--horizons", float_list, text, what="horizon")
-    if min(hs) <= 0:
-        raise typer.BadParameter("horizons must be > 0 seconds", param_hint="--horizons")
-    if max(hs) > duration + 1e-9:
-        raise typer.BadParameter(
-            f"horizon {max(hs):g} s is longer than the record ({duration:g} s)", param_hint="--horizons"
-        )
-    return hs
-
-
-def _read_record(source: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any], str]:
-    t = read_table(source, required=("t", "y"))
+def _read_record(t: Table) -> tuple[np.ndarray, np.ndarray, dict[str, Any], str]:
+    if "y" not in t.columns:
+        raise InputError(f"{t.source}: missing column 'y' (produce the record with 'motionsig simulate')")
     missing = [k for k in NEEDED_META if k not in t.meta]
     if missing:
         raise InputError(
             f"{t.source}: missing metadata {', '.join(repr(m) for m in missing)} "
             "(produce the record with 'motionsig simulate')"
         )
-    times, y = t.numeric("t"), t.numeric("y")
-    if times.size < 2:
-        raise InputError(f"{t.source}: need at least 2 samples")
-    for name, arr in (("t", times), ("y", y)):
-        bad = np.flatnonzero(~np.isfinite(arr))
-        if bad.size:
-            raise InputError(f"{t.source}:{t.lines[bad[0]]}: column {name!r} is not finite")
-    try:
-        T = float(t.meta["T"])
-        if not (math.isfinite(T) and T > 0):
-            raise ValueError
-    except (TypeError, ValueError):
-        raise InputError(f"{t.source}: metadata 'T' must be a positive number, got {t.meta['T']!r}") from None
-    dt = np.diff(times)
-    if np.any(dt <= 0):
-        i = int(np.flatnonzero(dt <= 0)[0]) + 1
-        raise InputError(f"{t.source}:{t.lines[i]}: time is not increasing")
-    if np.max(np.abs(dt - T)) > 1e-6 * max(T, 1.0):
-        i = int(np.argmax(np.abs(dt - T))) + 1
-        raise InputError(
-            f"{t.source}:{t.lines[i]}: time step {dt[i - 1]:g} differs from the metadata T = {T:g} (non-uniform time)"
-        )
-    return times, y, t.meta, t.source
+    times = uniform_times(t)
+    return times, finite_column(t, "y"), t.meta, t.source
 
 
 def detect(
@@ -176,10 +168,30 @@ def detect(
     c_r: Annotated[
         float, typer.Option("--c-r", help="KF measurement covariance R_KF = c_r R (seed: 1 or 100).")
     ] = 100.0,
-    Q0: Annotated[str, typer.Option("--Q0", help="Per-step Q of [x, xdot, r, rdot] (eq 56).")] = ",".join(
-        f"{q:g}" for q in Q0_DIAG
-    ),
-    Qa: Annotated[float, typer.Option("--Qa", help="Per-step Q of the amplitude state (eq 57: 10^0).")] = 1.0,
+    Q0: Annotated[
+        str | None,
+        typer.Option("--Q0", help="Per-step H0 Q: 1d [x, xdot, r, rdot] (eq 56); 2d 8 values (eq 61)."),
+    ] = None,
+    Qa: Annotated[
+        float, typer.Option("--Qa", help="1d: per-step Q of the amplitude state (eq 57: 10^0).")
+    ] = 1.0,
+    Q1: Annotated[str | None, typer.Option("--Q1", help="2d: per-step H1 Q, 10 values (eq 62).")] = None,
+    filter_: Annotated[
+        FilterKind,
+        typer.Option(
+            "--filter", help="auto: kf for 1d records, ukf for 2d; ukf on 1d runs the sigma-point bank."
+        ),
+    ] = FilterKind.auto,
+    alpha: Annotated[float, typer.Option("--alpha", help="Unscented transform: spread alpha.")] = 1.0,
+    beta: Annotated[float, typer.Option("--beta", help="Unscented transform: beta (2: Gaussian).")] = 2.0,
+    kappa: Annotated[float, typer.Option("--kappa", help="Unscented transform: kappa.")] = 0.0,
+    example: Annotated[
+        ExampleKind | None,
+        typer.Option("--example", help="--montecarlo: 1d (Figs 4-6) or 2d (Fig 7); records carry their own."),
+    ] = None,
+    anr_pairs: Annotated[
+        str, typer.Option("--anr-pairs", help="2d --montecarlo: Fig 7 (angle, range) ANR pairs 1-4.")
+    ] = "1,2,3,4",
     P0: Annotated[float, typer.Option("--P0", help="Prior covariance P0 = P0 * I (assumption).")] = 1.0,
     Ar_: Annotated[
         Ar, typer.Option("--Ar", help="Reference random walk: cv or identity (assumption).")
@@ -227,8 +239,11 @@ def detect(
         int, typer.Option("--trials", min=1, help="Monte Carlo trials per (f_r, R) cell.")
     ] = 50,
     fr_list: Annotated[
-        str, typer.Option("--fr-list", help="Monte Carlo reference frequencies [Hz].")
-    ] = "0.01,0.1,1.0",
+        str | None,
+        typer.Option(
+            "--fr-list", help="Monte Carlo reference frequencies [Hz] (1d: 0.01,0.1,1.0; 2d: 0.01)."
+        ),
+    ] = None,
     R_list: Annotated[
         str, typer.Option("--R-list", help="Monte Carlo measurement variances.")
     ] = "1e-1,1e-2,1e-3,1e-5",
@@ -251,7 +266,25 @@ def detect(
       motionsig detect --montecarlo --trials 50 --fr-list 0.01 --plot fig4.png -o fig4.csv
     """
     check_outputs(out, plot)
+    sigma = checked("--alpha/--kappa", SigmaPointParams, alpha=alpha, beta=beta, kappa=kappa)
+    checked("--alpha/--kappa", sigma.weights, 4)  # n + λ = α²(n + κ) > 0 for the smallest bank (4 states)
+    if montecarlo and example is ExampleKind.two_d:
+        if filter_ is FilterKind.kf:
+            raise typer.BadParameter(
+                "the radar example is nonlinear: use --filter ukf", param_hint="--filter"
+            )
+        montecarlo_radar(
+            radar_config(c_r, Q0, Q1, P0, tau_grid, fc_grid, include_logdet, zdot, sigma),
+            horizons, trials, fr_list or "0.01", anr_pairs, no_signature, seed, plot, fmt, out, quiet,
+        )  # fmt: skip
+        return
     if montecarlo:
+        if filter_ is FilterKind.ukf:
+            raise typer.BadParameter(
+                "the 1d Monte Carlo runs the Kalman bank (the sigma-point bank gives the same numbers "
+                "at ~20x the cost); use it on single records",
+                param_hint="--filter",
+            )
         _montecarlo(
             c_r,
             Q0,
@@ -266,7 +299,7 @@ def detect(
             zdot,
             horizons,
             trials,
-            fr_list,
+            fr_list or "0.01,0.1,1.0",
             R_list,
             no_signature,
             seed,
@@ -276,7 +309,29 @@ def detect(
             quiet,
         )
         return
-    times, y, meta, src = _read_record(source)
+    table_in = read_table(source, required=("t",))
+    rec_example = str(table_in.meta.get("example", "1d"))
+    if example is not None and example.value != rec_example:
+        raise typer.BadParameter(
+            f"the record is a {rec_example} record ({table_in.source})", param_hint="--example"
+        )
+    if rec_example == "2d":
+        if filter_ is FilterKind.kf:
+            raise typer.BadParameter(
+                "the radar record is nonlinear (range, bearing): use --filter ukf", param_hint="--filter"
+            )
+        detect_radar_record(
+            table_in,
+            radar_config(c_r, Q0, Q1, P0, tau_grid, fc_grid, include_logdet, zdot, sigma),
+            fc_grid is not None,
+            horizons, threshold, candidates, plot, fmt, out, quiet,
+        )  # fmt: skip
+        return
+    if rec_example != "1d":
+        raise InputError(f"{table_in.source}: unknown example {rec_example!r} in the metadata")
+    if Q1 is not None:
+        raise typer.BadParameter("applies to 2d records only", param_hint="--Q1")
+    times, y, meta, src = _read_record(table_in)
     T = float(meta["T"])  # validated by _read_record
     try:
         f_c = float(meta["f_c"])
@@ -287,8 +342,10 @@ def detect(
         chips = to_bipolar(table1_codes(str(meta["codes"]))).astype(float)
     except (ValueError, TypeError) as exc:
         raise InputError(f"{src}: bad metadata: {exc}") from None
-    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot)
-    hs = _horizons(horizons, times.size * T, T)
+    cfg = _lmp_config(
+        c_r, Q0 or Q0_DEFAULT, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot
+    )
+    hs = parse_horizons(horizons, times.size * T, T)
     hz = [round(h / T) for h in hs]
     n_used = max(hz)  # the bank runs only as far as the longest horizon
     n_cand = len(candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg))
@@ -299,15 +356,12 @@ def detect(
             f"(limit {MAX_BANK_GB} GB): use shorter --horizons or a coarser grid",
             param_hint="--horizons",
         )
-    res = lmp_detect(y[:n_used], chips, vehicle, m_rho, cfg, hz)
-    cands = res.candidates
-    best, lam_max = res.best()
-    margin = res.runner_up_margin()
-    truth = (
-        (int(meta["mode"]) - 1, int(meta["tau"]))
-        if "mode" in meta and "tau" in meta and meta.get("signature", True)
-        else None
-    )
+    kind = "ukf" if filter_ is FilterKind.ukf else "kf"
+    if kind == "ukf" and (center is not Center.none or weights is not Weights.paper):
+        raise typer.BadParameter(
+            "the sigma-point bank supports --center none and --weights paper only", param_hint="--filter"
+        )
+    res = lmp_detect(y[:n_used], chips, vehicle, m_rho, cfg, hz, filter=kind, sigma=sigma)
     params = dict(
         source=src,
         c_r=cfg.c_r,
@@ -323,91 +377,25 @@ def detect(
         zdot=cfg.zdot,
         horizons_s=hs,
         threshold=threshold,
-        n_candidates=len(cands),
-        n_filters=1 + 2 * len(cands),
+        filter=kind,
+        **(sigma_meta(sigma, res.repairs) if kind == "ukf" else {}),
         input_meta=meta,
     )
-    if candidates:
-        rows = [
-            (
-                hs[h],
-                int(cands.mode[c]) + 1,
-                int(cands.tau[c]),
-                cands.tau[c] / m_rho,
-                float(cands.f_c[c]),
-                float(res.J0[0, h]),
-                float(res.J_cos[c, 0, h]),
-                float(res.J_sin[c, 0, h]),
-                float(res.Lambda[c, 0, h]),
-            )
-            for h in range(len(hz))
-            for c in range(len(cands))
-        ]
-        table = Table(
-            ("horizon_s", "mode", "tau", "tau_chips", "f_c", "J0", "J_cos", "J_sin", "Lambda"),
-            rows,
-            make_meta("detect", **params),
-        )
-    else:
-        rows = []
-        for h in range(len(hz)):
-            c = int(best[0, h])
-            row: list[Any] = [
-                hs[h],
-                hz[h],
-                int(cands.mode[c]) + 1,
-                int(cands.tau[c]),
-                cands.tau[c] / m_rho,
-                float(cands.f_c[c]),
-                float(lam_max[0, h]),
-                float(margin[0, h]),
-                float(res.J0[0, h]),
-            ]
-            if truth is not None:
-                row += [
-                    truth[0] + 1,
-                    truth[1],
-                    int(cands.mode[c]) == truth[0]
-                    and int(cands.tau[c]) % (chips.shape[1] * m_rho) == truth[1] % (chips.shape[1] * m_rho),
-                ]
-            if threshold is not None:
-                row.append(bool(lam_max[0, h] >= threshold))
-            rows.append(tuple(row))
-        cols = [
-            "horizon_s",
-            "horizon_samples",
-            "mode_hat",
-            "tau_hat",
-            "tau_hat_chips",
-            "fc_hat",
-            "statistic",
-            "margin",
-            "J0",
-        ]
-        if truth is not None:
-            cols += ["true_mode", "true_tau", "correct"]
-        if threshold is not None:
-            cols.append("signature_present")
-        table = Table(tuple(cols), rows, make_meta("detect", **params))
-    if plot is not None:
-        from motionsig_cli.plotting import statistic_figure
-
-        taus = np.unique(cands.tau)
-        lam = res.Lambda[:, 0, -1].reshape(chips.shape[0], taus.size, len(cfg.fc_grid))[:, :, 0]
-        tr = (
-            (truth[0], int(np.searchsorted(taus, truth[1])))
-            if truth is not None and truth[1] in taus
-            else None
-        )
-        title = f"horizon {hs[-1]:g} s, R = {vehicle.R:g}, c_r = {cfg.c_r:g}"
-        save_figure(statistic_figure([(title, lam, tr)], chips.shape[0], taus / m_rho), plot)
-    emit(table, fmt.value, out)
-    c = int(best[0, -1])
-    note(
-        f"horizon {hs[-1]:g} s: mode {cands.mode[c] + 1}, tau {cands.tau[c]} samples "
-        f"({cands.tau[c] / m_rho:g} chips), statistic {lam_max[0, -1]:.4g}, margin {margin[0, -1]:.3g}"
-        + ("" if truth is None else f"; truth mode {truth[0] + 1}, tau {truth[1]}"),
-        quiet,
+    emit_record_result(
+        res,
+        hs,
+        hz,
+        truth_of(meta),
+        params,
+        chips.shape,
+        m_rho,
+        f"horizon {hs[-1]:g} s, R = {vehicle.R:g}, c_r = {cfg.c_r:g}",
+        candidates=candidates,
+        threshold=threshold,
+        plot=plot,
+        fmt=fmt,
+        out=out,
+        quiet=quiet,
     )
 
 
@@ -442,9 +430,11 @@ def _montecarlo(
         raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
     vehicle = Vehicle1D()
     f_c, m_rho = 1.0, 20
-    cfg = _lmp_config(c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot)
+    cfg = _lmp_config(
+        c_r, Q0 or Q0_DEFAULT, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot
+    )
     hs = (
-        _horizons(horizons, 80.0, vehicle.T)
+        parse_horizons(horizons, 80.0, vehicle.T)
         if horizons is None
         else checked("--horizons", float_list, horizons, what="horizon")
     )

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 from enum import StrEnum
-from typing import Annotated
+from pathlib import Path
+from typing import Annotated, Any
 
 import numpy as np
 import typer
@@ -26,8 +27,9 @@ from motionsig_cli.cli.common import (
     save_figure,
 )
 from motionsig_cli.cli.io import Table, emit, make_meta
-from motionsig_cli.experiments.lmp1d import anr_db, draw_trial, signature_batch
+from motionsig_cli.experiments.lmp1d import TrialDraw, anr_db, draw_trial, signature_batch
 from motionsig_cli.models.vehicle import Vehicle1D, nominal_reference, pole_placement_gain, simulate_1d
+from motionsig_cli.models.vehicle2d import SEED_ANR_PAIRS, Vehicle2D, anr_pair_variances, simulate_2d
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
 
@@ -38,6 +40,15 @@ class Example(StrEnum):
     """Which example of seed 000."""
 
     one_d = "1d"
+    two_d = "2d"
+
+
+class SigAxes(StrEnum):
+    """Axes of the 2-D vehicle whose reference carries the signature."""
+
+    both = "both"
+    x = "x"
+    y = "y"
 
 
 class DbConvention(StrEnum):
@@ -74,7 +85,11 @@ def resolve_K(K: str | None, wn: float, zeta: float, T: float) -> tuple[float, f
 
 def simulate(
     example: Annotated[
-        Example, typer.Option("--example", help="1d: point mass, position measured (eqs 53-55).")
+        Example,
+        typer.Option(
+            "--example",
+            help="1d: point mass, position measured (eqs 53-55); 2d: planar vehicle, radar range/bearing (eqs 59-60).",
+        ),
     ] = Example.one_d,
     mode: Annotated[
         int | None, typer.Option("--mode", help="Table I mode 1-3; default drawn from --seed.")
@@ -103,7 +118,28 @@ def simulate(
     sigma_a: Annotated[
         float, typer.Option("--sigma-a", help="True white-acceleration noise [m/s^2] (assumption).")
     ] = 0.01,
-    R: Annotated[float | None, typer.Option("--R", help="Measurement-noise variance (default 1e-5).")] = None,
+    R: Annotated[
+        float | None, typer.Option("--R", help="1d: measurement-noise variance (default 1e-5).")
+    ] = None,
+    R_range: Annotated[
+        float | None, typer.Option("--R-range", help="2d: range-noise variance [m^2].")
+    ] = None,
+    R_bearing: Annotated[
+        float | None, typer.Option("--R-bearing", help="2d: bearing-noise variance [rad^2].")
+    ] = None,
+    anr_pair: Annotated[
+        int | None,
+        typer.Option(
+            "--anr-pair",
+            help="2d: Fig 7's (angle, range) ANR pair 1-4 = (9.2, 37.1) ... (101.3, 129.2); default 4.",
+        ),
+    ] = None,
+    start: Annotated[
+        str, typer.Option("--start", help="2d: initial position x,y [m] (seed: 70,-20); zero velocity.")
+    ] = "70,-20",
+    sig_axes: Annotated[
+        SigAxes, typer.Option("--sig-axes", help="2d: axes whose reference carries the signature.")
+    ] = SigAxes.both,
     anr_db_value: Annotated[float | None, typer.Option("--anr-db", help="ANR in dB instead of --R.")] = None,
     db_convention: Annotated[
         DbConvention, typer.Option("--db-convention", help="paper-ln: seed's 10*ln; log10: true decibels.")
@@ -136,6 +172,16 @@ def simulate(
       motionsig simulate --anr-db 48.3 --f-r 0.1 -o run.csv
     """
     check_outputs(out, plot)
+    if example is Example.one_d:
+        for opt, val in (("--R-range", R_range), ("--R-bearing", R_bearing), ("--anr-pair", anr_pair)):
+            if val is not None:
+                raise typer.BadParameter("applies to --example 2d only", param_hint=opt)
+    else:
+        for opt, val in (("--R", R), ("--anr-db", anr_db_value)):
+            if val is not None:
+                raise typer.BadParameter(
+                    "applies to --example 1d; use --R-range/--R-bearing or --anr-pair", param_hint=opt
+                )
     if mode is not None and mode not in (1, 2, 3):
         raise typer.BadParameter(f"Table I has modes 1, 2, 3; got {mode}", param_hint="--mode")
     for opt, val in (("--tau", tau), ("--tau-chips", tau_chips)):
@@ -159,16 +205,16 @@ def simulate(
             )
     if mrho < 1:
         raise typer.BadParameter(f"must be >= 1, got {mrho}", param_hint="--mrho")
-    Rv = resolve_R(R, anr_db_value, db_convention, a_sig)
     gains = resolve_K(K, pole_wn, pole_zeta, T)
-    vehicle = checked("--R", Vehicle1D, T=T, K=gains, a_sig=a_sig, a_r=a_r, f_r=f_r, sigma_a=sigma_a, R=Rv)
     n = round(duration / T)
     if n > MAX_RECORD:
         raise typer.BadParameter(
             f"{n} samples > {MAX_RECORD}: shorten --duration or lengthen --T", param_hint="--duration"
         )
     chips = to_bipolar(table1_codes(codes.value)).astype(float)
-    draw = draw_trial(seed, 0, n, chips.shape[0], chips.shape[1], mrho)
+    draw = draw_trial(
+        seed, 0, n, chips.shape[0], chips.shape[1], mrho, dims=2 if example is Example.two_d else 1
+    )
     mode0 = draw.mode if mode is None else mode - 1
     tau0 = tau if tau is not None else tau_chips * mrho if tau_chips is not None else draw.tau
     if theta.strip().lower() == "random":
@@ -179,14 +225,7 @@ def simulate(
             raise typer.BadParameter("must be finite or 'random'", param_hint="--theta")
     if zdot not in ("analytic", "finite-difference"):
         raise typer.BadParameter(f"expected analytic or finite-difference, got {zdot!r}", param_hint="--zdot")
-    z, zd = signature_batch(chips, np.array([mode0]), np.array([tau0]), np.array([th]), fc, T, mrho, n, zdot)
-    if no_signature:
-        z, zd = np.zeros_like(z), np.zeros_like(zd)
-    sim = simulate_1d(vehicle, z, zd, draw.w[None, :], draw.v[None, :])
-    anr_lin, anr_log10, anr_ln = anr_db(Rv, a_sig)
-    meta = make_meta(
-        "simulate",
-        example=example.value,
+    common = dict(
         mode=mode0 + 1,
         tau=int(tau0),
         tau_chips=tau0 / mrho,
@@ -202,6 +241,30 @@ def simulate(
         n_rho=int(chips.shape[1]),
         K=list(gains),
         sigma_a=sigma_a,
+    )
+    if example is Example.two_d:
+        pair_used = (
+            anr_pair if anr_pair is not None else (4 if R_range is None and R_bearing is None else None)
+        )
+        vehicle2 = _vehicle_2d(
+            T, gains, a_sig, a_r, f_r, sigma_a, R_range, R_bearing, anr_pair, start, sig_axes
+        )
+        _simulate_2d(
+            vehicle2, chips, draw, mode0, tau0, th, fc, mrho, n, zdot, no_signature, common,
+            codes.value, pair_used, seed, plot, fmt, out, quiet,
+        )  # fmt: skip
+        return
+    Rv = resolve_R(R, anr_db_value, db_convention, a_sig)
+    vehicle = checked("--R", Vehicle1D, T=T, K=gains, a_sig=a_sig, a_r=a_r, f_r=f_r, sigma_a=sigma_a, R=Rv)
+    z, zd = signature_batch(chips, np.array([mode0]), np.array([tau0]), np.array([th]), fc, T, mrho, n, zdot)
+    if no_signature:
+        z, zd = np.zeros_like(z), np.zeros_like(zd)
+    sim = simulate_1d(vehicle, z, zd, draw.w[None, :], draw.v[None, :])
+    anr_lin, anr_log10, anr_ln = anr_db(Rv, a_sig)
+    meta = make_meta(
+        "simulate",
+        example=example.value,
+        **common,
         R=Rv,
         anr_linear=anr_lin,
         anr_db_log10=anr_log10,
@@ -241,5 +304,133 @@ def simulate(
     note(
         f"simulated {n} samples: mode {mode0 + 1}, tau {tau0} samples, theta {th:.3f} rad, R {Rv:g} "
         f"(ANR {anr_lin:.4g} = {anr_log10:.1f} dB; seed's 10*ln label {anr_ln:.1f})",
+        quiet,
+    )
+
+
+def _vehicle_2d(
+    T: float,
+    gains: tuple[float, float],
+    a_sig: float,
+    a_r: float,
+    f_r: float,
+    sigma_a: float,
+    R_range: float | None,
+    R_bearing: float | None,
+    anr_pair: int | None,
+    start: str,
+    sig_axes: SigAxes,
+) -> Vehicle2D:
+    """The 2-D vehicle from the options (noise from --anr-pair, default 4, or --R-range/--R-bearing)."""
+    if anr_pair is not None and (R_range is not None or R_bearing is not None):
+        raise typer.BadParameter(
+            "give --anr-pair or --R-range/--R-bearing, not both", param_hint="--anr-pair"
+        )
+    if anr_pair is not None and anr_pair not in (1, 2, 3, 4):
+        raise typer.BadParameter(f"Fig 7 has pairs 1-4, got {anr_pair}", param_hint="--anr-pair")
+    pr, pb = anr_pair_variances(anr_pair or 4, a_sig if a_sig > 0 else 0.5)
+    Rr = pr if R_range is None else R_range
+    Rb = pb if R_bearing is None else R_bearing
+    for opt, val in (("--R-range", Rr), ("--R-bearing", Rb)):
+        if not (math.isfinite(val) and val > 0):
+            raise typer.BadParameter(f"must be > 0 and finite, got {val}", param_hint=opt)
+    xy = checked("--start", float_list, start, what="coordinate")
+    if len(xy) != 2:
+        raise typer.BadParameter(f"expected x,y, got {len(xy)} numbers", param_hint="--start")
+    return checked(
+        "--start",
+        Vehicle2D,
+        T=T,
+        K=gains,
+        a_sig=a_sig,
+        a_r=a_r,
+        f_r=f_r,
+        sigma_a=sigma_a,
+        R_range=Rr,
+        R_bearing=Rb,
+        start=(xy[0], xy[1]),
+        sig_axes=sig_axes.value,
+    )
+
+
+def _simulate_2d(
+    vehicle: Vehicle2D,
+    chips: np.ndarray,
+    draw: TrialDraw,
+    mode0: int,
+    tau0: int,
+    th: float,
+    fc: float,
+    mrho: int,
+    n: int,
+    zdot: str,
+    no_signature: bool,
+    common: dict[str, Any],
+    codes: str,
+    anr_pair: int | None,
+    seed: int,
+    plot: Path | None,
+    fmt: OutputFormat,
+    out: Path | None,
+    quiet: bool,
+) -> None:
+    """The 2-D radar example (eqs 59-60): trajectory and range/bearing record."""
+    z, zd = signature_batch(
+        chips, np.array([mode0]), np.array([tau0]), np.array([th]), fc, vehicle.T, mrho, n, zdot
+    )
+    if no_signature:
+        z, zd = np.zeros_like(z), np.zeros_like(zd)
+    sim = simulate_2d(vehicle, z, zd, draw.w[None], draw.v[None])
+    x, y, u, r = sim["x"][0], sim["y"][0], sim["u"][0], sim["r"]
+    if np.any(np.hypot(x[:, 0], x[:, 2]) == 0):
+        raise typer.BadParameter("the vehicle passes through the radar (range 0)", param_hint="--start")
+    anr_angle, anr_range = vehicle.anr
+    meta = make_meta(
+        "simulate",
+        example="2d",
+        **common,
+        R_range=vehicle.R_range,
+        R_bearing=vehicle.R_bearing,
+        anr_pair=anr_pair,
+        seed_anr_pair_labels=None if anr_pair is None else list(SEED_ANR_PAIRS[anr_pair - 1]),
+        anr_angle_linear=anr_angle,
+        anr_angle_db_paper_ln=10 * math.log(anr_angle),
+        anr_angle_db_log10=10 * math.log10(anr_angle),
+        anr_range_linear=anr_range,
+        anr_range_db_paper_ln=10 * math.log(anr_range),
+        anr_range_db_log10=10 * math.log10(anr_range),
+        start=list(vehicle.start),
+        sig_axes=vehicle.sig_axes,
+        bearing_unit="rad",
+        radar="origin",
+        duration=n * vehicle.T,
+        n_samples=n,
+        codes=codes,
+        feedback="true state",
+        zdot=zdot,
+        seed=seed,
+        trial=0,
+        assumptions=(
+            "T, m_rho, K (same on both axes), sigma_a, references x0/y0 + a_r sin(2 pi f_r t), "
+            "signature on --sig-axes with a_x = a_y = a_sig, R_range from the printed range label: spec section 1.7"
+        ),
+    )
+    cols = (
+        "k", "t", "range", "bearing", "x", "xdot", "y", "ydot",
+        "r_x", "rdot_x", "r_y", "rdot_y", "z", "zdot", "u_x", "u_y",
+    )  # fmt: skip
+    rows = [
+        (k, float(sim["t"][k]), *(float(v) for v in (*y[k], *x[k], *r[k], z[0, k], zd[0, k], *u[k])))
+        for k in range(n)
+    ]
+    if plot is not None:
+        from motionsig_cli.plotting import radar_trajectory_figure
+
+        save_figure(radar_trajectory_figure(sim["t"], x, r, y), plot)
+    emit(Table(columns=cols, rows=rows, meta=meta), fmt.value, out)
+    note(
+        f"simulated {n} samples (2-D radar): mode {mode0 + 1}, tau {tau0} samples, theta {th:.3f} rad, "
+        f"R_range {vehicle.R_range:.3g} m^2, R_bearing {vehicle.R_bearing:.3g} rad^2 "
+        f"(seed's 10*ln ANR: angle {10 * math.log(anr_angle):.1f}, range {10 * math.log(anr_range):.1f})",
         quiet,
     )

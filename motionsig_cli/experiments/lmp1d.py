@@ -35,18 +35,25 @@ class TrialDraw:
     mode: int  # 0-based
     tau: int  # samples (on the chip grid)
     theta: float
-    w: np.ndarray  # standard-normal process noise, (N,)
-    v: np.ndarray  # standard-normal measurement noise, (N,)
+    w: np.ndarray  # standard-normal process noise, (N,) or (N, 2)
+    v: np.ndarray  # standard-normal measurement noise, (N,) or (N, 2)
 
 
-def draw_trial(seed: int, trial: int, n_samples: int, n_modes: int, n_rho: int, m_rho: int) -> TrialDraw:
-    """Draw i ~ U{modes}, τ ~ U{chip grid}, θ ~ U[0, 2π) and the two noise sequences of one trial."""
+def draw_trial(
+    seed: int, trial: int, n_samples: int, n_modes: int, n_rho: int, m_rho: int, dims: int = 1
+) -> TrialDraw:
+    """Draw i ~ U{modes}, τ ~ U{chip grid}, θ ~ U[0, 2π) and the two noise sequences of one trial.
+
+    ``dims = 2`` (the radar example) draws (N, 2) noise: (x, y) process noise, (range, bearing)
+    measurement noise; i, τ and θ are the same as for ``dims = 1``.
+    """
     g = trial_rng(seed, trial, 0)
     mode = int(g.integers(n_modes))
     tau = int(g.integers(n_rho)) * m_rho
     theta = float(g.uniform(0.0, 2 * math.pi))
-    w = trial_rng(seed, trial, 1).standard_normal(n_samples)
-    v = trial_rng(seed, trial, 2).standard_normal(n_samples)
+    shape = n_samples if dims == 1 else (n_samples, dims)
+    w = trial_rng(seed, trial, 1).standard_normal(shape)
+    v = trial_rng(seed, trial, 2).standard_normal(shape)
     return TrialDraw(mode, tau, theta, w, v)
 
 

@@ -1,0 +1,202 @@
+"""The 2-D closed-loop vehicle observed by a radar — seed 000 §IV.B, eqs (59)–(62), spec §1.7.
+
+Truth (eq 59, per axis α ∈ {x, y}, the 1-D loop of eq 53 on each axis)::
+
+    [α, α̇]_{k+1} = [[1, T], [0, 1]] [α, α̇]_k + [0, T]ᵀ u^α_k + [T²/2, T]ᵀ σ_a w^α_k
+    u^α_k = K (−[α, α̇]_k + r^α_k + a_α [z_k, ż_k]ᵀ)                        same K on both axes [A]
+    r^x_k = [x_0 + a_r sin(2π f_r t_k), 2π f_r a_r cos(2π f_r t_k)],  r^y likewise about y_0  [A]
+
+Radar at the origin (eq 60, with the spec's fix: atan2 instead of tan⁻¹(y/x))::
+
+    y_k = [κ, χ]ᵀ + v_k,  κ = √(x² + y²),  χ = atan2(y, x) wrapped to (−π, π],  v ~ N(0, diag(R_κ, R_χ))
+
+Filter models (eq 44 per axis; the layouts follow from the 8 and 10 entries of eqs 61/62)::
+
+    H0 state [x, ẋ, y, ẏ, r_x, ṙ_x, r_y, ṙ_y];  H1 adds [a_x, a_y] (one amplitude per axis)
+    a_x enters the ẋ row with T (k1 z_k + k2 ż_k), a_y the ẏ row likewise (the replica of the filter)
+    Q^{H0} = diag(1e-1, 1e-3, 1e-1, 1e-3, 1e-1, 1e4, 1e-1, 1e4)                         eq (61)
+    Q^{H1} = diag(1e-1, 1e2, 1e-1, 1e1, 1e-2, 1e2, 1e2, 1e3, 1e-1, 1e0)                 eq (62)
+
+[A] = assumption (the seed is silent); the x/y asymmetry of eq (62) is as printed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+from motionsig_cli.models.radar import wrap_angle
+from motionsig_cli.models.vehicle import pole_placement_gain
+
+Q0_2D = (1e-1, 1e-3, 1e-1, 1e-3, 1e-1, 1e4, 1e-1, 1e4)  # eq (61), per step
+Q1_2D = (1e-1, 1e2, 1e-1, 1e1, 1e-2, 1e2, 1e2, 1e3, 1e-1, 1e0)  # eq (62); last entry "100" read as 10^0
+
+# State indices (H0 layout; H1 appends a_x = 8, a_y = 9).
+IX, IXD, IY, IYD, IRX, IRXD, IRY, IRYD, IAX, IAY = range(10)
+
+# Fig 7 (angle, range) ANR pairs in the seed's 10·ln "dB" (seed 000 §IV.B text and Fig 7 axis).
+SEED_ANR_PAIRS: tuple[tuple[float, float], ...] = ((9.2, 37.1), (32.2, 60.2), (55.2, 83.2), (101.3, 129.2))
+# Bearing variances behind the angle labels: round 5·10⁻ⁿ (10·ln(0.125/R_χ) = 9.16, 32.19, 55.21, 101.27).
+SEED_R_BEARING: tuple[float, ...] = (5e-2, 5e-3, 5e-4, 5e-6)
+
+
+def anr_pair_variances(pair: int, a_sig: float = 0.5) -> tuple[float, float]:
+    """(R_κ, R_χ) of Fig 7's ANR pair 1–4 (spec §1.7 table; [derived]).
+
+    R_χ is the round 5·10⁻ⁿ that reproduces the angle label; R_κ has no visible rule, so it is
+    inverted from the printed range label, R_κ = (a²/2) e^{−label/10} (±0.5 % from the label's rounding).
+    """
+    if pair not in (1, 2, 3, 4):
+        raise ValueError(f"Fig 7 has ANR pairs 1-4, got {pair}")
+    range_label = SEED_ANR_PAIRS[pair - 1][1]
+    return a_sig**2 / 2 * math.exp(-range_label / 10), SEED_R_BEARING[pair - 1]
+
+
+@dataclass(frozen=True, slots=True)
+class Vehicle2D:
+    """Parameters of the 2-D radar example (defaults: spec §1.7–1.8; [A] = assumption).
+
+    Attributes:
+        T: Sample interval [s] [A].
+        K: Feedback gain (k1, k2), the same on both axes [A].
+        a_sig: Signature amplitude a_x = a_y = a_sig on the axes in ``sig_axes`` (0.5, seed).
+        a_r: Reference amplitude (10, seed).
+        f_r: Reference frequency [Hz] (0.01, seed Fig 7).
+        sigma_a: True white-acceleration noise per axis [m/s²] [A].
+        R_range: Range-noise variance R_κ [m²].
+        R_bearing: Bearing-noise variance R_χ [rad²].
+        start: Initial position (x_0, y_0) [m], zero velocity (seed: (70, −20)).
+        sig_axes: Axes carrying the signature: ``"both"`` [A], ``"x"`` or ``"y"``.
+    """
+
+    T: float = 0.05
+    K: tuple[float, float] = field(default_factory=lambda: pole_placement_gain(0.05))
+    a_sig: float = 0.5
+    a_r: float = 10.0
+    f_r: float = 0.01
+    sigma_a: float = 0.01
+    R_range: float = anr_pair_variances(4)[0]
+    R_bearing: float = SEED_R_BEARING[3]
+    start: tuple[float, float] = (70.0, -20.0)
+    sig_axes: Literal["both", "x", "y"] = "both"
+
+    def __post_init__(self) -> None:
+        for name in ("T", "R_range", "R_bearing"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v > 0):
+                raise ValueError(f"{name} must be positive and finite, got {v}")
+        for name in ("a_sig", "a_r", "f_r", "sigma_a"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"{name} must be finite and >= 0, got {v}")
+        if len(self.K) != 2 or not all(math.isfinite(k) for k in self.K):
+            raise ValueError(f"K must be two finite gains, got {self.K}")
+        if len(self.start) != 2 or not all(math.isfinite(s) for s in self.start):
+            raise ValueError(f"start must be two finite coordinates, got {self.start}")
+        if math.hypot(*self.start) == 0:
+            raise ValueError("start must not be the radar's position (the origin): the bearing is undefined")
+        if self.sig_axes not in ("both", "x", "y"):
+            raise ValueError(f"sig_axes must be both|x|y, got {self.sig_axes!r}")
+
+    @property
+    def amplitudes(self) -> tuple[float, float]:
+        """(a_x, a_y) of the truth."""
+        return (
+            self.a_sig if self.sig_axes in ("both", "x") else 0.0,
+            self.a_sig if self.sig_axes in ("both", "y") else 0.0,
+        )
+
+    @property
+    def anr(self) -> tuple[float, float]:
+        """(angle, range) ANR = a_sig² / (2 R) per channel (eq 58 applied to each measurement)."""
+        return self.a_sig**2 / (2 * self.R_bearing), self.a_sig**2 / (2 * self.R_range)
+
+
+def range_bearing(p: np.ndarray, axis: int = -1) -> np.ndarray:
+    """Eq (60) without noise: [κ, χ] of states whose components 0 and 2 (along ``axis``) are x and y.
+
+    The components of the result lie along the same axis.
+    """
+    x, y = np.take(p, IX, axis=axis), np.take(p, IY, axis=axis)
+    return np.stack([np.hypot(x, y), np.arctan2(y, x)], axis=axis)
+
+
+def nominal_reference_2d(cfg: Vehicle2D, t: np.ndarray) -> np.ndarray:
+    """[r_x, ṙ_x, r_y, ṙ_y] at times t, shape (N, 4) [A: sine about the start point on both axes]."""
+    w = 2 * np.pi * cfg.f_r
+    s, c = cfg.a_r * np.sin(w * t), w * cfg.a_r * np.cos(w * t)
+    return np.stack([cfg.start[0] + s, c, cfg.start[1] + s, c], axis=-1)
+
+
+def simulate_2d(
+    cfg: Vehicle2D, z: np.ndarray, zdot: np.ndarray, w: np.ndarray, v: np.ndarray
+) -> dict[str, np.ndarray]:
+    """Closed-loop truth and radar measurements for a batch of records (eqs 59–60).
+
+    Args:
+        cfg: Vehicle parameters.
+        z, zdot: Signature and its derivative, (B, N); scaled per axis by ``cfg.amplitudes``.
+        w: Standard-normal process-noise draws (B, N, 2) (x, y), scaled by σ_a here.
+        v: Standard-normal measurement-noise draws (B, N, 2) (range, bearing), scaled here.
+
+    Returns:
+        ``t`` (N,), ``x`` (B, N, 4) true [x, ẋ, y, ẏ] at each sample, ``u`` (B, N, 2),
+        ``y`` (B, N, 2) [range, bearing], ``r`` (N, 4) nominal references.
+    """
+    z, zdot = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (z, zdot))
+    w, v = (np.asarray(a, dtype=float).reshape((*z.shape, 2)) for a in (w, v))
+    B, N = z.shape
+    T = cfg.T
+    k1, k2 = cfg.K
+    t = np.arange(N) * T
+    r = nominal_reference_2d(cfg, t)
+    amp = np.asarray(cfg.amplitudes)  # (a_x, a_y)
+    pos = np.broadcast_to(np.asarray(cfg.start, float), (B, 2)).copy()  # (B, axis)
+    vel = np.zeros((B, 2))
+    xs = np.empty((B, N, 4))
+    us = np.empty((B, N, 2))
+    r_pos, r_vel = r[:, [0, 2]], r[:, [1, 3]]
+    for k in range(N):
+        xs[:, k, 0::2], xs[:, k, 1::2] = pos, vel
+        e_pos = -pos + r_pos[k] + amp * z[:, k, None]  # −α + r^α + a_α z, eq (54) per axis
+        e_vel = -vel + r_vel[k] + amp * zdot[:, k, None]
+        u = k1 * e_pos + k2 * e_vel
+        us[:, k] = u
+        acc = cfg.sigma_a * w[:, k]
+        pos, vel = pos + T * vel + 0.5 * T**2 * acc, vel + T * u + T * acc  # eq (59)
+    y = range_bearing(xs)
+    y[..., 0] += math.sqrt(cfg.R_range) * v[..., 0]  # eq (60)
+    y[..., 1] = wrap_angle(y[..., 1] + math.sqrt(cfg.R_bearing) * v[..., 1])
+    return {"t": t, "x": xs, "u": us, "y": y, "r": r}
+
+
+def transition_h0_2d(T: float, K: tuple[float, float]) -> np.ndarray:
+    """F^{H0} (8×8, constant): the 1-D block of eq (44) on each axis, state [x, ẋ, y, ẏ, r_x, ṙ_x, r_y, ṙ_y]."""
+    k1, k2 = K
+    F = np.zeros((8, 8))
+    for p, v, r, rd in ((IX, IXD, IRX, IRXD), (IY, IYD, IRY, IRYD)):
+        F[p, p], F[p, v] = 1.0, T
+        F[v, p], F[v, v], F[v, r], F[v, rd] = -T * k1, 1 - T * k2, T * k1, T * k2
+        F[r, r], F[r, rd] = 1.0, T
+        F[rd, rd] = 1.0
+    return F
+
+
+def transition_h1_2d_base(T: float, K: tuple[float, float]) -> np.ndarray:
+    """F^{H1} (10×10) with zero amplitude entries; the time-varying entries are (ẋ, a_x) and (ẏ, a_y)."""
+    F = np.zeros((10, 10))
+    F[:8, :8] = transition_h0_2d(T, K)
+    F[IAX, IAX] = F[IAY, IAY] = 1.0
+    return F
+
+
+AMPLITUDE_ENTRIES_2D = ((IXD, IAX), (IYD, IAY))  # (row, column) of the two time-varying entries
+
+
+def prior_mean_2d(start: tuple[float, float], with_amplitudes: bool) -> np.ndarray:
+    """Filter prior mean [x_0, 0, y_0, 0, x_0, 0, y_0, 0 (, 0, 0)] (spec §1.7 [A])."""
+    m = [start[0], 0.0, start[1], 0.0, start[0], 0.0, start[1], 0.0]
+    return np.array(m + ([0.0, 0.0] if with_amplitudes else []))
