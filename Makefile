@@ -36,6 +36,8 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig encode gold --poly1 45 --poly2 75 --all | $(BIN)/motionsig encode correlations - --view values
 	@echo '== Monte Carlo (Fig 4, 10 trials per cell; make reproduce runs 50)'
 	$(BIN)/motionsig detect --montecarlo --trials 10 --fr-list 0.01 --plot $(OUT)/fig4.png -o $(OUT)/fig4.csv
+	@echo '== Seed 000 Fig 7 setting: a planar vehicle seen by a radar (range, bearing); LMP bank of 187 unscented filters'
+	$(BIN)/motionsig simulate --example 2d --mode 3 --tau-chips 7 --duration 30 --plot $(OUT)/radar.png | $(BIN)/motionsig detect --horizons 10,30
 	@echo '== ATC-10 Table 2.1: jammer ERP that mislocates 10 % of the airborne aircraft, ours beside the printed values'
 	$(BIN)/motionsig jam-bound table --which 2.1
 	@echo '== ATC-10 Fig 2.16: ambiguous-detection bound, K = 1000, P_DL = 0.999'
@@ -46,7 +48,7 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig track-sat rms --figure 4.3 --plot $(OUT)/fig4_3.png -o $(OUT)/fig4_3.csv
 	@echo '== Seed 001: track existence from four radars in clutter, CKF / DKF / LKF and Wald decisions (20 runs)'
 	$(BIN)/motionsig slrt --view decisions --runs 20 --plot $(OUT)/slrt.png
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png fig2_16.png fig4_3.png slrt.png"
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png radar.png fig2_16.png fig4_3.png slrt.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
@@ -78,6 +80,7 @@ $(MATHJAX): scripts/fetch_mathjax.sh
 bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench]'
 	$(BIN)/python benchmarks/bench_kf_bank.py
+	$(BIN)/python benchmarks/bench_ukf_bank.py
 
 ## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), ATC-10 §2 (results/atc10_jamming/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)

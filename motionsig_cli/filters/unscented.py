@@ -261,7 +261,7 @@ def _left_cholesky(A: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
             v[j:] -= L[j:, q] * L[j, q]
         d = v[j]
         min_piv = np.minimum(min_piv, d)
-        L[j:, j] = v[j:] / np.sqrt(np.maximum(d, np.finfo(float).tiny))
+        L[j:, j] = v[j:] * (1.0 / np.sqrt(np.where(d > 0, d, np.inf)))  # a failed pivot gives a zero column
     return L, min_piv
 
 
