@@ -45,6 +45,17 @@ from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
 
 NEEDED_META = ("T", "m_rho", "K", "R", "codes", "f_c", "a_sig")
+R_LIST_DEFAULT = "1e-1,1e-2,1e-3,1e-5"
+_TABLE_CACHE: dict[str, Table] = {}  # a record read early (to learn its example) is not read twice (stdin)
+
+
+def _record_example(source: str) -> str:
+    """The ``example`` metadata of a record ('1d' when absent); the table is kept for the detect run."""
+    t = read_table(source, required=("t",))
+    _TABLE_CACHE[source] = t
+    return str(t.meta.get("example", "1d"))
+
+
 Q0_DEFAULT = ",".join(f"{q:g}" for q in Q0_DIAG)
 MAX_BANK_GB = 4.0
 
@@ -246,7 +257,7 @@ def detect(
     ] = None,
     R_list: Annotated[
         str, typer.Option("--R-list", help="Monte Carlo measurement variances.")
-    ] = "1e-1,1e-2,1e-3,1e-5",
+    ] = R_LIST_DEFAULT,
     no_signature: Annotated[
         bool, typer.Option("--no-signature", help="Monte Carlo under H0 (argmax should be uniform).")
     ] = False,
@@ -257,17 +268,37 @@ def detect(
     quiet: QuietOpt = False,
     debug: DebugOpt = False,
 ) -> None:
-    """LMP mode detector: Lambda(i,tau,f_c) = 2 J_H0 - J_H1,cos - J_H1,sin from a Kalman-filter bank (eq 52).
+    """LMP mode detector: Lambda(i,tau,f_c) = 2 J_H0 - J_H1,cos - J_H1,sin from a filter bank (eq 52).
+
+    1-D records run a Kalman bank; 2-D radar records (simulate --example 2d) a sigma-point bank.
+    --montecarlo gives Figs 4-6 (1d) or Fig 7 (--example 2d).
 
     \b
     Example:
       motionsig simulate --mode 2 --tau-chips 5 | motionsig detect
       motionsig simulate --R 1e-3 | motionsig detect --candidates --horizons 62 --plot fig3.png
       motionsig detect --montecarlo --trials 50 --fr-list 0.01 --plot fig4.png -o fig4.csv
+      motionsig simulate --example 2d | motionsig detect
+      motionsig detect --montecarlo --example 2d --trials 50 --plot fig7.png
     """
     check_outputs(out, plot)
     sigma = checked("--alpha/--kappa", SigmaPointParams, alpha=alpha, beta=beta, kappa=kappa)
-    checked("--alpha/--kappa", sigma.weights, 4)  # n + λ = α²(n + κ) > 0 for the smallest bank (4 states)
+    if example is ExampleKind.two_d or (not montecarlo and _record_example(source) == "2d"):
+        for opt, given in (
+            ("--Qa", Qa != 1.0),
+            ("--Ar", Ar_ is not Ar.cv),
+            ("--weights", weights is not Weights.paper),
+            ("--center", center is not Center.none),
+            ("--R-list", R_list != R_LIST_DEFAULT),
+        ):
+            if given:
+                raise typer.BadParameter("applies to the 1d example only", param_hint=opt)
+        checked("--alpha/--kappa", sigma.weights, 8)  # n + λ = α²(n + κ) > 0 for the 8-state H0 filter
+    else:
+        if anr_pairs != "1,2,3,4" or Q1 is not None:
+            raise typer.BadParameter("applies to the 2d example only", param_hint="--anr-pairs/--Q1")
+        if filter_ is FilterKind.ukf:
+            checked("--alpha/--kappa", sigma.weights, 4)  # the 4-state H0 filter
     if montecarlo and example is ExampleKind.two_d:
         if filter_ is FilterKind.kf:
             raise typer.BadParameter(
@@ -309,7 +340,7 @@ def detect(
             quiet,
         )
         return
-    table_in = read_table(source, required=("t",))
+    table_in = _TABLE_CACHE.pop(source, None) or read_table(source, required=("t",))
     rec_example = str(table_in.meta.get("example", "1d"))
     if example is not None and example.value != rec_example:
         raise typer.BadParameter(

@@ -28,7 +28,8 @@ from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
 
 NEEDED_META_2D = ("T", "m_rho", "K", "R_range", "R_bearing", "codes", "f_c", "a_sig", "start")
-MAX_FILTER_STEPS = 2e9  # (2C + 1) × trials × samples; ~2 µs each: about an hour on one core
+MAX_SECONDS = 3600.0  # estimated run time limit
+MAX_GB = 4.0  # estimated memory limit
 BEARING_UNITS = {"rad": 1.0, "deg": math.pi / 180}
 
 
@@ -110,6 +111,16 @@ def read_radar_record(t: Table) -> tuple[np.ndarray, np.ndarray, Vehicle2D, np.n
             f"{t.source}:{t.lines[over[0]]}: bearing {brg[over[0]]:g} is outside [-{limit:g}, {limit:g}] {unit}{hint}"
         )
     try:
+        for key in ("start", "K"):
+            v = t.meta[key]
+            if not (isinstance(v, list) and len(v) == 2 and all(isinstance(e, int | float) for e in v)):
+                raise ValueError(f"{key} must be a list of two numbers, got {v!r}")
+        m_rho = t.meta["m_rho"]
+        if isinstance(m_rho, bool) or not isinstance(m_rho, int) or m_rho < 1:
+            raise ValueError(f"m_rho must be an integer >= 1, got {m_rho!r}")
+        f_c = float(t.meta["f_c"])
+        if not (math.isfinite(f_c) and f_c >= 0):
+            raise ValueError(f"f_c must be finite and >= 0, got {t.meta['f_c']!r}")
         start = tuple(float(v) for v in t.meta["start"])
         vehicle = Vehicle2D(
             T=float(t.meta["T"]),
@@ -119,8 +130,6 @@ def read_radar_record(t: Table) -> tuple[np.ndarray, np.ndarray, Vehicle2D, np.n
             R_bearing=float(t.meta["R_bearing"]),
             start=start,
         )
-        if int(t.meta["m_rho"]) < 1:
-            raise ValueError(f"m_rho must be >= 1, got {t.meta['m_rho']}")
         chips = to_bipolar(table1_codes(str(t.meta["codes"]))).astype(float)
     except (ValueError, TypeError) as exc:
         raise InputError(f"{t.source}: bad metadata: {exc}") from None
@@ -128,11 +137,14 @@ def read_radar_record(t: Table) -> tuple[np.ndarray, np.ndarray, Vehicle2D, np.n
     return times, y, vehicle, chips
 
 
-def _check_size(n_filters: int, trials: int, n_samples: int, option: str) -> None:
-    steps = float(n_filters) * trials * n_samples
-    if steps > MAX_FILTER_STEPS:
+def _check_size(n_filters: int, trials: int, n_samples: int, option: str, batch: int) -> None:
+    """Refuse runs over ~1 h or ~4 GB before any work: ~(2 + 10/B) µs per filter-step for B records at
+    once (measured), and the candidate replicas and transitions, ~6 arrays of (filters × samples) doubles."""
+    seconds = float(n_filters) * trials * n_samples * (2 + 10 / batch) * 1e-6
+    gb = 6.0 * n_filters * n_samples * 8 / 1e9
+    if seconds > MAX_SECONDS or gb > MAX_GB:
         raise typer.BadParameter(
-            f"{steps:.3g} filter-steps (> {MAX_FILTER_STEPS:.0e}, about an hour on one core): "
+            f"~{seconds / 3600:.2g} h and ~{gb:.2g} GB (limits {MAX_SECONDS / 3600:g} h, {MAX_GB:g} GB): "
             "fewer trials, shorter horizons or a coarser grid",
             param_hint=option,
         )
@@ -161,7 +173,7 @@ def detect_radar_record(
     hz = [round(h / T) for h in hs]
     n_used = max(hz)
     n_cand = len(candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg.as_grid))
-    _check_size(2 * n_cand + 1, 1, n_used, "--horizons")
+    _check_size(2 * n_cand + 1, 1, n_used, "--horizons", 1)
     res = lmp_detect_radar(y[:n_used], chips, vehicle, m_rho, cfg, hz)
     params = dict(
         source=table.source,
@@ -225,12 +237,16 @@ def montecarlo_radar(
         if horizons is None
         else checked("--horizons", float_list, horizons, what="horizon")
     )
-    if min(hs) <= 0:
-        raise typer.BadParameter("horizons must be > 0 seconds", param_hint="--horizons")
+    if min(hs) <= 0 or max(hs) > 1e6 or round(min(hs) / vehicle.T) < 1:
+        raise typer.BadParameter(
+            f"horizons must lie in [{vehicle.T:g}, 1e6] seconds", param_hint="--horizons"
+        )
+    if max(frs) > 1e6:
+        raise typer.BadParameter("frequencies must be <= 1e6 Hz", param_hint="--fr-list")
     chips = to_bipolar(table1_codes("corrected")).astype(float)
     n_cand = len(candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg.as_grid))
     n = round(max(hs) / vehicle.T)
-    _check_size((2 * n_cand + 1) * len(frs) * len(pair_ids), trials, n, "--trials")
+    _check_size(2 * n_cand + 1, trials * len(frs) * len(pair_ids), n, "--trials", min(trials, 25))
     pairs = [anr_pair_variances(p, vehicle.a_sig) for p in pair_ids]
     with progress(quiet) as bar:
         task = bar.add_task("Monte Carlo trials (2-D radar)", total=trials * len(pairs) * len(frs))

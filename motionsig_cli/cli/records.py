@@ -27,6 +27,10 @@ def parse_horizons(text: str | None, duration: float, T: float) -> list[float]:
         raise typer.BadParameter(
             f"horizon {max(hs):g} s is longer than the record ({duration:g} s)", param_hint="--horizons"
         )
+    if round(min(hs) / T) < 1:
+        raise typer.BadParameter(
+            f"horizon {min(hs):g} s is shorter than one sample (T = {T:g} s)", param_hint="--horizons"
+        )
     return hs
 
 

@@ -162,7 +162,7 @@ def simulate(
     quiet: QuietOpt = False,
     debug: DebugOpt = False,
 ) -> None:
-    """Closed-loop 1-D vehicle whose position reference carries a mode signature (eqs 53-55, Fig 2).
+    """Closed-loop vehicle whose position reference carries a mode signature: 1-D (eqs 53-55, Fig 2) or 2-D radar (eqs 59-60).
 
     The random inputs are those of Monte Carlo trial 0 of `detect --montecarlo --seed SEED`.
 
@@ -170,12 +170,15 @@ def simulate(
     Example:
       motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot fig2.png | motionsig detect
       motionsig simulate --anr-db 48.3 --f-r 0.1 -o run.csv
+      motionsig simulate --example 2d --anr-pair 3 --plot traj.png | motionsig detect
     """
     check_outputs(out, plot)
     if example is Example.one_d:
         for opt, val in (("--R-range", R_range), ("--R-bearing", R_bearing), ("--anr-pair", anr_pair)):
             if val is not None:
                 raise typer.BadParameter("applies to --example 2d only", param_hint=opt)
+        if start != "70,-20" or sig_axes is not SigAxes.both:
+            raise typer.BadParameter("applies to --example 2d only", param_hint="--start/--sig-axes")
     else:
         for opt, val in (("--R", R), ("--anr-db", anr_db_value)):
             if val is not None:
@@ -328,7 +331,11 @@ def _vehicle_2d(
         )
     if anr_pair is not None and anr_pair not in (1, 2, 3, 4):
         raise typer.BadParameter(f"Fig 7 has pairs 1-4, got {anr_pair}", param_hint="--anr-pair")
-    pr, pb = anr_pair_variances(anr_pair or 4, a_sig if a_sig > 0 else 0.5)
+    pr, pb = (
+        checked("--a-sig", anr_pair_variances, anr_pair or 4, a_sig)
+        if R_range is None or R_bearing is None
+        else (0, 0)
+    )
     Rr = pr if R_range is None else R_range
     Rb = pb if R_bearing is None else R_bearing
     for opt, val in (("--R-range", Rr), ("--R-bearing", Rb)):
@@ -382,8 +389,23 @@ def _simulate_2d(
         z, zd = np.zeros_like(z), np.zeros_like(zd)
     sim = simulate_2d(vehicle, z, zd, draw.w[None], draw.v[None])
     x, y, u, r = sim["x"][0], sim["y"][0], sim["u"][0], sim["r"]
-    if np.any(np.hypot(x[:, 0], x[:, 2]) == 0):
-        raise typer.BadParameter("the vehicle passes through the radar (range 0)", param_hint="--start")
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise typer.BadParameter("the simulation overflowed (non-finite state)", param_hint="--K/--sigma-a")
+    near = 10 * math.sqrt(vehicle.R_range)
+    true_range = np.hypot(x[:, 0], x[:, 2])
+    if true_range.min() <= near:
+        k = int(np.argmin(true_range))
+        raise typer.BadParameter(
+            f"the vehicle passes within {true_range.min():.3g} m of the radar at t = {k * vehicle.T:g} s "
+            f"(10 range-noise standard deviations: {near:.3g} m): the bearing is undefined there; move --start or lower --R-range",
+            param_hint="--start/--R-range",
+        )
+    if np.any(y[:, 0] <= 0):
+        k = int(np.flatnonzero(y[:, 0] <= 0)[0])
+        raise typer.BadParameter(
+            f"a measured range is <= 0 (t = {k * vehicle.T:g} s): the range noise exceeds the range; lower it",
+            param_hint="--R-range",
+        )
     anr_angle, anr_range = vehicle.anr
     meta = make_meta(
         "simulate",
@@ -394,11 +416,11 @@ def _simulate_2d(
         anr_pair=anr_pair,
         seed_anr_pair_labels=None if anr_pair is None else list(SEED_ANR_PAIRS[anr_pair - 1]),
         anr_angle_linear=anr_angle,
-        anr_angle_db_paper_ln=10 * math.log(anr_angle),
-        anr_angle_db_log10=10 * math.log10(anr_angle),
+        anr_angle_db_paper_ln=10 * math.log(anr_angle) if anr_angle > 0 else None,
+        anr_angle_db_log10=10 * math.log10(anr_angle) if anr_angle > 0 else None,
         anr_range_linear=anr_range,
-        anr_range_db_paper_ln=10 * math.log(anr_range),
-        anr_range_db_log10=10 * math.log10(anr_range),
+        anr_range_db_paper_ln=10 * math.log(anr_range) if anr_range > 0 else None,
+        anr_range_db_log10=10 * math.log10(anr_range) if anr_range > 0 else None,
         start=list(vehicle.start),
         sig_axes=vehicle.sig_axes,
         bearing_unit="rad",
@@ -431,6 +453,10 @@ def _simulate_2d(
     note(
         f"simulated {n} samples (2-D radar): mode {mode0 + 1}, tau {tau0} samples, theta {th:.3f} rad, "
         f"R_range {vehicle.R_range:.3g} m^2, R_bearing {vehicle.R_bearing:.3g} rad^2 "
-        f"(seed's 10*ln ANR: angle {10 * math.log(anr_angle):.1f}, range {10 * math.log(anr_range):.1f})",
+        + (
+            f" (seed's 10*ln ANR: angle {10 * math.log(anr_angle):.1f}, range {10 * math.log(anr_range):.1f})"
+            if anr_angle > 0
+            else ""
+        ),
         quiet,
     )

@@ -64,13 +64,18 @@ class SigmaPointParams:
 
     def weights(self, n: int) -> tuple[float, float, float, float]:
         """(W^m_0, W^c_0, W_j, c) for n states."""
-        lam = self.alpha**2 * (n + self.kappa) - n
-        if not n + lam > 0:
+        n_lam = self.alpha**2 * (n + self.kappa)  # n + λ, formed without the cancellation of λ + n
+        if not (n_lam > 0 and math.isfinite(n_lam)):
             raise ValueError(
-                f"alpha^2 (n + kappa) must be > 0 (n = {n}, alpha = {self.alpha}, kappa = {self.kappa})"
+                f"alpha^2 (n + kappa) must be finite and > 0 (n = {n}, alpha = {self.alpha}, kappa = {self.kappa})"
             )
-        wm0 = lam / (n + lam)
-        return wm0, wm0 + 1 - self.alpha**2 + self.beta, 0.5 / (n + lam), math.sqrt(n + lam)
+        wm0 = 1.0 - n / n_lam  # λ / (n + λ)
+        if abs(wm0) > 1e8:
+            raise ValueError(
+                f"alpha = {self.alpha} gives a centre weight of {wm0:.3g}: the weighted sums would cancel "
+                "to fewer than 8 significant digits; use alpha >= 1e-4"
+            )
+        return wm0, wm0 + 1 - self.alpha**2 + self.beta, 0.5 / n_lam, math.sqrt(n_lam)
 
 
 def _wrap_where(d: np.ndarray, angular: np.ndarray) -> np.ndarray:

@@ -46,13 +46,16 @@ SEED_R_BEARING: tuple[float, ...] = (5e-2, 5e-3, 5e-4, 5e-6)
 def anr_pair_variances(pair: int, a_sig: float = 0.5) -> tuple[float, float]:
     """(R_κ, R_χ) of Fig 7's ANR pair 1–4 (spec §1.7 table; [derived]).
 
-    R_χ is the round 5·10⁻ⁿ that reproduces the angle label; R_κ has no visible rule, so it is
-    inverted from the printed range label, R_κ = (a²/2) e^{−label/10} (±0.5 % from the label's rounding).
+    R_χ is the round 5·10⁻ⁿ that reproduces the angle label at the seed's a_sig = 0.5; R_κ has no
+    visible rule, so it is inverted from the printed range label, R_κ = (a²/2) e^{−label/10} (±0.5 % from
+    the label's rounding). Both scale with a_sig², so a pair keeps its ANRs (a²/(2R)) for any a_sig.
     """
     if pair not in (1, 2, 3, 4):
         raise ValueError(f"Fig 7 has ANR pairs 1-4, got {pair}")
+    if not (math.isfinite(a_sig) and a_sig > 0):
+        raise ValueError(f"a_sig must be > 0 to define an ANR, got {a_sig}")
     range_label = SEED_ANR_PAIRS[pair - 1][1]
-    return a_sig**2 / 2 * math.exp(-range_label / 10), SEED_R_BEARING[pair - 1]
+    return a_sig**2 / 2 * math.exp(-range_label / 10), SEED_R_BEARING[pair - 1] * (a_sig / 0.5) ** 2
 
 
 @dataclass(frozen=True, slots=True)

@@ -190,3 +190,43 @@ def test_montecarlo_2d_table_and_determinism(capsys, tmp_path):
     assert rc == 2 and "--anr-pairs" in err
     rc, out, err = run(capsys, "detect", "--montecarlo", "--example", "2d", "--filter", "kf")
     assert rc == 2 and "--filter" in err
+
+
+def test_review_findings_are_refused(record, capsys, tmp_path):
+    """Found by review: a path through the radar, runs too big, 1-D options on radar runs, bad metadata types."""
+    rc, out, err = run(capsys, "simulate", "--example", "2d", "--start", "-5,-5", "--duration", "60")
+    assert rc == 2 and out == "" and "--start" in err  # passes 5 mm from the radar
+    rc, _, err = run(capsys, "simulate", "--example", "2d", "--R-range", "1e4", "--duration", "10")
+    assert rc == 2 and "--R-range" in err
+    rc, _, err = run(capsys, "simulate", "--start", "1,2", "--duration", "1")
+    assert rc == 2 and "--example 2d only" in err
+    for args, hint in (
+        (("--Qa", "5"), "--Qa"),
+        (("--center", "h0-noise"), "--center"),
+        (("--horizons", "0.01"), "--horizons"),
+        (("--alpha", "1e-8"), "--alpha"),
+    ):
+        rc, out, err = run(capsys, "detect", str(record), *args)
+        assert rc == 2 and out == "" and hint in err, (args, err)
+    rc, _, err = run(
+        capsys, "detect", "--montecarlo", "--example", "2d", "--trials", "1", "--horizons", "500000"
+    )
+    assert rc == 2 and "GB" in err
+    for key, bad in (("start", '"12"'), ("f_c", '"abc"'), ("m_rho", "1.5")):
+        p = _edit(
+            record,
+            tmp_path,
+            lambda ls, k=key, b=bad: [f"# {k}: {b}\n" if ln.startswith(f"# {k}:") else ln for ln in ls],
+            f"{key}.csv",
+        )
+        rc, _, err = run(capsys, "detect", str(p))
+        assert rc == 2 and "bad metadata" in err and key in err, (key, err)
+
+
+def test_anr_pair_keeps_its_anr_for_any_amplitude(capsys, tmp_path):
+    _, out, _ = run(
+        capsys, "simulate", "--example", "2d", "--a-sig", "1", "--anr-pair", "2", "--duration", "1", "-q"
+    )
+    t = table(out, tmp_path)
+    assert t.meta["anr_angle_db_paper_ln"] == pytest.approx(32.19, abs=0.01)
+    assert t.meta["anr_range_db_paper_ln"] == pytest.approx(60.2, abs=1e-9)
