@@ -98,13 +98,10 @@ def simulate_trials(
     return sim["y"], draws
 
 
-@dataclass(frozen=True)
-class MCCell:
-    """Monte Carlo result of one (f_r, R, horizon) cell."""
+class CorrectRates:
+    """% correct, % mode correct and the binomial standard error of a cell with ``trials``, ``correct`` and
+    ``mode_correct`` (shared by the 1-D and the 2-D radar Monte Carlo cells)."""
 
-    f_r: float
-    R: float
-    horizon_s: float
     trials: int
     correct: int
     mode_correct: int
@@ -122,6 +119,18 @@ class MCCell:
         """Binomial standard error of the percentage, √(p(1−p)/n)."""
         p = self.correct / self.trials
         return 100.0 * math.sqrt(p * (1 - p) / self.trials)
+
+
+@dataclass(frozen=True)
+class MCCell(CorrectRates):
+    """Monte Carlo result of one (f_r, R, horizon) cell."""
+
+    f_r: float
+    R: float
+    horizon_s: float
+    trials: int
+    correct: int
+    mode_correct: int
 
 
 def monte_carlo(

@@ -8,14 +8,13 @@ simulate --example 2d --seed s`` is trial 0 of ``motionsig detect --montecarlo -
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from motionsig_cli.detection.lmp import RadarLMPConfig, lmp_detect_radar
-from motionsig_cli.experiments.lmp1d import TrialDraw, draw_trial, signature_batch
+from motionsig_cli.experiments.lmp1d import CorrectRates, TrialDraw, draw_trial, signature_batch
 from motionsig_cli.models.vehicle2d import Vehicle2D, simulate_2d
 
 
@@ -43,7 +42,7 @@ def simulate_trials_2d(
 
 
 @dataclass(frozen=True)
-class RadarMCCell:
+class RadarMCCell(CorrectRates):
     """Monte Carlo result of one (ANR pair, horizon) cell of Fig 7."""
 
     f_r: float
@@ -55,20 +54,6 @@ class RadarMCCell:
     correct: int
     mode_correct: int
     repairs: int  # covariance repairs (state + innovation) in this pair's banks, over all horizons
-
-    @property
-    def pct(self) -> float:
-        return 100.0 * self.correct / self.trials
-
-    @property
-    def pct_mode(self) -> float:
-        return 100.0 * self.mode_correct / self.trials
-
-    @property
-    def se_pct(self) -> float:
-        """Binomial standard error of the percentage, √(p(1−p)/n)."""
-        p = self.correct / self.trials
-        return 100.0 * math.sqrt(p * (1 - p) / self.trials)
 
 
 def monte_carlo_2d(
