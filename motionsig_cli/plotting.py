@@ -280,3 +280,104 @@ def radar_trajectory_figure(t: np.ndarray, x: np.ndarray, r: np.ndarray, y: np.n
     ax3.plot(t, np.degrees(y[:, 1]), color="C1", lw=0.8)
     ax3.set_ylabel("bearing χ [deg]", color="C1")
     return fig
+
+
+def maneuver_figure(
+    truth: np.ndarray,
+    scan: np.ndarray,
+    per_sigma: list[tuple[float, np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]],
+    *,
+    method: str = "IMM",
+    model_names: tuple[str, ...] = (),
+    events: tuple[int, ...] = (),
+) -> Figure:
+    """Seed 002 Figs 2–4 and the IMM model probabilities, 2×2.
+
+    Args:
+        truth: (N, 4) true [x, ẋ, y, ẏ] at scans 1..N.
+        scan: (N−2,) scan numbers of the estimates (3..N).
+        per_sigma: (σ, track of one run (N−2, 2), ē (N−2, 2), σ̂ (N−2, 2), mean μ (N−2, r) or None).
+        events: onset scans of the input changes, drawn as vertical lines.
+    """
+    fig = Figure(figsize=(12, 8.4), layout="constrained")
+    (a2, a3), (a4, a5) = fig.subplots(2, 2)
+    a2.plot(truth[:, 0] / 1e3, truth[:, 2] / 1e3, "k-", lw=2.2, label="true track")
+    for i, (sigma, track, _, _, _) in enumerate(per_sigma):
+        a2.plot(
+            track[:, 0] / 1e3,
+            track[:, 1] / 1e3,
+            color=f"C{i}",
+            lw=0.8,
+            label=f"{method}, σ = {sigma:g} m (run 1)",
+        )
+    a2.set_xlabel("x [km]")
+    a2.set_ylabel("y [km]")
+    a2.set_title("Fig 2: true and filtered tracks", fontsize="medium")
+    a2.legend(fontsize="x-small")
+    styles = {0: "-", 1: "--"}
+    for i, (sigma, _, mean, sd, mu) in enumerate(per_sigma):
+        for j, axis in enumerate("xy"):
+            c = f"C{2 * i + j}"
+            a3.plot(scan, mean[:, j], color=c, lw=0.9, label=f"$\\bar e_{axis}$, σ = {sigma:g}")
+            a4.plot(scan, sd[:, j], color=c, lw=0.9, label=f"$\\sigma_{{\\hat {axis}}}$, σ = {sigma:g}")
+        if mu is not None:
+            for j in range(mu.shape[1]):
+                name = model_names[j] if j < len(model_names) else f"model {j + 1}"
+                a5.plot(
+                    scan,
+                    mu[:, j],
+                    color=f"C{j}",
+                    ls=styles.get(i, ":"),
+                    lw=1.0,
+                    label=f"μ {name}, σ = {sigma:g}",
+                )
+    a3.set_title("Fig 3: mean filtering error (eq 14)", fontsize="medium")
+    a3.set_ylabel("truth − estimate [m]")
+    a4.set_title("Fig 4: filtering-error standard deviation (eq 15)", fontsize="medium")
+    a4.set_ylabel("[m]")
+    a4.set_yscale("log")
+    a5.set_title(f"mean {method} model probabilities", fontsize="medium")
+    a5.set_ylabel("μ_j(k)")
+    a5.set_ylim(0, 1)
+    for ax in (a3, a4, a5):
+        for n in events:
+            ax.axvline(n, color="0.6", ls=":", lw=0.8)
+        ax.set_xlabel("scan k")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize="x-small", ncol=2)
+    a2.grid(alpha=0.3)
+    return fig
+
+
+def maneuver_comparison_figure(
+    scan: np.ndarray,
+    rms: dict[tuple[float, str], np.ndarray],
+    rate: dict[tuple[float, str], np.ndarray],
+    *,
+    events: tuple[int, ...] = (),
+) -> Figure:
+    """Beyond seed 002: RMS position error per method against scan (top, one panel per σ) and the fraction
+    of runs declaring a maneuver at each scan (bottom, GLR and MLR)."""
+    sigmas = sorted({s for s, _ in rms})
+    fig = Figure(figsize=(6.2 * len(sigmas), 7.4), layout="constrained")
+    axes = fig.subplots(2, len(sigmas), squeeze=False, sharex=True)
+    colors = {"imm": "C0", "glr": "C3", "mlr": "C2", "cv": "0.4"}
+    for c, sigma in enumerate(sigmas):
+        top, bottom = axes[0, c], axes[1, c]
+        for (s, m), y in rms.items():
+            if s == sigma:
+                top.semilogy(scan, y, color=colors.get(m), lw=1.0, label=m.upper())
+        for (s, m), y in rate.items():
+            if s == sigma:
+                bottom.plot(scan, y, color=colors.get(m), lw=0.9, label=m.upper())
+        top.set_title(f"RMS position error, σ = {sigma:g} m", fontsize="medium")
+        top.set_ylabel("RMS error [m]")
+        bottom.set_title("declarations per scan (fraction of runs)", fontsize="medium")
+        bottom.set_xlabel("scan k")
+        bottom.set_ylabel("fraction of runs")
+        for ax in (top, bottom):
+            for n in events:
+                ax.axvline(n, color="0.6", ls=":", lw=0.8)
+            ax.grid(alpha=0.3, which="both")
+            ax.legend(fontsize="x-small")
+    return fig

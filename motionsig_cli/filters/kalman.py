@@ -202,3 +202,62 @@ def expected_costs_white_noise(
             F = np.broadcast_to(F_at(k), (C, n, n))
             Sig = F @ Sig @ np.swapaxes(F, -1, -2)
     return out
+
+
+@dataclass(frozen=True)
+class Update:
+    """One batched Kalman measurement update (leading axes are any batch of runs × models).
+
+    Attributes:
+        x, P: updated mean (..., n) and covariance (..., n, n) (Joseph form).
+        nu: innovation (..., m); S_inv: its inverse covariance (..., m, m); K: gain (..., n, m).
+        loglik: log N(ν; 0, S) (..., ), computed from log det S, never from a density value.
+    """
+
+    x: np.ndarray
+    P: np.ndarray
+    nu: np.ndarray
+    S_inv: np.ndarray
+    K: np.ndarray
+    loglik: np.ndarray
+
+
+def _inv_logdet(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Inverse and log-determinant of a batch of symmetric positive-definite matrices (closed form for 2×2)."""
+    m = S.shape[-1]
+    if m == 2:
+        a, b, d = S[..., 0, 0], 0.5 * (S[..., 0, 1] + S[..., 1, 0]), S[..., 1, 1]
+        det = a * d - b * b
+        if np.any(~(det > 0)) or np.any(~(a > 0)):
+            raise np.linalg.LinAlgError("innovation covariance is not positive definite")
+        inv = np.empty_like(S)
+        inv[..., 0, 0], inv[..., 1, 1] = d / det, a / det
+        inv[..., 0, 1] = inv[..., 1, 0] = -b / det
+        return inv, np.log(det)
+    L = np.linalg.cholesky(S)
+    return np.linalg.inv(S), 2.0 * np.log(np.diagonal(L, axis1=-2, axis2=-1)).sum(-1)
+
+
+def joseph_update(x: np.ndarray, P: np.ndarray, z: np.ndarray, H: np.ndarray, R: np.ndarray) -> Update:
+    """Measurement update of a batch of filters sharing H and R.
+
+    ν = z − H x, S = H P Hᵀ + R, K = P Hᵀ S⁻¹, x⁺ = x + K ν,
+    P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ (Joseph form: symmetric positive semi-definite by construction),
+    log N(ν; 0, S) = −½ νᵀS⁻¹ν − ½ log det(2π S).
+
+    Args:
+        x: (..., n); P: (..., n, n); z: (..., m) broadcastable against H x; H: (m, n); R: (m, m).
+    """
+    m, n = H.shape
+    nu = z - x @ H.T
+    PHt = P @ H.T
+    S = H @ PHt + R
+    S_inv, logdet = _inv_logdet(S)
+    K = PHt @ S_inv
+    A = np.eye(n) - K @ H
+    P_new = A @ P @ np.swapaxes(A, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
+    P_new = 0.5 * (P_new + np.swapaxes(P_new, -1, -2))
+    x_new = x + (K @ nu[..., None])[..., 0]
+    maha = (nu[..., None, :] @ S_inv @ nu[..., :, None])[..., 0, 0]
+    loglik = -0.5 * (maha + logdet + m * np.log(2.0 * np.pi))
+    return Update(x_new, P_new, nu, S_inv, K, loglik)

@@ -1,0 +1,388 @@
+"""The seed-002 scenario and its Monte Carlo: a target that turns twice, Cartesian position measurements, and
+four trackers on the same runs — the IMM of three Kalman filters, the GLR and MLR input-estimation trackers,
+and the constant-velocity Kalman filter they start from (spec §3.1–§3.6).
+
+Scans are numbered k = 1..N as in the seed. Interval k covers (t_k, t_{k+1}]; the input u(k) is held over it:
+p(k+1) = p(k) + v(k)T + ½u(k)T², v(k+1) = v(k) + u(k)T (exact constant-acceleration kinematics). Every
+tracker initialises by two-point differencing at scan 2, so estimates start at scan 3.
+
+Run r draws only from ``trial_rng(seed, r)``: the standard-normal measurement errors w_r (N, 2), scaled by σ.
+Every σ and every method therefore sees the same w_r (common random numbers), and a result does not depend on
+the number of runs, their order or how they are chunked.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from motionsig_cli.detection.glr import CHI2_2_999, GLRConfig, InputModel, input_tracker
+from motionsig_cli.filters.imm import imm_filter
+from motionsig_cli.models.motion import (
+    H_POS4,
+    H_POS6,
+    MU0_PAPER,
+    PI_PAPER,
+    cv_input_model,
+    imm_models,
+    two_point_init,
+)
+from motionsig_cli.rng import trial_rng
+
+__all__ = [
+    "METHODS",
+    "PRESETS",
+    "DetectionSummary",
+    "ErrorStats",
+    "MCResult",
+    "ManeuverScenario",
+    "TrackerConfig",
+    "Tracks",
+    "detection_summary",
+    "error_stats",
+    "measurements",
+    "monte_carlo",
+    "run_trackers",
+    "track",
+]
+
+METHODS = ("imm", "glr", "mlr", "cv")
+"""Trackers: IMM (§IV), GLR and MLR input estimation (§II–III), and the constant-velocity KF (no detection)."""
+PRESETS = ("literal", "turn90")
+FIRST_SCAN = 3
+"""First filtered scan (two-point initialisation at scan 2)."""
+MAX_SECONDS = 600.0
+"""Largest estimated run time accepted by the command layer."""
+
+
+@dataclass(frozen=True)
+class ManeuverScenario:
+    """Trajectory of spec §3.5.
+
+    Attributes:
+        preset: ``literal`` (as printed: v(1) = (0, 450) m/s, u = (20, 20) m/s² on scans [200, 300),
+            (3, 3) on [305, 330)) or ``turn90`` (exact 90° turns in the same windows: v(1) = (0, −450),
+            u₁ = 450/(100T)·(1, 1), u₂ = −450/(25T)·(1, 1)).
+        T: scan period [s] (not given by the seed: 1 s).
+        scans: N (seed: 450).
+        p0: initial position [m] (assumption: the origin).
+    """
+
+    preset: str = "literal"
+    T: float = 1.0
+    scans: int = 450
+    p0: tuple[float, float] = (0.0, 0.0)
+    segments: tuple[tuple[int, int, float, float], ...] = field(init=False, repr=False)
+    v0: tuple[float, float] = field(init=False)
+
+    def __post_init__(self) -> None:
+        if self.preset not in PRESETS:
+            raise ValueError(f"preset {self.preset!r} is not one of {', '.join(PRESETS)}")
+        if not (math.isfinite(self.T) and 0 < self.T <= 3600):
+            raise ValueError(f"scan period T = {self.T:g} must be in (0, 3600] s")
+        if not 3 <= self.scans <= 1_000_000:
+            raise ValueError(f"scans = {self.scans} must be in [3, 1e6] (two scans initialise the trackers)")
+        if not all(math.isfinite(v) for v in self.p0):
+            raise ValueError("the initial position must be finite")
+        if self.preset == "literal":
+            segs = ((200, 300, 20.0, 20.0), (305, 330, 3.0, 3.0))
+            v0 = (0.0, 450.0)
+        else:
+            a1, a2 = 450.0 / (100 * self.T), -450.0 / (25 * self.T)
+            segs = ((200, 300, a1, a1), (305, 330, a2, a2))
+            v0 = (0.0, -450.0)
+        object.__setattr__(self, "segments", segs)
+        object.__setattr__(self, "v0", v0)
+
+    def inputs(self) -> np.ndarray:
+        """u(k) for k = 1..N, (N, 2): the acceleration held over interval k."""
+        u = np.zeros((self.scans, 2))
+        for a, b, ux, uy in self.segments:
+            u[a - 1 : min(b, self.scans + 1) - 1] = (ux, uy)
+        return u
+
+    def truth(self) -> np.ndarray:
+        """[x, ẋ, y, ẏ] at scans 1..N, (N, 4), noise-free, exact constant-acceleration kinematics."""
+        u, T = self.inputs(), self.T
+        out = np.empty((self.scans, 4))
+        p, v = np.array(self.p0, float), np.array(self.v0, float)
+        for i in range(self.scans):
+            out[i] = (p[0], v[0], p[1], v[1])
+            p = p + v * T + 0.5 * u[i] * T * T
+            v = v + u[i] * T
+        return out
+
+    def events(self) -> list[tuple[int, tuple[float, float]]]:
+        """Input changes (onset scan n, jump u(n) − u(n−1)) inside the record: n in GLR convention (u(n)
+        first moves the position of scan n + 1)."""
+        u = self.inputs()
+        du = np.diff(np.vstack([np.zeros((1, 2)), u]), axis=0)
+        return [
+            (int(i + 1), (float(du[i, 0]), float(du[i, 1]))) for i in np.flatnonzero(np.any(du != 0, axis=1))
+        ]
+
+    def phases(self) -> list[tuple[str, int, int]]:
+        """Scan ranges [a, b) for the summary: cruise before the turns, each turn (with its transient), after."""
+        segs = self.segments
+        out = [("cruise", 50, segs[0][0]), ("turn 1", segs[0][0], segs[1][0]), ("turn 2", segs[1][0], segs[1][1] + 10),
+               ("after", segs[1][1] + 50, self.scans + 1)]  # fmt: skip
+        return [
+            (name, max(a, FIRST_SCAN), min(b, self.scans + 1))
+            for name, a, b in out
+            if min(b, self.scans + 1) > a
+        ]
+
+
+@dataclass(frozen=True)
+class TrackerConfig:
+    """Tracker settings (spec §3.2–§3.4 defaults; the [ASSUMPTION]s are options)."""
+
+    g2: str = "paper-fixed"
+    Pi: tuple[tuple[float, ...], ...] = PI_PAPER
+    mu0: tuple[float, ...] = MU0_PAPER
+    q0: float = 1.0
+    window: int = 10
+    glr_threshold: float = CHI2_2_999
+    mlr_threshold: float = 0.0
+    sigma_u: float = 20.0
+    correction: str = "exact"
+    continuation: str = "estimate"
+
+    def glr(self, method: str) -> GLRConfig:
+        thr = {"glr": self.glr_threshold, "mlr": self.mlr_threshold, "none": math.inf}[method]
+        return GLRConfig(method=method, window=self.window, threshold=thr, sigma_u=self.sigma_u,
+                         correction=self.correction, continuation=self.continuation)  # fmt: skip
+
+
+def measurements(sc: ManeuverScenario, sigma: float, runs: Sequence[int], seed: int) -> np.ndarray:
+    """z (B, N, 2) = truth position + σ w_r, w_r from ``trial_rng(seed, r)`` (spec §3.1)."""
+    if not (math.isfinite(sigma) and sigma > 0):
+        raise ValueError(f"sigma = {sigma:g} must be a finite number > 0")
+    pos = sc.truth()[:, [0, 2]]
+    w = np.stack([trial_rng(seed, int(r)).standard_normal((sc.scans, 2)) for r in runs]) if len(runs) else (
+        np.zeros((0, sc.scans, 2)))  # fmt: skip
+    return pos[None] + sigma * w
+
+
+@dataclass(frozen=True)
+class Tracks:
+    """One tracker's output on B runs for scans 3..N.
+
+    Attributes:
+        state: (B, N−2, 6) estimates [x, ẋ, y, ẏ, a_x, a_y] (the acceleration is the IMM's combined estimate
+            or the GLR/MLR tracker's current input estimate; 0 for the CV filter).
+        mu: (B, N−2, r) IMM model probabilities (None for the other trackers).
+        detected, onset, u_jump: GLR/MLR declarations (onset as an absolute scan number, −1 if none).
+        stat: (B, N−2) the maximum detection statistic of each scan (GLR/MLR).
+    """
+
+    state: np.ndarray
+    mu: np.ndarray | None = None
+    detected: np.ndarray | None = None
+    onset: np.ndarray | None = None
+    u_jump: np.ndarray | None = None
+    stat: np.ndarray | None = None
+
+    @property
+    def pos(self) -> np.ndarray:
+        """(B, N−2, 2) estimated positions."""
+        return self.state[..., [0, 2]]
+
+
+def track(method: str, z: np.ndarray, T: float, sigma: float, cfg: TrackerConfig) -> Tracks:
+    """Run one tracker on measurement records z (B, N, 2) of scans 1..N."""
+    if method not in METHODS:
+        raise ValueError(f"method {method!r} is not one of {', '.join(METHODS)}")
+    z = np.asarray(z, float)
+    if z.ndim != 3 or z.shape[1] < 3 or z.shape[2] != 2:
+        raise ValueError(f"z must be (runs, scans >= 3, 2); got shape {z.shape}")
+    R = sigma * sigma * np.eye(2)
+    if method == "imm":
+        ms = imm_models(T, g2=cfg.g2, Pi=np.asarray(cfg.Pi), mu0=np.asarray(cfg.mu0))
+        x0, P0 = two_point_init(z[:, 0], z[:, 1], T, sigma, n=6)
+        tr = imm_filter(z[:, 2:], H_POS6, R, ms, x0, P0)
+        return Tracks(tr.x, mu=tr.mu)
+    F, G, Q = cv_input_model(T, cfg.q0)
+    x0, P0 = two_point_init(z[:, 0], z[:, 1], T, sigma, n=4)
+    it = input_tracker(
+        z[:, 2:], InputModel(F, G, Q, H_POS4, R), x0, P0, cfg.glr("none" if method == "cv" else method)
+    )
+    state = np.concatenate([it.x, it.u_cur], axis=-1)
+    if method == "cv":
+        return Tracks(state)
+    onset = np.where(it.onset >= 0, it.onset + FIRST_SCAN, -1)  # local index 0 is scan 3
+    return Tracks(state, detected=it.detected, onset=onset, u_jump=it.u_jump, stat=it.stat)
+
+
+def run_trackers(
+    sc: ManeuverScenario,
+    sigma: float,
+    runs: Sequence[int],
+    seed: int,
+    methods: Sequence[str],
+    cfg: TrackerConfig,
+) -> dict[str, Tracks]:
+    """All requested trackers on the same runs."""
+    z = measurements(sc, sigma, runs, seed)
+    return {m: track(m, z, sc.T, sigma, cfg) for m in methods}
+
+
+@dataclass(frozen=True)
+class MCResult:
+    """One tracker's Monte Carlo result at one σ.
+
+    Attributes:
+        stats: eqs (14)–(15) and the RMS error per scan.
+        track0: (N−2, 2) the estimated track of run 0 (Fig 2).
+        mu: (N−2, r) mean IMM model probabilities, or None.
+        detected, onset: (M, N−2) GLR/MLR declarations and onset estimates, or None.
+    """
+
+    stats: ErrorStats
+    track0: np.ndarray
+    mu: np.ndarray | None
+    detected: np.ndarray | None
+    onset: np.ndarray | None
+
+
+def monte_carlo(
+    sc: ManeuverScenario,
+    sigma: float,
+    n_runs: int,
+    seed: int,
+    methods: Sequence[str],
+    cfg: TrackerConfig,
+    *,
+    chunk: int = 250,
+    on_chunk: Callable[[int], None] | None = None,
+) -> dict[str, MCResult]:
+    """Runs 0..n_runs−1 in chunks (memory stays bounded); sums of errors are accumulated, so the result does
+    not depend on the chunk size beyond floating-point summation order."""
+    if n_runs < 1:
+        raise ValueError("at least one run")
+    truth = sc.truth()[FIRST_SCAN - 1 :, [0, 2]]
+    n_scan = sc.scans - FIRST_SCAN + 1
+    acc = {m: {"s1": np.zeros((n_scan, 2)), "s2": np.zeros((n_scan, 2)), "mu": None, "det": [], "on": [],
+               "track0": None} for m in methods}  # fmt: skip
+    for lo in range(0, n_runs, chunk):
+        runs = range(lo, min(lo + chunk, n_runs))
+        for m, tr in run_trackers(sc, sigma, runs, seed, methods, cfg).items():
+            a = acc[m]
+            err = truth[None] - tr.pos
+            a["s1"] += err.sum(axis=0)
+            a["s2"] += (err * err).sum(axis=0)
+            if a["track0"] is None:
+                a["track0"] = tr.pos[0]
+            if tr.mu is not None:
+                a["mu"] = tr.mu.sum(axis=0) + (0 if a["mu"] is None else a["mu"])
+            if tr.detected is not None:
+                a["det"].append(tr.detected)
+                a["on"].append(tr.onset)
+        if on_chunk is not None:
+            on_chunk(len(runs))
+    out = {}
+    for m, a in acc.items():
+        mean = a["s1"] / n_runs  # eq (14)
+        msq = a["s2"] / n_runs
+        sd = np.sqrt(np.maximum(msq - mean * mean, 0.0))  # eq (15)
+        stats = ErrorStats(np.arange(FIRST_SCAN, sc.scans + 1), mean, sd, np.sqrt(msq.sum(axis=1)))
+        out[m] = MCResult(stats, a["track0"], None if a["mu"] is None else a["mu"] / n_runs,
+                          np.concatenate(a["det"]) if a["det"] else None,
+                          np.concatenate(a["on"]) if a["on"] else None)  # fmt: skip
+    return out
+
+
+def cost(scans: int, runs: int, methods: Sequence[str], n_sigma: int) -> float:
+    """Rough run time [s] on a 2-core machine: ~15 µs per IMM run-scan, ~6 µs for the others."""
+    per = sum(15e-6 if m == "imm" else 6e-6 for m in methods)
+    return per * scans * runs * n_sigma
+
+
+@dataclass(frozen=True)
+class ErrorStats:
+    """Per-scan error statistics over M runs (truth − estimate), scans 3..N.
+
+    Attributes:
+        scan: (N−2,) scan numbers.
+        mean: (N−2, 2) ē_x, ē_y, eq (14).
+        sd: (N−2, 2) σ_x̂, σ_ŷ, eq (15) (1/M normalisation as printed).
+        rms: (N−2,) RMS position error √(mean over runs of e_x² + e_y²).
+    """
+
+    scan: np.ndarray
+    mean: np.ndarray
+    sd: np.ndarray
+    rms: np.ndarray
+
+
+def error_stats(sc: ManeuverScenario, pos: np.ndarray) -> ErrorStats:
+    """Eqs (14)–(15) and the RMS position error of estimates pos (M, N−2, 2)."""
+    truth = sc.truth()[FIRST_SCAN - 1 :, [0, 2]]
+    err = truth[None] - pos  # truth − estimate (eq 14 sign)
+    mean = err.mean(axis=0)  # ē(k), eq (14)
+    msq = (err * err).mean(axis=0)
+    sd = np.sqrt(np.maximum(msq - mean * mean, 0.0))  # σ(k), eq (15)
+    rms = np.sqrt(msq.sum(axis=1))
+    return ErrorStats(np.arange(FIRST_SCAN, sc.scans + 1), mean, sd, rms)
+
+
+@dataclass(frozen=True)
+class DetectionSummary:
+    """Detection performance of a GLR/MLR tracker over M runs.
+
+    Attributes:
+        events: one row per true input change: (onset scan, jump (u_x, u_y), fraction of runs detected,
+            mean and median delay [scans after the onset], mean and RMS onset-estimate error [scans]).
+        false_alarms_per_1000: declarations per 1000 non-maneuvering scans (scans whose last ``response``
+            intervals had zero input), with its binomial-style standard error.
+        quiet_scans: number of such scans per run.
+        other: declarations neither attributed to an event nor in a non-maneuvering scan, per run.
+        response: W, a declaration at scan k is attributed to the latest onset n with n < k ≤ n + W.
+    """
+
+    events: list[tuple[int, tuple[float, float], float, float, float, float, float]]
+    false_alarms_per_1000: float
+    false_alarms_se: float
+    quiet_scans: int
+    other: float
+    response: int
+
+
+def detection_summary(
+    sc: ManeuverScenario, detected: np.ndarray, onset: np.ndarray, response: int
+) -> DetectionSummary:
+    """Attribute each declaration (``detected``, ``onset``: (M, N−2) for scans 3..N) to a true input change
+    or count it as a false alarm."""
+    if response < 1:
+        raise ValueError("the response window must be at least 1 scan")
+    M = detected.shape[0]
+    scans = np.arange(FIRST_SCAN, sc.scans + 1)
+    ev = sc.events()
+    owner = np.full(scans.size, -1)  # event attributed to a declaration at each scan
+    for i, (n, _) in enumerate(ev):
+        owner[(scans > n) & (scans <= n + response)] = i  # later events win
+    u = sc.inputs()
+    moving = np.array([np.any(u[max(k - 1 - response, 0) : k - 1] != 0) for k in scans])
+    quiet = (owner < 0) & ~moving
+    rows = []
+    for i, (n, du) in enumerate(ev):
+        mine = detected & (owner == i)[None]
+        hit = mine.any(axis=1)
+        first = np.argmax(mine, axis=1)
+        delay = scans[first[hit]] - n
+        onset_err = onset[np.flatnonzero(hit), first[hit]] - n
+        rows.append((n, du, float(hit.mean()),
+                     float(delay.mean()) if hit.any() else math.nan,
+                     float(np.median(delay)) if hit.any() else math.nan,
+                     float(onset_err.mean()) if hit.any() else math.nan,
+                     float(np.sqrt(np.mean(onset_err**2.0))) if hit.any() else math.nan))  # fmt: skip
+    n_quiet = int(quiet.sum())
+    fa = detected[:, quiet]
+    rate = float(fa.mean()) if n_quiet else math.nan
+    per_run = fa.sum(axis=1) if n_quiet else np.zeros(M)
+    se = float(per_run.std(ddof=1) / math.sqrt(M) / n_quiet) if (n_quiet and M > 1) else math.nan
+    other = float((detected & ((owner < 0) & moving)[None]).sum() / M)
+    return DetectionSummary(rows, 1000 * rate, 1000 * se, n_quiet, other, response)

@@ -1,0 +1,138 @@
+"""Interacting multiple model (IMM) filter, batched over Monte Carlo runs — seed 002 eqs (7)–(13), corrected.
+
+One cycle (spec §3.4), for every run b and model j at once (the only loop is over scans):
+
+1. predicted model probabilities  c̄_j = Σ_i p_ij μ_i(k−1);
+2. mixing probabilities           μ_{i|j} = p_ij μ_i(k−1) / c̄_j   (the seed prints a spurious Σ_i);
+3. mixing, eqs (9)–(10)           X̂_0j = Σ_i μ_{i|j} X̂_i,  P_0j = Σ_i μ_{i|j} [P_i + (X̂_i − X̂_0j)(·)ᵀ];
+4. model-matched Kalman filters   X̂_j(k|k−1) = Φ_j X̂_0j,  P_j(k|k−1) = Φ_j P_0j Φ_jᵀ + G_j Q_j G_jᵀ,
+                                  Joseph-form update with Z(k);
+5. likelihoods, eq (11)           log Λ_j = log N(v_j; 0, S_j);
+6. model probabilities            μ_j(k) = Λ_j c̄_j / Σ_l Λ_l c̄_l;
+7. output, eqs (12)–(13)          X̂ = Σ_j μ_j X̂_j,  P = Σ_j μ_j [P_j + (X̂_j − X̂)(·)ᵀ]  (eq 13 as printed
+                                  reuses the mixing weights μ_ij and P_0j; it is the combined covariance).
+
+Steps 1, 2 and 6 run in the log domain (log-sum-exp), so a model whose likelihood underflows a double
+keeps a finite log-probability and the probabilities never become 0/0. A model with c̄_j = 0 (unreachable,
+e.g. switched off with p_ij = 0 and μ_j = 0) gets the mixing weights μ_{i|j} = μ_i: its estimate stays
+finite and enters the output with weight exactly 0.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from motionsig_cli.filters.kalman import joseph_update
+from motionsig_cli.models.motion import ModelSet
+
+__all__ = ["IMMTrack", "imm_filter", "logsumexp"]
+
+
+def logsumexp(a: np.ndarray, axis: int) -> np.ndarray:
+    """log Σ exp(a) along ``axis``; −inf when every term is −inf (never NaN)."""
+    m = np.max(a, axis=axis, keepdims=True)
+    m_safe = np.where(np.isfinite(m), m, 0.0)
+    with np.errstate(divide="ignore"):
+        out = np.log(np.sum(np.exp(a - m_safe), axis=axis, keepdims=True)) + m_safe
+    return np.squeeze(out, axis=axis)
+
+
+@dataclass(frozen=True)
+class IMMTrack:
+    """IMM output for B runs over N scans.
+
+    Attributes:
+        x: (B, N, n) combined estimates X̂(k|k), eq (12).
+        P: (B, N, n, n) combined covariances (eq 13 corrected), or None when not kept.
+        log_mu: (B, N, r) log model probabilities log μ_j(k).
+        loglik: (B, N, r) model-conditioned innovation log-likelihoods log Λ_j(k), eq (11).
+    """
+
+    x: np.ndarray
+    P: np.ndarray | None
+    log_mu: np.ndarray
+    loglik: np.ndarray
+
+    @property
+    def mu(self) -> np.ndarray:
+        """Model probabilities μ_j(k), (B, N, r)."""
+        return np.exp(self.log_mu)
+
+
+def imm_filter(
+    z: np.ndarray,
+    H: np.ndarray,
+    R: np.ndarray,
+    models: ModelSet,
+    x0: np.ndarray,
+    P0: np.ndarray,
+    *,
+    keep_P: bool = False,
+) -> IMMTrack:
+    """Run the IMM over measurement records.
+
+    Args:
+        z: (B, N, m) measurements of the scans to process (the first is the scan after initialisation).
+        H: (m, n) measurement matrix; R: (m, m) measurement noise covariance.
+        models: the r models, transition matrix and initial probabilities (μ at the initialisation scan).
+        x0: (B, n) or (n,) initial estimate, shared by every model-conditioned filter (spec §3.4).
+        P0: (n, n) or (B, n, n) initial covariance.
+        keep_P: also return the combined covariance of every scan.
+
+    Returns:
+        The combined estimates, model probabilities and likelihoods of every scan.
+    """
+    z = np.asarray(z, dtype=float)
+    if z.ndim != 3:
+        raise ValueError(f"z must be (runs, scans, m); got shape {z.shape}")
+    B, N, m = z.shape
+    H, R = np.asarray(H, float), np.asarray(R, float)
+    r, n = models.r, models.n
+    if H.shape != (m, n) or R.shape != (m, m):
+        raise ValueError(f"H must be ({m}, {n}) and R ({m}, {m}); got {H.shape} and {R.shape}")
+    if not np.all(np.isfinite(z)):
+        raise ValueError("measurements must be finite")
+    Phi, Qd = models.Phi, models.Qd
+    PhiT = np.swapaxes(Phi, 1, 2)
+    with np.errstate(divide="ignore"):
+        log_Pi = np.log(models.Pi)  # (r, r); −inf where p_ij = 0
+        log_mu = np.broadcast_to(np.log(models.mu0), (B, r)).copy()
+    X = np.broadcast_to(np.asarray(x0, float), (B, n))[:, None, :].repeat(r, axis=1)  # (B, r, n)
+    P = np.broadcast_to(np.asarray(P0, float), (B, n, n))[:, None].repeat(r, axis=1)  # (B, r, n, n)
+    x_out = np.empty((B, N, n))
+    P_out = np.empty((B, N, n, n)) if keep_P else None
+    lm_out = np.empty((B, N, r))
+    ll_out = np.empty((B, N, r))
+    for k in range(N):
+        # 1–2: c̄_j and μ_{i|j} in the log domain
+        a = log_Pi[None] + log_mu[:, :, None]  # log p_ij μ_i, (B, i, j)
+        log_cbar = logsumexp(a, axis=1)  # (B, j)
+        reachable = np.isfinite(log_cbar)
+        with np.errstate(invalid="ignore"):
+            w = np.exp(a - np.where(reachable, log_cbar, 0.0)[:, None, :])
+        w = np.where(reachable[:, None, :], w, np.exp(log_mu)[:, :, None])  # unreachable j: any valid weights
+        # 3: mixing, eqs (9)–(10)
+        X0 = np.einsum("bij,bin->bjn", w, X)  # (B, j, n)
+        D = X[:, :, None, :] - X0[:, None, :, :]  # X̂_i − X̂_0j, (B, i, j, n)
+        WD = w[..., None] * D
+        P0j = np.einsum("bij,binm->bjnm", w, P) + np.einsum("bijn,bijm->bjnm", WD, D)
+        # 4: model-matched prediction and update
+        Xp = np.einsum("jnm,bjm->bjn", Phi, X0)  # X̂_j(k|k−1) = Φ_j X̂_0j
+        Pp = Phi @ P0j @ PhiT + Qd  # P_j(k|k−1) = Φ_j P_0j Φ_jᵀ + G_j Q_j G_jᵀ
+        up = joseph_update(Xp, Pp, z[:, k, None, :], H, R)
+        X, P = up.x, up.P
+        # 5–6: likelihoods (eq 11) and model probabilities, log domain
+        s = up.loglik + log_cbar  # log Λ_j c̄_j
+        log_mu = s - logsumexp(s, axis=1)[:, None]
+        # 7: output, eqs (12)–(13) corrected
+        mu = np.exp(log_mu)
+        xc = np.einsum("bj,bjn->bn", mu, X)
+        x_out[:, k] = xc
+        if P_out is not None:
+            d = X - xc[:, None, :]
+            P_out[:, k] = np.einsum("bj,bjnm->bnm", mu, P) + np.einsum("bj,bjn,bjm->bnm", mu, d, d)
+        lm_out[:, k] = log_mu
+        ll_out[:, k] = up.loglik
+    return IMMTrack(x_out, P_out, lm_out, ll_out)
