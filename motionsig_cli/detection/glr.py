@@ -131,6 +131,7 @@ class InputTrack:
         x, P: (B, N, n), (B, N, n, n) corrected updated estimates (P only when kept).
         stat: (B, N) max_n ΔJ(n) (GLR) or max_n J_MLR(n) (MLR); −inf before any onset can be tested.
         dJ: (B, N, s) ΔJ(n) for the onset n = k − 1 − d in column d (NaN where n is not testable).
+        score: (B, N, s) the detector's statistic per onset, same layout: ΔJ(n) (GLR) or J_MLR(n) (MLR).
         detected: (B, N) a maneuver was declared at scan k.
         onset: (B, N) the estimated onset n̂ of a declared maneuver (−1 elsewhere).
         u_jump: (B, N, p) the estimated input jump û at a declaration (0 elsewhere).
@@ -141,6 +142,7 @@ class InputTrack:
     P: np.ndarray | None
     stat: np.ndarray
     dJ: np.ndarray
+    score: np.ndarray
     detected: np.ndarray
     onset: np.ndarray
     u_jump: np.ndarray
@@ -158,7 +160,10 @@ def _sym_inv_logdet(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             inv[..., 0, 1] = inv[..., 1, 0] = -b / det
             return inv, np.log(det)
     sign, logdet = np.linalg.slogdet(A)
-    return np.linalg.inv(A), np.where(sign > 0, logdet, -np.inf)
+    good = sign > 0
+    inv = np.linalg.inv(np.where(good[..., None, None], A, np.eye(A.shape[-1])))  # empty slots: no LinAlgError
+    inv[~good] = np.nan
+    return inv, np.where(good, logdet, -np.inf)
 
 
 def _quad(e: np.ndarray, A: np.ndarray) -> np.ndarray:
@@ -223,6 +228,7 @@ def input_tracker(
     out_P = np.empty((B, N, n, n)) if keep_P else None
     out_stat = np.full((B, N), -np.inf)
     out_dJ = np.full((B, N, s), np.nan)
+    out_score = np.full((B, N, s), np.nan)
     out_det = np.zeros((B, N), dtype=bool)
     out_onset = np.full((B, N), -1, dtype=np.int64)
     out_jump = np.zeros((B, N, p))
@@ -257,6 +263,7 @@ def input_tracker(
                 out_stat[:, k] = stat
                 bi, si = np.nonzero(valid)
                 out_dJ[bi, k, k - 1 - onset_of[bi, si]] = dJ[bi, si]  # column d: onset k − 1 − d
+                out_score[bi, k, k - 1 - onset_of[bi, si]] = score[bi, si]
                 hit = np.isfinite(stat) & (stat > cfg.threshold)
                 if np.any(hit):
                     b = np.flatnonzero(hit)
@@ -293,4 +300,4 @@ def input_tracker(
         if out_P is not None:
             out_P[:, k] = P[:, :n, :n]
         out_ucur[:, k] = x[:, n:]
-    return InputTrack(out_x, out_P, out_stat, out_dJ, out_det, out_onset, out_jump, out_ucur)
+    return InputTrack(out_x, out_P, out_stat, out_dJ, out_score, out_det, out_onset, out_jump, out_ucur)
