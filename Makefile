@@ -48,7 +48,9 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig track-sat rms --figure 4.3 --plot $(OUT)/fig4_3.png -o $(OUT)/fig4_3.csv
 	@echo '== Seed 001: track existence from four radars in clutter, CKF / DKF / LKF and Wald decisions (20 runs)'
 	$(BIN)/motionsig slrt --view decisions --runs 20 --plot $(OUT)/slrt.png
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png radar.png fig2_16.png fig4_3.png slrt.png"
+	@echo '== Seed 002: a target turning twice; IMM, GLR, MLR and a CV Kalman filter on the same 100 runs (summary table)'
+	$(BIN)/motionsig maneuver --method all --view summary --runs 100 --plot $(OUT)/maneuver.png --plot-compare $(OUT)/maneuver_compare.png
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png radar.png fig2_16.png fig4_3.png slrt.png maneuver.png maneuver_compare.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
@@ -76,19 +78,26 @@ serve: $(DEV_STAMP) $(MATHJAX)
 $(MATHJAX): scripts/fetch_mathjax.sh
 	bash scripts/fetch_mathjax.sh $@
 
-## bench: side-by-side timing of the LMP filter bank against FilterPy (not part of the tests)
+## bench: side-by-side timing of the LMP filter banks and the IMM against FilterPy (not part of the tests)
 bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench]'
 	$(BIN)/python benchmarks/bench_kf_bank.py
 	$(BIN)/python benchmarks/bench_ukf_bank.py
+	$(BIN)/python benchmarks/bench_imm.py
 
-## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), ATC-10 §2 (results/atc10_jamming/) and §4 (results/atc10_tracking/)
+## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), seed 002 (results/seed002/), ATC-10 §2 (results/atc10_jamming/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)
 	$(BIN)/python scripts/reproduce_seed000.py
 	@mkdir -p results/seed001
 	$(BIN)/motionsig slrt --plot results/seed001/slrt.png --plot-scan results/seed001/scan.png -o results/seed001/slrt_curves.csv -q
 	$(BIN)/motionsig slrt --view decisions --runs 200 -o results/seed001/slrt_decisions.csv -q
 	$(BIN)/python scripts/check_slrt_long_run.py | tee results/seed001/long_run.txt
+	@mkdir -p results/seed002
+	for p in literal turn90; do \
+	  $(BIN)/motionsig maneuver --preset $$p --method all --plot results/seed002/figs2-4_$$p.png --plot-compare results/seed002/compare_$$p.png -o results/seed002/scans_$$p.csv -q && \
+	  $(BIN)/motionsig maneuver --preset $$p --method all --view summary -o results/seed002/summary_$$p.csv -q && \
+	  $(BIN)/motionsig maneuver --preset $$p --method glr,mlr --view events -o results/seed002/events_$$p.csv -q || exit 1; \
+	done
 	$(BIN)/python scripts/reproduce_atc10_jamming.py
 	$(BIN)/python scripts/reproduce_atc10_tracking.py
 

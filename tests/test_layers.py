@@ -28,6 +28,10 @@ CORE = [
     "motionsig_cli.models.vehicle2d",
     "motionsig_cli.filters.unscented",
     "motionsig_cli.experiments.lmp2d",
+    "motionsig_cli.models.motion",
+    "motionsig_cli.filters.imm",
+    "motionsig_cli.detection.glr",
+    "motionsig_cli.experiments.maneuver",
 ]
 
 

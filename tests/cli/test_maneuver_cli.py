@@ -1,0 +1,135 @@
+"""``motionsig maneuver``: views, the measurement pipe, reproducibility and bad input."""
+
+import numpy as np
+import pytest
+
+from motionsig_cli.experiments import maneuver as ex
+from tests.cli.helpers import run, table
+
+SMALL = ("--runs", "4", "--scans", "240")
+
+
+def test_scans_view_and_figures(capsys, tmp_path):
+    png, cmp_ = tmp_path / "f.png", tmp_path / "c.svg"
+    rc, out, err = run(capsys, "maneuver", *SMALL, "--method", "imm,glr", "--plot", str(png),
+                       "--plot-compare", str(cmp_))  # fmt: skip
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    assert t.meta["methods"] == ["imm", "glr"] and t.meta["sigma"] == [100.0, 200.0]
+    assert len(t.rows) == 2 * 2 * (240 - 2)
+    mu = np.array(
+        [[float(r[t.columns.index(c)]) for c in ("mu_1", "mu_2", "mu_3")] for r in t.rows if r[1] == "imm"]
+    )
+    np.testing.assert_allclose(mu.sum(axis=1), 1.0, atol=1e-9)
+    assert all(r[t.columns.index("mu_1")] == "" for r in t.rows if r[1] == "glr")
+    assert png.stat().st_size > 10_000 and cmp_.stat().st_size > 10_000
+    # the table equals the experiment layer's numbers
+    sc = ex.ManeuverScenario(scans=240)
+    ref = ex.monte_carlo(sc, 200.0, 4, 2008, ("imm",), ex.TrackerConfig())["imm"].stats
+    rows = [r for r in t.rows if r[0] == "200.0" and r[1] == "imm"]
+    np.testing.assert_allclose([float(r[t.columns.index("sd_x")]) for r in rows], ref.sd[:, 0], rtol=1e-12)
+
+
+def test_summary_and_events_views(capsys, tmp_path):
+    rc, out, err = run(capsys, "maneuver", "--runs", "6", "--scans", "340", "--method", "all", "--view", "summary",
+                       "--sigma", "100")  # fmt: skip
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    assert [r[1] for r in t.rows] == ["imm", "glr", "mlr", "cv"]
+    assert {"rms_cruise", "rms_turn1", "false_alarms_per_1000", "detected_200", "delay_330"} <= set(t.columns)
+    rc, out, err = run(capsys, "maneuver", "--runs", "6", "--scans", "340", "--method", "glr", "--view", "events",
+                       "--sigma", "100")  # fmt: skip
+    assert rc == 0, err
+    t = table(out, tmp_path, "e.csv")
+    assert [int(r[2]) for r in t.rows] == [200, 300, 305, 330]
+    assert float(t.rows[0][t.columns.index("detected")]) == 1.0
+
+
+def test_same_seed_same_bytes_and_seed_changes_result(capsys):
+    args = ("maneuver", *SMALL, "--method", "glr", "--sigma", "150")
+    a, b = run(capsys, *args)[1], run(capsys, *args)[1]
+    c = run(capsys, *args, "--seed", "7")[1]
+    assert a == b and a != c
+
+
+def test_measurements_pipe_into_input(capsys, tmp_path, monkeypatch):
+    """A simulated record written as CSV and tracked with --input gives run 0's Monte Carlo estimates."""
+    rc, out, err = run(capsys, "maneuver", "--view", "measurements", "--runs", "1", "--sigma", "100",
+                       "--scans", "260", "--preset", "turn90")  # fmt: skip
+    assert rc == 0, err
+    rec = tmp_path / "rec.csv"
+    rec.write_text(out)
+    rc, out, err = run(capsys, "maneuver", "--input", str(rec), "--method", "imm,glr")
+    assert rc == 0, err
+    t = table(out, tmp_path, "track.csv")
+    assert t.meta["sigma"] == 100.0 and t.meta["T"] == 1.0
+    sc = ex.ManeuverScenario("turn90", scans=260)
+    z = ex.measurements(sc, 100.0, [0], 2008)
+    for m in ("imm", "glr"):
+        ref = ex.track(m, z, 1.0, 100.0, ex.TrackerConfig())
+        rows = [r for r in t.rows if r[0] == m]
+        xs = np.array([[float(r[t.columns.index("x")]), float(r[t.columns.index("y")])] for r in rows])
+        np.testing.assert_allclose(xs, ref.pos[0], rtol=1e-12)
+        assert int(rows[0][1]) == 3
+    glr_rows = [r for r in t.rows if r[0] == "glr" and r[t.columns.index("declared")] == "true"]
+    assert glr_rows and 195 <= int(glr_rows[0][t.columns.index("onset")]) <= 205
+
+
+def _bad_record(tmp_path, body):
+    p = tmp_path / "bad.csv"
+    p.write_text("# sigma: 100\nscan,z_x,z_y\n" + body)
+    return str(p)
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("--sigma", "0"), "--sigma"),
+        (("--sigma", "-5,100"), "--sigma"),
+        (("--transition", "0.9,0.05,0.05;0.025,0.95,0.025;0.025,0.025,0.9"), "row 3"),
+        (("--transition", "1.1,-0.05,-0.05;0.025,0.95,0.025;0.025,0.025,0.95"), "row 1"),
+        (("--transition", "0.5,0.5;0.5,0.5"), "3 rows of 3"),
+        (("--mu0", "0.8,0.1,0.2"), "--mu0"),
+        (("--window", "0"), "--window"),
+        (("--method", "imm,kalman"), "--method"),
+        (("--plot-compare", "x.png"), "two methods"),
+        (("--view", "events"), "glr or mlr"),
+        (("--runs", "1000000", "--method", "all"), "estimated"),
+        (("--glr-threshold", "nan"), "--glr-threshold"),
+    ],
+)
+def test_bad_options(capsys, tmp_path, monkeypatch, args, needle):
+    monkeypatch.chdir(tmp_path)
+    out_file = tmp_path / "o.csv"
+    rc, _out, err = run(capsys, "maneuver", "--runs", "2", "--scans", "20", *args, "-o", str(out_file))
+    assert rc == 2, err
+    assert needle in err and len(err.strip().splitlines()) == 1
+    assert not out_file.exists()
+
+
+@pytest.mark.parametrize(
+    ("body", "needle"),
+    [
+        ("1,0,0\n2,0,450\n4,0,1350\n5,0,1800\n", "bad.csv:5: missing scan"),
+        ("1,0,0\n2,0,450\n3,nan,900\n", "bad.csv:5: measurement is not finite"),
+        ("1,0,0\n2,0,450\n3,inf,900\n", "not finite"),
+        ("1,0,0\n2,0,450\n", "at least 3 scans"),
+        ("1,0,0\n2,0,450\n2,0,900\n", "out of order or repeated"),
+        ("1,0,0\n2,abc,450\n3,0,900\n", "bad.csv:4"),
+    ],
+)
+def test_bad_records(capsys, tmp_path, body, needle):
+    out_file = tmp_path / "o.csv"
+    rc, _out, err = run(capsys, "maneuver", "--input", _bad_record(tmp_path, body), "-o", str(out_file))
+    assert rc == 2, err
+    assert needle in err and len(err.strip().splitlines()) == 1
+    assert not out_file.exists()
+
+
+def test_record_without_sigma_needs_the_option(capsys, tmp_path):
+    p = tmp_path / "r.csv"
+    p.write_text("scan,z_x,z_y\n1,0,0\n2,0,450\n3,0,900\n")
+    rc, _, err = run(capsys, "maneuver", "--input", str(p))
+    assert rc == 2 and "--sigma" in err
+    rc, _out, err = run(capsys, "maneuver", "--input", str(p), "--sigma", "50")
+    assert rc == 0, err

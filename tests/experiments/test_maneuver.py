@@ -1,0 +1,143 @@
+"""Seed 002 scenario and Monte Carlo (spec §3.5–§3.6, reproduction targets R11–R15 and the issue's targets).
+
+Tolerances: the paper's curves depend on unstated parameters, so the targets are the spec's ranges and
+orderings (R11–R14) on 100 runs; the prototype values in the spec's brackets are far from every bound.
+"""
+
+import numpy as np
+import pytest
+
+from motionsig_cli.experiments import maneuver as ex
+
+RUNS = 100
+SEED = 2008
+
+
+@pytest.fixture(scope="module")
+def results():
+    out = {}
+    for preset in ex.PRESETS:
+        sc = ex.ManeuverScenario(preset)
+        for sigma in (100.0, 200.0):
+            out[preset, sigma] = (sc, ex.monte_carlo(sc, sigma, RUNS, SEED, ex.METHODS, ex.TrackerConfig()))
+    return out
+
+
+def _mean(st, a, b, values):
+    sel = (st.scan >= a) & (st.scan < b)
+    return values[sel]
+
+
+def test_literal_preset_is_as_printed_and_turn90_turns_by_ninety_degrees():
+    lit = ex.ManeuverScenario("literal")
+    u = lit.inputs()
+    assert np.all(u[199:299] == 20.0) and np.all(u[304:329] == 3.0)
+    assert np.all(u[:199] == 0) and np.all(u[299:304] == 0) and np.all(u[329:] == 0)
+    v = lit.truth()[:, [1, 3]]
+    np.testing.assert_allclose(v[0], [0, 450])
+    np.testing.assert_allclose(v[-1], [20 * 100 + 3 * 25, 450 + 20 * 100 + 3 * 25])
+    t90 = ex.ManeuverScenario("turn90").truth()[:, [1, 3]]
+    heading = np.degrees(np.arctan2(t90[:, 1], t90[:, 0]))
+    assert heading[0] == pytest.approx(-90)
+    assert heading[300] == pytest.approx(0, abs=1e-9)  # after turn 1: along +x
+    assert heading[-1] == pytest.approx(-90, abs=1e-9)  # after turn 2: back along −y
+    np.testing.assert_allclose(np.hypot(*t90[[0, 300, -1]].T), 450.0)
+    # positions follow the exact constant-acceleration kinematics
+    tr = lit.truth()
+    T = lit.T
+    np.testing.assert_allclose(tr[1:, 0], tr[:-1, 0] + tr[:-1, 1] * T + 0.5 * u[:-1, 0] * T * T, rtol=1e-12)
+    assert [n for n, _ in lit.events()] == [200, 300, 305, 330]
+
+
+def test_r11_filtering_gain(results):
+    for preset in ex.PRESETS:
+        sd = {}
+        for sigma in (100.0, 200.0):
+            _, r = results[preset, sigma]
+            st = r["imm"].stats
+            sd[sigma] = _mean(st, 50, 200, st.sd[:, 0]).mean()
+            assert 0.2 * sigma <= sd[sigma] <= 0.5 * sigma
+        assert 1.5 <= sd[200.0] / sd[100.0] <= 2.3
+
+
+def test_r12_maneuver_signature_and_r13_first_turn_larger(results):
+    for preset in ex.PRESETS:
+        for sigma in (100.0, 200.0):
+            st = results[preset, sigma][1]["imm"].stats
+            turn = np.abs(_mean(st, 200, 250, st.mean[:, 0])).max()
+            before = np.abs(_mean(st, 150, 200, st.mean[:, 0])).max()
+            assert turn >= 5 * before
+            if preset == "literal":  # R13, the seed's Fig 4 claim (fails for turn90 by design)
+                assert _mean(st, 200, 300, st.sd[:, 0]).max() > _mean(st, 300, 340, st.sd[:, 0]).max()
+
+
+def test_r14_cv_model_probability_drops_in_the_turn(results):
+    for key, (_, r) in results.items():
+        mu1 = r["imm"].mu[:, 0]
+        scan = r["imm"].stats.scan
+        assert mu1[(scan >= 200) & (scan < 300)].mean() < mu1[(scan >= 50) & (scan < 200)].mean(), key
+
+
+def test_imm_beats_cv_filter_in_the_turns_and_recovers_after(results):
+    """Issue target: the IMM's RMS error during the turns is below the CV Kalman filter's, and after the turns
+    it returns to within 20 % of the non-maneuvering level."""
+    for key, (sc, r) in results.items():
+        imm, cv = r["imm"].stats, r["cv"].stats
+        ph = {name: (a, b) for name, a, b in sc.phases()}
+        for turn in ("turn 1", "turn 2"):
+            a, b = ph[turn]
+            assert np.sqrt(np.mean(_mean(imm, a, b, imm.rms) ** 2)) < np.sqrt(
+                np.mean(_mean(cv, a, b, cv.rms) ** 2)
+            )
+        cruise = np.sqrt(np.mean(_mean(imm, *ph["cruise"], imm.rms) ** 2))
+        after = np.sqrt(np.mean(_mean(imm, *ph["after"], imm.rms) ** 2))
+        assert after <= 1.2 * cruise, key
+
+
+def test_r15_glr_false_alarms_and_detection(results):
+    """R15 (provisional in the spec): GLR false alarms ≤ 2 % of non-maneuvering scans; the first maneuver
+    (literal) declared in ≥ 95 % of runs. Measured delays are reported, not asserted against the spec's
+    '5 scans' (the mean delay is 5–8 scans at λ = 13.8)."""
+    for sigma in (100.0, 200.0):
+        sc, r = results["literal", sigma]
+        d = ex.detection_summary(sc, r["glr"].detected, r["glr"].onset, 30)
+        assert d.false_alarms_per_1000 <= 20
+        first = d.events[0]
+        assert first[0] == 200 and first[2] >= 0.95
+        assert abs(first[5]) <= 3  # mean onset error within 3 scans
+
+
+def test_mlr_with_the_seeds_threshold_declares_far_more_often_than_glr(results):
+    """Measured, not a spec target: with h = 0 the MLR declares on about a third of quiet scans (≈ e⁻¹ per
+    newest onset), the GLR on well under 1 %."""
+    sc, r = results["literal", 100.0]
+    g = ex.detection_summary(sc, r["glr"].detected, r["glr"].onset, 30)
+    m = ex.detection_summary(sc, r["mlr"].detected, r["mlr"].onset, 30)
+    assert m.false_alarms_per_1000 > 10 * g.false_alarms_per_1000
+
+
+def test_result_does_not_depend_on_chunking_or_run_subset():
+    sc = ex.ManeuverScenario("turn90", scans=230)
+    a = ex.monte_carlo(sc, 100.0, 13, 5, ("imm", "glr"), ex.TrackerConfig(), chunk=4)
+    b = ex.monte_carlo(sc, 100.0, 13, 5, ("imm", "glr"), ex.TrackerConfig(), chunk=250)
+    for m in ("imm", "glr"):
+        np.testing.assert_allclose(a[m].stats.mean, b[m].stats.mean, rtol=1e-12, atol=1e-9)
+        np.testing.assert_allclose(a[m].stats.sd, b[m].stats.sd, rtol=1e-12, atol=1e-9)
+    np.testing.assert_array_equal(a["glr"].detected, b["glr"].detected)
+    # run r's measurements depend on (seed, r) only
+    z_all = ex.measurements(sc, 100.0, range(13), 5)
+    z_one = ex.measurements(sc, 100.0, [7], 5)
+    np.testing.assert_array_equal(z_all[7], z_one[0])
+
+
+def test_error_statistics_are_eqs_14_and_15():
+    sc = ex.ManeuverScenario(scans=10)
+    truth = sc.truth()[2:, [0, 2]]
+    rng = np.random.default_rng(0)
+    est = truth[None] + rng.normal(size=(7, 8, 2))
+    st = ex.error_stats(sc, est)
+    e = truth[None] - est
+    np.testing.assert_allclose(st.mean, e.mean(0))
+    np.testing.assert_allclose(st.sd, e.std(0), rtol=1e-12)  # 1/M normalisation (eq 15) = numpy's ddof=0
+    np.testing.assert_allclose(st.rms, np.sqrt((e**2).sum(-1).mean(0)))
+    assert st.scan[0] == 3 and not np.isnan(st.sd).any()
