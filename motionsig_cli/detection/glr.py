@@ -161,7 +161,9 @@ def _sym_inv_logdet(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             return inv, np.log(det)
     sign, logdet = np.linalg.slogdet(A)
     good = sign > 0
-    inv = np.linalg.inv(np.where(good[..., None, None], A, np.eye(A.shape[-1])))  # empty slots: no LinAlgError
+    inv = np.linalg.inv(
+        np.where(good[..., None, None], A, np.eye(A.shape[-1]))
+    )  # empty slots: no LinAlgError
     inv[~good] = np.nan
     return inv, np.where(good, logdet, -np.inf)
 
