@@ -267,8 +267,11 @@ def maneuver(
         return
     sigmas = [100.0, 200.0] if sigma is None else checked("--sigma", float_list, sigma, what="σ")
     sigmas = list(dict.fromkeys(sigmas))
-    if any(not (0 < v <= 1e7) for v in sigmas) or len(sigmas) > 10:
-        raise typer.BadParameter("each σ must be in (0, 1e7] m (at most 10 values)", param_hint="--sigma")
+    if any(not (1e-3 <= v <= 1e7) for v in sigmas) or len(sigmas) > 10:
+        raise typer.BadParameter(
+            "each σ must be in [1e-3, 1e7] m (at most 10 values; σ² must stay a normal double)",
+            param_hint="--sigma",
+        )
     T_ = 1.0 if T is None else T
     sc = checked("--scans", exp.ManeuverScenario, preset=preset.value, T=T_, scans=scans)
     ms = _model_set(transition, mu0, T_, g2.value)
@@ -460,10 +463,12 @@ def _track_record(
         s = _meta_number(meta, "sigma", t.source)
         if s is None:
             raise typer.BadParameter("the record's metadata has no 'sigma'; give it", param_hint="--sigma")
+        if not 1e-3 <= s <= 1e7:
+            raise InputError(f"{t.source}: metadata 'sigma' = {s:g} is outside [1e-3, 1e7] m")
     else:
         vals = checked("--sigma", float_list, sigma, what="σ")
-        if len(vals) != 1 or not 0 < vals[0] <= 1e7:
-            raise typer.BadParameter("give one σ in (0, 1e7] m with --input", param_hint="--sigma")
+        if len(vals) != 1 or not 1e-3 <= vals[0] <= 1e7:
+            raise typer.BadParameter("give one σ in [1e-3, 1e7] m with --input", param_hint="--sigma")
         s = vals[0]
     T_ = T if T is not None else (_meta_number(meta, "T", t.source) or 1.0)
     ms = _model_set(transition, mu0, T_, cfg_kw["g2"])
