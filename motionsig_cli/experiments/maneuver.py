@@ -339,8 +339,8 @@ class DetectionSummary:
         false_alarms_per_1000: declarations per 1000 non-maneuvering scans (scans whose last ``response``
             intervals had zero input), with its binomial-style standard error.
         quiet_scans: number of such scans per run.
-        other: declarations neither attributed to an event nor in a non-maneuvering scan, per run.
-        response: W, a declaration at scan k is attributed to the latest onset n with n < k ≤ n + W.
+        other: declarations neither attributed to a change nor in a non-maneuvering scan, per run.
+        response: W, a declaration at scan k can be attributed to a change n with n < k ≤ n + W.
     """
 
     events: list[tuple[int, tuple[float, float], float, float, float, float, float]]
@@ -355,21 +355,32 @@ def detection_summary(
     sc: ManeuverScenario, detected: np.ndarray, onset: np.ndarray, response: int
 ) -> DetectionSummary:
     """Attribute each declaration (``detected``, ``onset``: (M, N−2) for scans 3..N) to a true input change
-    or count it as a false alarm."""
+    or count it as a false alarm.
+
+    A declaration at scan k with onset estimate n̂ is attributed, among the changes n with n < k ≤ n + W, to the
+    one nearest to n̂ (ties to the later change): two changes a few scans apart (the end of turn 1 at 300 and
+    the start of turn 2 at 305) are then told apart by the estimated onset, not by the declaration scan.
+    """
     if response < 1:
         raise ValueError("the response window must be at least 1 scan")
     M = detected.shape[0]
     scans = np.arange(FIRST_SCAN, sc.scans + 1)
     ev = sc.events()
-    owner = np.full(scans.size, -1)  # event attributed to a declaration at each scan
+    owner = np.full(detected.shape, -1)  # change attributed to each declaration (−1: none)
+    best = np.full(detected.shape, np.inf)
+    near_event = np.zeros(scans.size, dtype=bool)
     for i, (n, _) in enumerate(ev):
-        owner[(scans > n) & (scans <= n + response)] = i  # later events win
+        eligible = (scans > n) & (scans <= n + response)
+        near_event |= eligible
+        dist = np.where(detected & eligible[None], np.abs(onset - n), np.inf)
+        take = np.isfinite(dist) & (dist <= best)
+        owner[take], best[take] = i, dist[take]
     u = sc.inputs()
     moving = np.array([np.any(u[max(k - 1 - response, 0) : k - 1] != 0) for k in scans])
-    quiet = (owner < 0) & ~moving
+    quiet = ~near_event & ~moving
     rows = []
     for i, (n, du) in enumerate(ev):
-        mine = detected & (owner == i)[None]
+        mine = owner == i
         hit = mine.any(axis=1)
         first = np.argmax(mine, axis=1)
         delay = scans[first[hit]] - n
@@ -384,5 +395,5 @@ def detection_summary(
     rate = float(fa.mean()) if n_quiet else math.nan
     per_run = fa.sum(axis=1) if n_quiet else np.zeros(M)
     se = float(per_run.std(ddof=1) / math.sqrt(M) / n_quiet) if (n_quiet and M > 1) else math.nan
-    other = float((detected & ((owner < 0) & moving)[None]).sum() / M)
+    other = float((detected & (owner < 0) & ~quiet[None]).sum() / M)
     return DetectionSummary(rows, 1000 * rate, 1000 * se, n_quiet, other, response)

@@ -4,6 +4,8 @@ Tolerances: the paper's curves depend on unstated parameters, so the targets are
 orderings (R11–R14) on 100 runs; the prototype values in the spec's brackets are far from every bound.
 """
 
+import math
+
 import numpy as np
 import pytest
 
@@ -141,3 +143,25 @@ def test_error_statistics_are_eqs_14_and_15():
     np.testing.assert_allclose(st.sd, e.std(0), rtol=1e-12)  # 1/M normalisation (eq 15) = numpy's ddof=0
     np.testing.assert_allclose(st.rms, np.sqrt((e**2).sum(-1).mean(0)))
     assert st.scan[0] == 3 and not np.isnan(st.sd).any()
+
+
+def test_declarations_are_attributed_by_estimated_onset():
+    """Hand-made declarations on the literal scenario (changes at 200, 300, 305, 330): a declaration at scan
+    307 with n̂ = 300 belongs to the end of turn 1, one at 312 with n̂ = 306 to the start of turn 2; one at
+    scan 100 is a false alarm; one at 260 (inside the turn, beyond the window) is 'other'."""
+    sc = ex.ManeuverScenario("literal")
+    n_scan = sc.scans - ex.FIRST_SCAN + 1
+    det = np.zeros((2, n_scan), dtype=bool)
+    on = np.full((2, n_scan), -1)
+    for run, k, n in ((0, 307, 300), (0, 312, 306), (0, 100, 95), (0, 260, 255), (1, 205, 200)):
+        det[run, k - ex.FIRST_SCAN], on[run, k - ex.FIRST_SCAN] = True, n
+    d = ex.detection_summary(sc, det, on, 30)
+    by = {e[0]: e for e in d.events}
+    assert by[200][2] == 0.5 and by[200][3] == 5.0 and by[200][5] == 0.0
+    assert by[300][2] == 0.5 and by[300][3] == 7.0 and by[300][5] == 0.0
+    assert by[305][2] == 0.5 and by[305][3] == 7.0 and by[305][5] == 1.0
+    assert by[330][2] == 0.0 and math.isnan(by[330][3])
+    # scans 3..200 (u(200) first moves scan 201) and 361..450 (30 scans after the last change at 330)
+    assert d.quiet_scans == (201 - 3) + (451 - 361)
+    assert d.false_alarms_per_1000 == pytest.approx(1000 * 1 / (2 * d.quiet_scans))
+    assert d.other == 0.5
