@@ -335,16 +335,22 @@ def maneuver_figure(
     a3.set_ylabel("truth − estimate [m]")
     a4.set_title("Fig 4: filtering-error standard deviation (eq 15)", fontsize="medium")
     a4.set_ylabel("[m]")
-    a4.set_yscale("log")
+    if any(np.any(sd > 0) for _, _, _, sd, _ in per_sigma):
+        a4.set_yscale("log")
     a5.set_title(f"mean {method} model probabilities", fontsize="medium")
     a5.set_ylabel("μ_j(k)")
     a5.set_ylim(0, 1)
+    if not any(mu is not None for *_, mu in per_sigma):
+        a5.text(
+            0.5, 0.5, f"no model probabilities ({method})", ha="center", va="center", transform=a5.transAxes
+        )
     for ax in (a3, a4, a5):
         for n in events:
             ax.axvline(n, color="0.6", ls=":", lw=0.8)
         ax.set_xlabel("scan k")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize="x-small", ncol=2)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize="x-small", ncol=2)
     a2.grid(alpha=0.3)
     return fig
 
@@ -366,7 +372,9 @@ def maneuver_comparison_figure(
         top, bottom = axes[0, c], axes[1, c]
         for (s, m), y in rms.items():
             if s == sigma:
-                top.semilogy(scan, y, color=colors.get(m), lw=1.0, label=m.upper())
+                top.plot(scan, y, color=colors.get(m), lw=1.0, label=m.upper())
+        if any(np.any(y > 0) for (s, _), y in rms.items() if s == sigma):
+            top.set_yscale("log")
         for (s, m), y in rate.items():
             if s == sigma:
                 bottom.plot(scan, y, color=colors.get(m), lw=0.9, label=m.upper())
@@ -379,5 +387,8 @@ def maneuver_comparison_figure(
             for n in events:
                 ax.axvline(n, color="0.6", ls=":", lw=0.8)
             ax.grid(alpha=0.3, which="both")
-            ax.legend(fontsize="x-small")
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize="x-small")
+        if not any(s == sigma for s, _ in rate):
+            bottom.text(0.5, 0.5, "no GLR / MLR run", ha="center", va="center", transform=bottom.transAxes)
     return fig

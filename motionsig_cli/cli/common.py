@@ -124,17 +124,20 @@ def save_figure(fig: Any, path: Path) -> None:
     metadata = (
         {"Software": None}
         if suffix == ".png"
-        else {"Creator": None}
+        else {"Creator": None, "Date": None}
         if suffix == ".svg"
         else {"CreationDate": None}
     )
     import matplotlib  # the command layer may import matplotlib; the core never does
 
-    with (
-        atomic_path(path) as tmp,
-        matplotlib.rc_context({"svg.hashsalt": "motionsig"}),
-    ):  # reproducible SVG ids
-        fig.savefig(tmp, format=suffix[1:], dpi=150, metadata=metadata)
+    try:
+        with (
+            atomic_path(path) as tmp,
+            matplotlib.rc_context({"svg.hashsalt": "motionsig"}),
+        ):  # reproducible SVG ids
+            fig.savefig(tmp, format=suffix[1:], dpi=150, metadata=metadata)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot write the figure ({exc.strerror or exc})") from None
 
 
 def stderr_console() -> Console:

@@ -9,7 +9,9 @@ simulated records, to pipe into ``--input``) and, with ``--input``, the per-scan
 
 from __future__ import annotations
 
+import contextlib
 import math
+from collections.abc import Iterator
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any
@@ -30,7 +32,6 @@ from motionsig_cli.cli.common import (
     checked,
     float_list,
     note,
-    positive,
     progress,
     save_figure,
 )
@@ -38,6 +39,9 @@ from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
 from motionsig_cli.detection.glr import CHI2_2_999
 from motionsig_cli.experiments import maneuver as exp
 from motionsig_cli.models.motion import G2_FORMS, MU0_PAPER, PI_PAPER, ModelSet, imm_models
+
+MAX_COORD = 1e9
+"""Largest |measurement| accepted from a record [m] (a million km; squares stay far from overflow)."""
 
 
 class G2(StrEnum):
@@ -78,6 +82,36 @@ class Continuation(StrEnum):
 
     estimate = "estimate"
     known = "known"
+
+
+def _period(value: float | None) -> float | None:
+    if value is not None and not (math.isfinite(value) and exp.T_RANGE[0] <= value <= exp.T_RANGE[1]):
+        raise typer.BadParameter(f"{value:g} is not in [{exp.T_RANGE[0]:g}, {exp.T_RANGE[1]:g}] s")
+    return value
+
+
+def _finite(value: float) -> float:
+    if not math.isfinite(value):
+        raise typer.BadParameter(f"{value:g} is not a finite number")
+    return value
+
+
+def _psd(value: float) -> float:
+    if not (math.isfinite(value) and 0 <= value <= 1e6):
+        raise typer.BadParameter(f"{value:g} is not in [0, 1e6] m²/s³")
+    return value
+
+
+def _prior_width(value: float) -> float:
+    if not (math.isfinite(value) and 1e-3 <= value <= 1e6):
+        raise typer.BadParameter(f"{value:g} is not in [1e-3, 1e6] m/s²")
+    return value
+
+
+def _glr_threshold(value: float) -> float:
+    if not (math.isfinite(value) and value >= 0):
+        raise typer.BadParameter(f"{value:g} is not a finite number >= 0 (ΔJ is never negative)")
+    return value
 
 
 def _methods(text: str) -> tuple[str, ...]:
@@ -130,6 +164,9 @@ def _model_set(transition: str | None, mu0: str | None, T: float, g2: str) -> Mo
 def _read_record(path: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any], Table]:
     """Columns scan, z_x, z_y: consecutive integer scans (no gaps), finite values, at least 3 scans."""
     t = read_table(path, required=("scan", "z_x", "z_y"))
+    for col in ("run", "sigma"):
+        if col in t.columns and len(set(t.column(col))) > 1:
+            raise InputError(f"{t.source}: several values of {col!r} in one file; track one record at a time")
     if len(t.rows) < 3:
         raise InputError(
             f"{t.source}: need at least 3 scans (two initialise the trackers), found {len(t.rows)}"
@@ -144,12 +181,17 @@ def _read_record(path: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any], Tab
     bad = np.flatnonzero(~np.all(np.isfinite(z), axis=1))
     if bad.size:
         raise InputError(f"{t.source}:{t.lines[bad[0]]}: measurement is not finite")
+    big = np.flatnonzero(np.any(np.abs(z) > MAX_COORD, axis=1))
+    if big.size:
+        raise InputError(f"{t.source}:{t.lines[big[0]]}: |measurement| exceeds {MAX_COORD:g} m")
     return scans, z, t.meta, t
 
 
 def _meta_number(meta: dict[str, Any], key: str, source: str) -> float | None:
     if key not in meta:
         return None
+    if isinstance(meta[key], bool):
+        raise InputError(f"{source}: metadata {key!r} must be a number, got {meta[key]!r}")
     try:
         v = float(meta[key])
     except (TypeError, ValueError):
@@ -175,7 +217,9 @@ def maneuver(
     ] = Preset.literal,
     T: Annotated[
         float | None,
-        typer.Option("--T", callback=positive, help="Scan period [s] (default 1; not in the seed)."),
+        typer.Option(
+            "--T", callback=_period, help="Scan period [s], 1e-3 to 3600 (default 1; not in the seed)."
+        ),
     ] = None,
     scans: Annotated[
         int, typer.Option("--scans", min=3, max=100_000, help="Scans per run (seed: 450).")
@@ -198,19 +242,27 @@ def maneuver(
         str | None, typer.Option("--mu0", help="Initial model probabilities (default 0.8,0.1,0.1).")
     ] = None,
     q0: Annotated[
-        float, typer.Option("--q0", min=0.0, max=1e6, help="GLR/MLR/CV filter acceleration psd q̃0 [m²/s³].")
+        float,
+        typer.Option("--q0", callback=_psd, help="GLR/MLR/CV filter acceleration psd q̃0 [m²/s³]."),
     ] = 1.0,
     window: Annotated[
         int, typer.Option("--window", min=1, max=200, help="GLR/MLR onset window s [scans].")
     ] = 10,
     glr_threshold: Annotated[
-        float, typer.Option("--glr-threshold", help="GLR threshold λ on ΔJ (default: χ²₂ 0.999 quantile).")
+        float,
+        typer.Option(
+            "--glr-threshold",
+            callback=_glr_threshold,
+            help="GLR threshold λ on ΔJ (default: χ²₂ 0.999 quantile).",
+        ),
     ] = CHI2_2_999,
     mlr_threshold: Annotated[
-        float, typer.Option("--mlr-threshold", help="MLR threshold h on max_n J(n) (seed: 0).")
+        float,
+        typer.Option("--mlr-threshold", callback=_finite, help="MLR threshold h on max_n J(n) (seed: 0)."),
     ] = 0.0,
     mlr_sigma_u: Annotated[
-        float, typer.Option("--mlr-sigma-u", callback=positive, help="MLR prior σ_u of each input [m/s²].")
+        float,
+        typer.Option("--mlr-sigma-u", callback=_prior_width, help="MLR prior σ_u of each input [m/s²]."),
     ] = 20.0,
     correction: Annotated[
         Correction,
@@ -223,11 +275,14 @@ def maneuver(
         ),
     ] = Continuation.estimate,
     response: Annotated[
-        int | None,
+        int,
         typer.Option(
-            "--response", min=1, help="Scans after an onset a declaration is attributed to it (default 3s)."
+            "--response",
+            min=1,
+            max=10_000,
+            help="Scans after a change a declaration can be attributed to it.",
         ),
-    ] = None,
+    ] = 30,
     view: Annotated[
         View, typer.Option("--view", help="scans, events, summary or measurements.")
     ] = View.scans,
@@ -258,9 +313,6 @@ def maneuver(
     cfg_kw: dict[str, Any] = dict(q0=q0, window=window, glr_threshold=glr_threshold, mlr_threshold=mlr_threshold,
                                   sigma_u=mlr_sigma_u, correction=correction.value, continuation=continuation.value,
                                   g2=g2.value)  # fmt: skip
-    for name, v in (("--glr-threshold", glr_threshold), ("--mlr-threshold", mlr_threshold)):
-        if not math.isfinite(v):
-            raise typer.BadParameter(f"{v:g} is not a finite number", param_hint=name)
     if input_file is not None:
         _track_record(input_file, methods, sigma, T, transition, mu0, cfg_kw, fmt, out, plot, plot_compare, view,
                       quiet)  # fmt: skip
@@ -277,6 +329,9 @@ def maneuver(
     ms = _model_set(transition, mu0, T_, g2.value)
     cfg = exp.TrackerConfig(Pi=tuple(map(tuple, ms.Pi.tolist())), mu0=tuple(ms.mu0.tolist()), **cfg_kw)
     if view is View.measurements:
+        for name, path in (("--plot", plot), ("--plot-compare", plot_compare)):
+            if path is not None:
+                raise typer.BadParameter("the measurements view draws no figure", param_hint=name)
         _emit_measurements(sc, sigmas, runs, seed, fmt, out)
         return
     if plot_compare is not None and len(methods) < 2:
@@ -292,13 +347,14 @@ def maneuver(
             f"the limit is {exp.MAX_SECONDS:.0f} s",
             param_hint="--runs",
         )
-    resp = 3 * window if response is None else response
+    resp = response
     results: dict[float, dict[str, exp.MCResult]] = {}
     with progress(quiet) as bar:
         task = bar.add_task("maneuver", total=runs * len(sigmas))
         for s in sigmas:
-            results[s] = exp.monte_carlo(sc, s, runs, seed, methods, cfg,
-                                         on_chunk=lambda n: bar.advance(task, n))  # fmt: skip
+            with _numerics(s, T_):
+                results[s] = exp.monte_carlo(sc, s, runs, seed, methods, cfg,
+                                             on_chunk=lambda n: bar.advance(task, n))  # fmt: skip
     table = _table(view, sc, results, methods, resp)
     meta = make_meta(
         "maneuver",
@@ -340,7 +396,6 @@ def maneuver(
         radar="EBPSK parameters of the seed's Table I (f_c 10 GHz, 100 MHz IF, f_s 1 GHz, K = 2, N = 7) do not "
         "enter the trackers",
     )
-    emit(Table(columns=table[0], rows=table[1], meta=meta), fmt.value, out)
     scan = np.arange(exp.FIRST_SCAN, scans + 1)
     events = tuple(n for n, _ in sc.events())
     if plot is not None:
@@ -361,12 +416,34 @@ def maneuver(
         rate = {(s, m): r[m].detected.mean(axis=0) for s, r in results.items() for m in methods
                 if r[m].detected is not None}  # fmt: skip
         save_figure(maneuver_comparison_figure(scan, rms, rate, events=events), plot_compare)
+    emit(
+        Table(columns=table[0], rows=table[1], meta=meta), fmt.value, out
+    )  # after the figures: all or nothing
     parts = []
     for s, r in results.items():
         for m in methods:
             st = r[m].stats
             parts.append(f"σ={s:g} {m} RMS {np.sqrt(np.mean(st.rms**2)):.0f} m")
     note("maneuver: " + "; ".join(parts), quiet)
+
+
+@contextlib.contextmanager
+def _numerics(sigma: float, T: float) -> Iterator[None]:
+    """A covariance that stops being positive definite in floating point is a bad σ/T combination, not a bug."""
+    try:
+        with np.errstate(all="ignore"):
+            yield
+    except np.linalg.LinAlgError:
+        raise typer.BadParameter(
+            f"σ = {sigma:g} m is too small for the motion over T = {T:g} s: the innovation covariance is "
+            "numerically singular (increase --sigma or decrease --T)",
+            param_hint="--sigma",
+        ) from None
+
+
+def _cell(v: float) -> float | None:
+    """An undefined statistic (no detection, one run) is an empty cell, not 'nan'."""
+    return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
 
 
 def _phase_rms(sc: exp.ManeuverScenario, st: exp.ErrorStats) -> list[float]:
@@ -405,7 +482,7 @@ def _table(
                 d = exp.detection_summary(sc, r[m].detected, r[m].onset, resp)
                 n_runs = r[m].detected.shape[0]
                 for n, du, frac, md, med, oe, roe in d.events:
-                    rows.append((s, m, n, du[0], du[1], n_runs, frac, md, med, oe, roe))
+                    rows.append((s, m, n, du[0], du[1], n_runs, frac, *map(_cell, (md, med, oe, roe))))
         return cols, rows
     names = [p for p, _, _ in sc.phases()]
     ev = sc.events()
@@ -419,16 +496,16 @@ def _table(
                 rows.append((s, m, *ph, None, None, None, None, *(None for _ in ev), *(None for _ in ev)))
                 continue
             d = exp.detection_summary(sc, r[m].detected, r[m].onset, resp)
-            rows.append((s, m, *ph, d.false_alarms_per_1000, d.false_alarms_se, d.quiet_scans, d.other,
-                         *(e[2] for e in d.events), *(e[3] for e in d.events)))  # fmt: skip
+            rows.append((s, m, *map(_cell, ph), _cell(d.false_alarms_per_1000), _cell(d.false_alarms_se),
+                         d.quiet_scans, d.other, *(e[2] for e in d.events), *(_cell(e[3]) for e in d.events)))  # fmt: skip
     return cols, rows
 
 
 def _emit_measurements(
     sc: exp.ManeuverScenario, sigmas: list[float], runs: int, seed: int, fmt: OutputFormat, out: Path | None
 ) -> None:
-    if runs * sc.scans * len(sigmas) > 5_000_000:
-        raise typer.BadParameter("more than 5e6 measurement rows requested", param_hint="--runs")
+    if runs * sc.scans * len(sigmas) > 1_000_000:
+        raise typer.BadParameter("more than 1e6 measurement rows requested", param_hint="--runs")
     truth = sc.truth()
     rows = []
     for s in sigmas:
@@ -456,9 +533,9 @@ def _track_record(
     if plot is not None or plot_compare is not None:
         raise typer.BadParameter("figures are drawn from Monte Carlo runs, not from one record",
                                  param_hint="--plot" if plot is not None else "--plot-compare")  # fmt: skip
+    if out is not None and path != "-" and Path(path).resolve() == out.resolve():
+        raise typer.BadParameter("is the --input file", param_hint="--out")
     scans, z, meta, t = _read_record(path)
-    if "run" in t.columns and len(set(t.column("run"))) > 1:
-        raise InputError(f"{t.source}: several runs in one file; select one (e.g. with --runs 1)")
     if sigma is None:
         s = _meta_number(meta, "sigma", t.source)
         if s is None:
@@ -471,11 +548,16 @@ def _track_record(
             raise typer.BadParameter("give one σ in [1e-3, 1e7] m with --input", param_hint="--sigma")
         s = vals[0]
     T_ = T if T is not None else (_meta_number(meta, "T", t.source) or 1.0)
+    if not exp.T_RANGE[0] <= T_ <= exp.T_RANGE[1]:
+        raise InputError(
+            f"{t.source}: metadata 'T' = {T_:g} is outside [{exp.T_RANGE[0]:g}, {exp.T_RANGE[1]:g}] s"
+        )
     ms = _model_set(transition, mu0, T_, cfg_kw["g2"])
     cfg = exp.TrackerConfig(Pi=tuple(map(tuple, ms.Pi.tolist())), mu0=tuple(ms.mu0.tolist()), **cfg_kw)
     rows = []
     for m in methods:
-        tr = exp.track(m, z[None], T_, s, cfg)
+        with _numerics(s, T_):
+            tr = exp.track(m, z[None], T_, s, cfg)
         for i in range(tr.state.shape[1]):
             st = tr.state[0, i]
             mu = tr.mu[0, i] if tr.mu is not None else (None, None, None)

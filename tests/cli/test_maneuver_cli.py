@@ -97,6 +97,13 @@ def _bad_record(tmp_path, body):
         (("--view", "events"), "glr or mlr"),
         (("--runs", "1000000", "--method", "all"), "estimated"),
         (("--glr-threshold", "nan"), "--glr-threshold"),
+        (("--glr-threshold", "-1"), "never negative"),
+        (("--T", "1e-300"), "--T"),
+        (("--T", "3601"), "--T"),
+        (("--q0", "nan"), "--q0"),
+        (("--mlr-sigma-u", "1e160"), "--mlr-sigma-u"),
+        (("--sigma", "1e-3", "--T", "3600", "--scans", "240"), "numerically singular"),
+        (("--view", "measurements", "--plot", "m.png"), "draws no figure"),
     ],
 )
 def test_bad_options(capsys, tmp_path, monkeypatch, args, needle):
@@ -117,6 +124,7 @@ def test_bad_options(capsys, tmp_path, monkeypatch, args, needle):
         ("1,0,0\n2,0,450\n", "at least 3 scans"),
         ("1,0,0\n2,0,450\n2,0,900\n", "out of order or repeated"),
         ("1,0,0\n2,abc,450\n3,0,900\n", "bad.csv:4"),
+        ("1,0,0\n2,1e308,450\n3,0,900\n", "bad.csv:4: |measurement| exceeds"),
     ],
 )
 def test_bad_records(capsys, tmp_path, body, needle):
@@ -134,3 +142,34 @@ def test_record_without_sigma_needs_the_option(capsys, tmp_path):
     assert rc == 2 and "--sigma" in err
     rc, _out, err = run(capsys, "maneuver", "--input", str(p), "--sigma", "50")
     assert rc == 0, err
+
+
+def test_input_is_not_overwritten_and_several_runs_are_refused(capsys, tmp_path):
+    rc, out, _ = run(
+        capsys, "maneuver", "--view", "measurements", "--runs", "2", "--sigma", "100", "--scans", "20"
+    )
+    rec = tmp_path / "two.csv"
+    rec.write_text(out)
+    rc, _, err = run(capsys, "maneuver", "--input", str(rec))
+    assert rc == 2 and "several values of 'run'" in err
+    one = tmp_path / "one.csv"
+    one.write_text("# sigma: 100\nscan,z_x,z_y\n1,0,0\n2,0,450\n3,0,900\n")
+    before = one.read_text()
+    rc, _, err = run(capsys, "maneuver", "--input", str(one), "-o", str(one))
+    assert rc == 2 and "--input file" in err and one.read_text() == before
+    bad = tmp_path / "b.csv"
+    bad.write_text("# sigma: true\nscan,z_x,z_y\n1,0,0\n2,0,450\n3,0,900\n")
+    rc, _, err = run(capsys, "maneuver", "--input", str(bad))
+    assert rc == 2 and "must be a number" in err
+
+
+def test_undefined_statistics_are_empty_cells_and_svg_is_reproducible(capsys, tmp_path):
+    rc, out, err = run(
+        capsys, "maneuver", "--runs", "1", "--scans", "240", "--method", "glr", "--view", "summary"
+    )
+    assert rc == 0, err
+    assert "nan" not in out
+    a, b = tmp_path / "a.svg", tmp_path / "b.svg"
+    for p in (a, b):
+        assert run(capsys, "maneuver", "--runs", "2", "--scans", "220", "--plot", str(p))[0] == 0
+    assert a.read_bytes() == b.read_bytes()
