@@ -36,6 +36,7 @@ from motionsig_cli.cli.common import (
     save_figure,
 )
 from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
+from motionsig_cli.cli.records import finite_column
 from motionsig_cli.detection.glr import CHI2_2_999
 from motionsig_cli.experiments import maneuver as exp
 from motionsig_cli.models.motion import G2_FORMS, MU0_PAPER, PI_PAPER, ModelSet, imm_models
@@ -147,18 +148,13 @@ def _model_set(transition: str | None, mu0: str | None, T: float, g2: str) -> Mo
     if Pi.shape != (3, 3):
         raise typer.BadParameter(f"needs 3 rows of 3 probabilities (one per model); got {Pi.shape}",
                                  param_hint="--transition")  # fmt: skip
-    if np.any(Pi < 0) or np.any(np.abs(Pi.sum(axis=1) - 1) > 1e-9):
-        i = int(np.argmax((Pi < 0).any(axis=1) | (np.abs(Pi.sum(axis=1) - 1) > 1e-9)))
-        raise typer.BadParameter(
-            f"row {i + 1} ({', '.join(f'{v:g}' for v in Pi[i])}) must be non-negative and sum to 1",
-            param_hint="--transition",
-        )
-    if mu.shape != (3,) or np.any(mu < 0) or abs(mu.sum() - 1) > 1e-9:
-        raise typer.BadParameter(
-            f"needs 3 non-negative probabilities summing to 1; got {', '.join(f'{v:g}' for v in mu)}",
-            param_hint="--mu0",
-        )
-    return checked("--transition", imm_models, T, g2=g2, Pi=Pi, mu0=mu)
+    if mu.shape != (3,):
+        raise typer.BadParameter(f"needs 3 probabilities (one per model); got {mu.size}", param_hint="--mu0")
+    try:  # ModelSet checks the values: rows of Π and μ₀ non-negative, summing to 1
+        return imm_models(T, g2=g2, Pi=Pi, mu0=mu)
+    except ValueError as exc:
+        option = "--mu0" if "initial model probabilities" in str(exc) else "--transition"
+        raise typer.BadParameter(str(exc), param_hint=option) from None
 
 
 def _read_record(path: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any], Table]:
@@ -177,10 +173,7 @@ def _read_record(path: str) -> tuple[np.ndarray, np.ndarray, dict[str, Any], Tab
         i = int(np.flatnonzero(steps != 1)[0]) + 1
         what = "missing scan(s)" if steps[i - 1] > 1 else "scans out of order or repeated"
         raise InputError(f"{t.source}:{t.lines[i]}: {what}: scan {scans[i]} after {scans[i - 1]}")
-    z = np.stack([t.numeric("z_x"), t.numeric("z_y")], axis=-1)
-    bad = np.flatnonzero(~np.all(np.isfinite(z), axis=1))
-    if bad.size:
-        raise InputError(f"{t.source}:{t.lines[bad[0]]}: measurement is not finite")
+    z = np.stack([finite_column(t, "z_x"), finite_column(t, "z_y")], axis=-1)
     big = np.flatnonzero(np.any(np.abs(z) > MAX_COORD, axis=1))
     if big.size:
         raise InputError(f"{t.source}:{t.lines[big[0]]}: |measurement| exceeds {MAX_COORD:g} m")

@@ -50,7 +50,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motionsig_cli.filters.kalman import joseph_update
+from motionsig_cli.filters.kalman import joseph_update, spd_inv_logdet
 
 __all__ = ["CHI2_2_999", "METHODS", "GLRConfig", "InputModel", "InputTrack", "input_tracker"]
 
@@ -149,25 +149,6 @@ class InputTrack:
     u_cur: np.ndarray
 
 
-def _sym_inv_logdet(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Inverse and log det of a batch of symmetric positive-definite p×p matrices (closed form for 2×2)."""
-    if A.shape[-1] == 2:
-        a, b, d = A[..., 0, 0], 0.5 * (A[..., 0, 1] + A[..., 1, 0]), A[..., 1, 1]
-        det = a * d - b * b
-        inv = np.empty_like(A)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv[..., 0, 0], inv[..., 1, 1] = d / det, a / det
-            inv[..., 0, 1] = inv[..., 1, 0] = -b / det
-            return inv, np.log(det)
-    sign, logdet = np.linalg.slogdet(A)
-    good = sign > 0
-    inv = np.linalg.inv(
-        np.where(good[..., None, None], A, np.eye(A.shape[-1]))
-    )  # empty slots: no LinAlgError
-    inv[~good] = np.nan
-    return inv, np.where(good, logdet, -np.inf)
-
-
 def _quad(e: np.ndarray, A: np.ndarray) -> np.ndarray:
     """eᵀ A e over leading axes."""
     return np.einsum("...i,...ij,...j->...", e, A, e)
@@ -251,15 +232,15 @@ def input_tracker(
             e += (PsiT_Sinv @ up.nu[:, None, :, None])[..., 0]  # e(n) += Ψ_kᵀ S_k⁻¹ ν_k
             if valid.any():
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    Sigma, _ = _sym_inv_logdet(info)  # Σ(n) = MSE of û(n)
+                    Sigma, _, _ = spd_inv_logdet(info)  # Σ(n) = MSE of û(n); NaN in empty slots
                     dJ = _quad(e, Sigma)  # ΔJ(n) = eᵀ Σ e, eq (5) corrected
                     if cfg.method == "glr":
                         score = dJ
                     else:  # MLR: ½ eᵀ(Σ⁻¹ + Σ_u⁻¹)⁻¹e − ½ log det(I + Σ_u Σ⁻¹)
-                        post, logdet_post = _sym_inv_logdet(info + Su_inv)  # (Σ⁻¹ + Σ_u⁻¹)⁻¹
+                        post, logdet_post, _ = spd_inv_logdet(info + Su_inv)  # (Σ⁻¹ + Σ_u⁻¹)⁻¹
                         # det(I + Σ_u Σ⁻¹) = det(Σ_u) det(Σ⁻¹ + Σ_u⁻¹)
                         score = 0.5 * _quad(e, post) - 0.5 * (logdet_post + p * math.log(cfg.sigma_u**2))
-                score = np.where(valid, score, -np.inf)
+                score = np.where(valid & np.isfinite(score), score, -np.inf)  # a NaN would win argmax
                 best = np.argmax(score, axis=1)  # n̂ = argmax_n, eq (3)
                 stat = score[rows, best]
                 out_stat[:, k] = stat

@@ -222,20 +222,29 @@ class Update:
     loglik: np.ndarray
 
 
-def _inv_logdet(S: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Inverse and log-determinant of a batch of symmetric positive-definite matrices (closed form for 2×2)."""
-    m = S.shape[-1]
-    if m == 2:
-        a, b, d = S[..., 0, 0], 0.5 * (S[..., 0, 1] + S[..., 1, 0]), S[..., 1, 1]
+def spd_inv_logdet(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Inverse and log-determinant of a batch of symmetric matrices that should be positive definite
+    (closed form for 2×2, LAPACK otherwise).
+
+    Returns:
+        inv (..., p, p), log det (...) and a mask of the matrices that are positive definite; where it is
+        False the inverse is NaN and the log-determinant −inf (no exception: callers decide).
+    """
+    if A.shape[-1] == 2:
+        a, b, d = A[..., 0, 0], 0.5 * (A[..., 0, 1] + A[..., 1, 0]), A[..., 1, 1]
         det = a * d - b * b
-        if np.any(~(det > 0)) or np.any(~(a > 0)):
-            raise np.linalg.LinAlgError("innovation covariance is not positive definite")
-        inv = np.empty_like(S)
-        inv[..., 0, 0], inv[..., 1, 1] = d / det, a / det
-        inv[..., 0, 1] = inv[..., 1, 0] = -b / det
-        return inv, np.log(det)
-    L = np.linalg.cholesky(S)
-    return np.linalg.inv(S), 2.0 * np.log(np.diagonal(L, axis1=-2, axis2=-1)).sum(-1)
+        ok = (a > 0) & (det > 0)
+        safe = np.where(ok, det, 1.0)
+        inv = np.empty_like(A)
+        inv[..., 0, 0], inv[..., 1, 1] = d / safe, a / safe
+        inv[..., 0, 1] = inv[..., 1, 0] = -b / safe
+        inv[~ok] = np.nan
+        return inv, np.where(ok, np.log(safe), -np.inf), ok
+    sign, logdet = np.linalg.slogdet(A)
+    ok = sign > 0
+    inv = np.linalg.inv(np.where(ok[..., None, None], A, np.eye(A.shape[-1])))
+    inv[~ok] = np.nan
+    return inv, np.where(ok, logdet, -np.inf), ok
 
 
 def joseph_update(x: np.ndarray, P: np.ndarray, z: np.ndarray, H: np.ndarray, R: np.ndarray) -> Update:
@@ -252,7 +261,9 @@ def joseph_update(x: np.ndarray, P: np.ndarray, z: np.ndarray, H: np.ndarray, R:
     nu = z - x @ H.T
     PHt = P @ H.T
     S = H @ PHt + R
-    S_inv, logdet = _inv_logdet(S)
+    S_inv, logdet, ok = spd_inv_logdet(S)
+    if not np.all(ok):
+        raise np.linalg.LinAlgError("innovation covariance is not positive definite")
     K = PHt @ S_inv
     A = np.eye(n) - K @ H
     P_new = A @ P @ np.swapaxes(A, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)

@@ -119,7 +119,7 @@ def test_bad_options(capsys, tmp_path, monkeypatch, args, needle):
     ("body", "needle"),
     [
         ("1,0,0\n2,0,450\n4,0,1350\n5,0,1800\n", "bad.csv:5: missing scan"),
-        ("1,0,0\n2,0,450\n3,nan,900\n", "bad.csv:5: measurement is not finite"),
+        ("1,0,0\n2,0,450\n3,nan,900\n", "bad.csv:5: column 'z_x' is not finite"),
         ("1,0,0\n2,0,450\n3,inf,900\n", "not finite"),
         ("1,0,0\n2,0,450\n", "at least 3 scans"),
         ("1,0,0\n2,0,450\n2,0,900\n", "out of order or repeated"),

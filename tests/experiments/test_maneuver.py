@@ -37,6 +37,7 @@ def test_literal_preset_is_as_printed_and_turn90_turns_by_ninety_degrees():
     assert np.all(u[:199] == 0) and np.all(u[299:304] == 0) and np.all(u[329:] == 0)
     v = lit.truth()[:, [1, 3]]
     np.testing.assert_allclose(v[0], [0, 450])
+    # seed §V: 20 m/s² for 100 scans, then 3 m/s² for 25 scans, on both axes, from (0, 450) m/s
     np.testing.assert_allclose(v[-1], [20 * 100 + 3 * 25, 450 + 20 * 100 + 3 * 25])
     t90 = ex.ManeuverScenario("turn90").truth()[:, [1, 3]]
     heading = np.degrees(np.arctan2(t90[:, 1], t90[:, 0]))
@@ -106,7 +107,9 @@ def test_r15_glr_false_alarms_and_detection(results):
         assert d.false_alarms_per_1000 <= 20
         first = d.events[0]
         assert first[0] == 200 and first[2] >= 0.95
-        assert abs(first[5]) <= 3  # mean onset error within 3 scans
+        # mean onset error: 500 runs give +0.6 / +1.2 scans with an RMS of 2.1 / 2.8, so its standard error on
+        # 100 runs is ≤ 0.3 and 2.5 scans is the σ = 200 mean plus 4 standard errors
+        assert abs(first[5]) <= 2.5
 
 
 def test_mlr_with_the_seeds_threshold_declares_far_more_often_than_glr(results):

@@ -27,7 +27,7 @@ def test_g2_paper_fixed_is_the_trapezoidal_model_on_both_axes(T):
     a⁺ = a + w on x *and* y (the seed prints T instead of T/2 in the ẏ row)."""
     ms = imm_models(T)
     G2 = np.array([[T * T / 4, 0], [T / 2, 0], [0, T * T / 4], [0, T / 2], [1, 0], [0, 1]])
-    Qd_expected = 0.001 * G2 @ G2.T
+    Qd_expected = 0.001 * G2 @ G2.T  # Q₂ = 0.001 I (seed §IV)
     np.testing.assert_allclose(ms.Qd[1], Qd_expected, rtol=1e-14)
     rng = np.random.default_rng(2)
     X, w = rng.normal(size=6), rng.normal(size=2)
@@ -43,7 +43,7 @@ def test_g2_paper_fixed_is_the_trapezoidal_model_on_both_axes(T):
     assert not np.allclose(0.001 * printed @ printed.T, ms.Qd[1])
     std = imm_models(T, g2="standard")
     Gs = np.array([[T * T / 2, 0], [T, 0], [0, T * T / 2], [0, T], [1, 0], [0, 1]])
-    np.testing.assert_allclose(std.Qd[2], 0.0144 * Gs @ Gs.T, rtol=1e-14)
+    np.testing.assert_allclose(std.Qd[2], 0.0144 * Gs @ Gs.T, rtol=1e-14)  # Q₃ = 0.0144 I (seed §IV)
 
 
 def test_model_one_forces_zero_acceleration_and_has_no_noise():
