@@ -392,3 +392,138 @@ def maneuver_comparison_figure(
         if not any(s == sigma for s, _ in rate):
             bottom.text(0.5, 0.5, "no GLR / MLR run", ha="center", va="center", transform=bottom.transAxes)
     return fig
+
+
+def mac_roc_figure(
+    panels: list[tuple[float, dict[str, tuple[np.ndarray, np.ndarray]]]],
+    title: str = "",
+    pf_min: float = 1e-12,
+) -> Figure:
+    """ATC-10 Figs 3.3–3.6, 3.8: ROC contours, p_f (log) against 1 − p_d (log), one colour per ℓ.
+
+    Args:
+        panels: (ℓ, {"upper" | "lower" | "exact" | "gaussian" | "montecarlo": (log10 p_m, log10 p_f)}).
+    """
+    fig = Figure(figsize=(7.0, 5.0), layout="constrained")
+    ax = fig.add_subplot()
+    styles = {
+        "upper": dict(ls="-", lw=1.5),
+        "lower": dict(ls="--", lw=1.2),
+        "exact": dict(ls=":", lw=1.8),
+        "gaussian": dict(ls="-.", lw=1.3),
+        "montecarlo": dict(ls="none", marker="o", ms=3.5),
+    }
+    names = {
+        "upper": "upper bound (3.5.13)",
+        "lower": "lower bound (3.5.14)",
+        "exact": "exact",
+        "gaussian": "ROC$_g$",
+        "montecarlo": "Monte Carlo",
+    }
+    seen: set[str] = set()
+    lo_x, lo_y = 1e-5, pf_min
+    for i, (ell, curves) in enumerate(panels):
+        color = f"C{i % 10}"
+        for kind, (lpm, lpf) in curves.items():
+            ok = np.isfinite(lpm) & np.isfinite(lpf)
+            if not ok.any():
+                continue
+            label = f"{names[kind]}" if kind not in seen else None
+            seen.add(kind)
+            lo_x = min(lo_x, float(10.0 ** lpm[ok].min()))
+            lo_y = min(lo_y, float(10.0 ** lpf[ok].min()))
+            ax.plot(10.0 ** lpm[ok], 10.0 ** lpf[ok], color=color, **styles[kind], label=label)
+        ax.plot([], [], color=color, lw=6, alpha=0.5, label=f"ℓ = {ell:.4g}")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(max(lo_x, 1e-40), 0.6)  # the lower-bound contours reach p_m ~ 1e-20 and beyond
+    ax.set_ylim(max(lo_y, 1e-40), 1.5)
+    ax.set_xlabel(r"$p_m = 1 - p_d$")
+    ax.set_ylabel(r"$p_f$")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small", loc="lower left", ncol=2)
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def exponent_figure(
+    lines: list[tuple[str, np.ndarray, np.ndarray]], *, vs_n: bool, title: str = ""
+) -> Figure:
+    """ATC-10 Fig. 3.9 (Exp against N, log axis) or Fig. 3.10 (Exp against Exp_g, with the diagonal)."""
+    fig = Figure(figsize=(6.4, 4.4), layout="constrained")
+    ax = fig.add_subplot()
+    for label, x, y in lines:
+        ax.plot(x, y, lw=1.4, label=label)
+    if vs_n:
+        ax.set_xscale("log")
+        ax.set_xlabel("N")
+        top = max(float(np.max(y)) for _, _, y in lines)
+        ax.set_ylim(0, max(top * 1.05, 1e-9))
+    else:
+        xmax = max(float(np.max(x)) for _, x, _ in lines)
+        ax.plot([0, xmax], [0, xmax], color="0.4", ls=":", lw=1, label="Exp = Exp$_g$ (N = ∞)")
+        ax.set_xlabel("Exp$_g$")
+    ax.set_ylabel("Exp")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+def density_figure(
+    curves: list[tuple[str, str, np.ndarray, np.ndarray, np.ndarray | None]], b: float
+) -> Figure:
+    """ATC-10 Fig. 3.2: the amplitude densities at equal second moment (impulses drawn as arrows)."""
+    fig = Figure(figsize=(6.4, 4.2), layout="constrained")
+    ax = fig.add_subplot()
+    top = 0.0
+    for i, (rid, name, x, pdf, w) in enumerate(curves):
+        if w is None:
+            ax.plot(x, pdf, color=f"C{i}", lw=1.5, label=f"{rid} {name}")
+            top = max(top, float(np.max(pdf)))
+    for i, (rid, name, x, _pdf, w) in enumerate(curves):
+        if w is not None:
+            for xi, wi in zip(x, w, strict=True):
+                ax.annotate(
+                    "", (xi, 1.1 * top), (xi, 0.0), arrowprops=dict(arrowstyle="->", color=f"C{i}", lw=1.8)
+                )
+                ax.annotate(f"{wi:g}", (xi, 1.12 * top), ha="center", fontsize="small", color=f"C{i}")
+            ax.plot([], [], color=f"C{i}", lw=1.8, label=f"{rid} {name} (impulses)")
+    ax.set_ylim(0, 1.25 * top)
+    ax.set_xlabel("x")
+    ax.set_ylabel("C(x)")
+    ax.set_title(f"amplitude densities, b = {b:.4g}")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return fig
+
+
+def schematic_figure(t: np.ndarray, n: np.ndarray) -> Figure:
+    """ATC-10 Fig. 3.7: the MAN component implied by the quasi-optimal density, ±A over 2τ."""
+    fig = Figure(figsize=(6.0, 3.2), layout="constrained")
+    ax = fig.add_subplot()
+    ax.plot(t, n, color="C0", lw=1.6, label="$+A$")
+    ax.plot(t, -n, color="C1", lw=1.6, ls="--", label="$-A$")
+    ax.set_xlabel(r"$(t - t_j)/\tau$")
+    ax.set_ylabel(r"$n_{ij}(t)$")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return fig
+
+
+def autocorrelation_figure(lines: list[tuple[str, np.ndarray, np.ndarray]]) -> Figure:
+    """ATC-10 Fig. 3.11: aperiodic autocorrelations of PSK codes beside the ideal triangle."""
+    fig = Figure(figsize=(6.8, 4.0), layout="constrained")
+    ax = fig.add_subplot()
+    span = max(float(np.max(np.abs(t))) for _, t, _ in lines)
+    for label, t, R in lines:
+        ax.plot(t, R, lw=1.2, label=label)
+    tt = np.linspace(-span, span, 4001)
+    ax.plot(tt, np.clip(1.0 - np.abs(tt), 0.0, None), color="k", ls=":", lw=1.2, label="ideal triangle")
+    ax.set_xlabel(r"$t/\tau_c$")
+    ax.set_ylabel("R(t)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+    return fig

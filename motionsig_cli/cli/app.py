@@ -18,7 +18,7 @@ from typer.exceptions import Abort
 from typer.main import get_command
 
 from motionsig_cli import __version__
-from motionsig_cli.cli import detect, encode, jam_bound, maneuver, simulate, slrt, track_sat
+from motionsig_cli.cli import detect, encode, jam_bound, mac_roc, maneuver, simulate, slrt, track_sat
 from motionsig_cli.cli.io import InputError
 
 app = typer.Typer(
@@ -37,6 +37,7 @@ app.command("detect")(detect.detect)
 app.command("slrt")(slrt.slrt)
 app.command("maneuver")(maneuver.maneuver)
 app.add_typer(jam_bound.app, name="jam-bound")
+app.add_typer(mac_roc.app, name="mac-roc")
 app.add_typer(track_sat.app, name="track-sat")
 
 

@@ -1,0 +1,480 @@
+"""Amplitude densities C(x) of one multiple-access-noise component, given overlap — ATC-10 §3.3 (3.3.8),
+§3.6 (Fig. 3.2), §3.7 (3.7.1); spec ``mac-roc.md`` §5.
+
+An interfering aircraft j whose transmission overlaps the matched-filter window adds n_ij, drawn from
+C(x), to the sample of matched filter i. Every density here is parameterised by its second moment
+b = ∫x²C(x)dx so that densities of equal power can be compared (the report's ℓ = 1/√(3b)).
+
+| id | name        | definition at second moment b                     | kurtosis |
+|----|-------------|---------------------------------------------------|----------|
+| C₂ | two-point   | ½δ(x − A) + ½δ(x + A), A = √b  (quasi-optimal, 3.7.1) | 1    |
+| C₁ | uniform     | U(−a, a), a = √(3b)                                | 1.8      |
+| C₃ | triangular  | sum of two U(−c, c), c = √(3b/2)                   | 2.4      |
+| C₄ | gaussian    | N(0, b)                                            | 3        |
+|    | laplace     | scale β = √(b/2); MGF finite for |ρ| < 1/β          | 6        |
+|    | arcsine     | A cos φ, A = √(2b), φ uniform                      | 1.5      |
+|    | discrete    | user-given atoms and weights                       |          |
+
+C₂ is pinned by the report (§3.7–3.8); C₁, C₃, C₄ are not described in the text (Fig. 3.2 is lost):
+uniform, triangular and Gaussian are an assumption (``../shared/README.md``), chosen by "peakiness"
+and consistent with the report's preference order C₂ ≻ C₁ ≻ C₃ ≻ C₄.
+
+Each density gives its cumulant-generating function g(ρ) = ln Φ(ρ) = ln ∫e^{ρx}C(x)dx with g′ and g″,
+evaluated in a log form that neither overflows (Φ reaches e^{700} and beyond) nor cancels near ρ = 0,
+a sampler and an exponentially tilted sampler C_ρ(x) ∝ e^{ρx}C(x) for importance sampling (spec §12.1).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+from scipy.special import expit, i0e, i1e, logsumexp
+
+LN2 = math.log(2.0)
+
+# names accepted by ``density`` (report ids map to the assumed shapes)
+DENSITY_NAMES = ("two-point", "uniform", "triangular", "gaussian", "laplace", "arcsine")
+REPORT_IDS = {"C1": "uniform", "C2": "two-point", "C3": "triangular", "C4": "gaussian"}
+FIGURE_OF = {"uniform": "3.3", "two-point": "3.4", "triangular": "3.5", "gaussian": "3.6"}
+
+
+@runtime_checkable
+class AmplitudeDensity(Protocol):
+    """What the MAN model needs of a component density."""
+
+    name: str
+
+    @property
+    def b(self) -> float:
+        """Second moment ∫x²C(x)dx."""
+        ...
+
+    @property
+    def max_abs(self) -> float:
+        """sup |x| over the support (inf when unbounded)."""
+        ...
+
+    @property
+    def rho_max(self) -> float:
+        """The MGF is finite for |ρ| < rho_max (inf for bounded and Gaussian densities)."""
+        ...
+
+    @property
+    def symmetric(self) -> bool: ...
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(g, g′, g″) at r (any real array)."""
+        ...
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray: ...
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        """Draws from C_r(x) ∝ e^{rx}C(x)."""
+        ...
+
+
+def _even(r: np.ndarray, g: np.ndarray, g1: np.ndarray, g2: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Extend (g, g′, g″) computed at |r| to r for an even g."""
+    return g, np.sign(r) * g1, g2
+
+
+def _log_sinhc(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """ln(sinh x / x) and its first two derivatives in x, for x ≥ 0, without overflow or cancellation."""
+    x = np.asarray(x, dtype=float)
+    small = x < 0.05
+    xs = np.where(small, 1.0, x)  # placeholder where the series is used
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        e = np.exp(-2.0 * xs)
+        g_big = xs + np.log1p(-e) - np.log(2.0 * xs)
+        coth = (1.0 + e) / (1.0 - e)
+        d1_big = coth - 1.0 / xs
+        d2_big = 1.0 / xs**2 - 4.0 * e / (1.0 - e) ** 2  # 1/x² − 1/sinh²x
+    y = np.where(small, x, 0.0)  # series argument (x < 0.05)
+    x2 = y * y
+    g_s = x2 / 6.0 - x2 * x2 / 180.0 + x2**3 / 2835.0
+    d1_s = y / 3.0 - y * x2 / 45.0 + 2.0 * y * x2 * x2 / 945.0 - y * x2**3 / 4725.0
+    d2_s = 1.0 / 3.0 - x2 / 15.0 + 2.0 * x2 * x2 / 189.0 - x2**3 / 675.0
+    return np.where(small, g_s, g_big), np.where(small, d1_s, d1_big), np.where(small, d2_s, d2_big)
+
+
+def _tilted_uniform(rng: np.random.Generator, a: float, r: float, size: int) -> np.ndarray:
+    """Inverse-CDF draws from e^{rx} on [−a, a] (spec §12.1): x = a + ln(u + (1−u)e^{−2ra})/r."""
+    u = rng.random(size)
+    if r == 0.0:
+        return a * (2.0 * u - 1.0)
+    s = abs(r)
+    x = a + np.log(u + (1.0 - u) * np.exp(-2.0 * s * a)) / s
+    return np.clip(x, -a, a) * (1.0 if r > 0 else -1.0)
+
+
+def _check_scale(name: str, value: float) -> float:
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name} must be a finite number > 0; got {value!r}")
+    return float(value)
+
+
+@dataclass(frozen=True)
+class TwoPoint:
+    """C₂ = ½δ(x − A) + ½δ(x + A) (3.7.1): the quasi-optimal density; b = A²."""
+
+    A: float
+    name: str = field(default="two-point", init=False)
+
+    def __post_init__(self) -> None:
+        _check_scale("A", self.A)
+
+    @property
+    def b(self) -> float:
+        return self.A**2
+
+    @property
+    def max_abs(self) -> float:
+        return self.A
+
+    @property
+    def rho_max(self) -> float:
+        return math.inf
+
+    @property
+    def symmetric(self) -> bool:
+        return True
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = np.asarray(r, dtype=float)
+        x = np.abs(r) * self.A
+        e = np.exp(-2.0 * x)
+        g = x + np.log1p(e) - LN2  # ln cosh x
+        g1 = self.A * np.tanh(x)
+        g2 = self.A**2 * 4.0 * e / (1.0 + e) ** 2  # A² sech² x
+        return _even(r, g, g1, g2)
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
+        return np.where(rng.random(size) < 0.5, self.A, -self.A)
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        p_plus = expit(2.0 * r * self.A)  # P(+A) = 1/(1 + e^{−2rA})
+        return np.where(rng.random(size) < p_plus, self.A, -self.A)
+
+    def atoms(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.array([-self.A, self.A]), np.array([0.5, 0.5])
+
+
+@dataclass(frozen=True)
+class Uniform:
+    """C₁ (assumed) = U(−a, a); b = a²/3, so the report's ℓ = 1/√(3b) = 1/a."""
+
+    a: float
+    name: str = field(default="uniform", init=False)
+
+    def __post_init__(self) -> None:
+        _check_scale("a", self.a)
+
+    @property
+    def b(self) -> float:
+        return self.a**2 / 3.0
+
+    @property
+    def max_abs(self) -> float:
+        return self.a
+
+    @property
+    def rho_max(self) -> float:
+        return math.inf
+
+    @property
+    def symmetric(self) -> bool:
+        return True
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = np.asarray(r, dtype=float)
+        g, d1, d2 = _log_sinhc(np.abs(r) * self.a)  # Φ = sinh(ρa)/(ρa)
+        return _even(r, g, self.a * d1, self.a**2 * d2)
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
+        return self.a * (2.0 * rng.random(size) - 1.0)
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        return _tilted_uniform(rng, self.a, r, size)
+
+    def pdf(self, x: np.ndarray) -> np.ndarray:
+        return np.where(np.abs(x) <= self.a, 0.5 / self.a, 0.0)
+
+
+@dataclass(frozen=True)
+class Triangular:
+    """C₃ (assumed) = the sum of two independent U(−c, c); support ±2c, b = 2c²/3."""
+
+    c: float
+    name: str = field(default="triangular", init=False)
+
+    def __post_init__(self) -> None:
+        _check_scale("c", self.c)
+
+    @property
+    def b(self) -> float:
+        return 2.0 * self.c**2 / 3.0
+
+    @property
+    def max_abs(self) -> float:
+        return 2.0 * self.c
+
+    @property
+    def rho_max(self) -> float:
+        return math.inf
+
+    @property
+    def symmetric(self) -> bool:
+        return True
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = np.asarray(r, dtype=float)
+        g, d1, d2 = _log_sinhc(np.abs(r) * self.c)  # Φ = (sinh(ρc)/(ρc))²
+        return _even(r, 2.0 * g, 2.0 * self.c * d1, 2.0 * self.c**2 * d2)
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
+        u = rng.random((2, size))
+        return self.c * (2.0 * u[0] - 1.0) + self.c * (2.0 * u[1] - 1.0)
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        # the tilt of a sum of independent terms is the sum of the tilted terms
+        return _tilted_uniform(rng, self.c, r, size) + _tilted_uniform(rng, self.c, r, size)
+
+    def pdf(self, x: np.ndarray) -> np.ndarray:
+        w = 2.0 * self.c
+        return np.clip(w - np.abs(x), 0.0, None) / w**2
+
+
+@dataclass(frozen=True)
+class Gaussian:
+    """C₄ (assumed) = N(0, b): unbounded, so never physically realisable (|n_ij| ≤ 1)."""
+
+    var: float
+    name: str = field(default="gaussian", init=False)
+
+    def __post_init__(self) -> None:
+        _check_scale("variance", self.var)
+
+    @property
+    def b(self) -> float:
+        return self.var
+
+    @property
+    def max_abs(self) -> float:
+        return math.inf
+
+    @property
+    def rho_max(self) -> float:
+        return math.inf
+
+    @property
+    def symmetric(self) -> bool:
+        return True
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = np.asarray(r, dtype=float)
+        return 0.5 * self.var * r * r, self.var * r, np.full_like(r, self.var)
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
+        return rng.normal(0.0, math.sqrt(self.var), size)
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        return rng.normal(self.var * r, math.sqrt(self.var), size)
+
+    def pdf(self, x: np.ndarray) -> np.ndarray:
+        return np.exp(-0.5 * np.asarray(x) ** 2 / self.var) / math.sqrt(2.0 * math.pi * self.var)
+
+
+@dataclass(frozen=True)
+class Laplace:
+    """Laplace(0, β) (extra): b = 2β², MGF 1/(1 − β²ρ²) for |ρ| < 1/β."""
+
+    beta: float
+    name: str = field(default="laplace", init=False)
+
+    def __post_init__(self) -> None:
+        _check_scale("beta", self.beta)
+
+    @property
+    def b(self) -> float:
+        return 2.0 * self.beta**2
+
+    @property
+    def max_abs(self) -> float:
+        return math.inf
+
+    @property
+    def rho_max(self) -> float:
+        return 1.0 / self.beta
+
+    @property
+    def symmetric(self) -> bool:
+        return True
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = np.asarray(r, dtype=float)
+        t = (self.beta * r) ** 2
+        inside = t < 1.0
+        ts = np.where(inside, t, 0.0)
+        one = 1.0 - ts
+        g = np.where(inside, -np.log1p(-ts), np.inf)
+        g1 = np.where(inside, 2.0 * self.beta**2 * r / one, np.copysign(np.inf, r))
+        g2 = np.where(inside, 2.0 * self.beta**2 * (1.0 + ts) / one**2, np.inf)
+        return g, g1, g2
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
+        return rng.laplace(0.0, self.beta, size)
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        if not abs(r) * self.beta < 1.0:
+            raise ValueError(f"the Laplace MGF is infinite at rho = {r:g} (needs |rho| < {1 / self.beta:g})")
+        e = rng.exponential(1.0, (2, size))  # x = β(E₁ − E₂); the tilt rescales each exponential
+        return self.beta * (e[0] / (1.0 - self.beta * r) - e[1] / (1.0 + self.beta * r))
+
+    def pdf(self, x: np.ndarray) -> np.ndarray:
+        return np.exp(-np.abs(x) / self.beta) / (2.0 * self.beta)
+
+
+@dataclass(frozen=True)
+class Arcsine:
+    """A·cos φ with φ uniform (extra): one constant-envelope interferer; b = A²/2, MGF I₀(ρA)."""
+
+    A: float
+    name: str = field(default="arcsine", init=False)
+
+    def __post_init__(self) -> None:
+        _check_scale("A", self.A)
+
+    @property
+    def b(self) -> float:
+        return 0.5 * self.A**2
+
+    @property
+    def max_abs(self) -> float:
+        return self.A
+
+    @property
+    def rho_max(self) -> float:
+        return math.inf
+
+    @property
+    def symmetric(self) -> bool:
+        return True
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = np.asarray(r, dtype=float)
+        x = np.abs(r) * self.A
+        i0, i1 = i0e(x), i1e(x)
+        ratio = i1 / i0  # I₁/I₀
+        with np.errstate(divide="ignore", invalid="ignore"):
+            over_x = np.where(x > 1e-8, ratio / np.where(x > 1e-8, x, 1.0), 0.5)
+        g = np.log(i0) + x
+        g2 = self.A**2 * np.clip(1.0 - over_x - ratio**2, 0.0, None)  # I₀″ = I₀ − I₁/x
+        return _even(r, g, self.A * ratio, g2)
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
+        return self.A * np.cos(2.0 * math.pi * rng.random(size))
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        raise ValueError("importance sampling is not available for the arcsine density")
+
+    def pdf(self, x: np.ndarray) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        inside = np.abs(x) < self.A
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(inside, 1.0 / (math.pi * np.sqrt(np.where(inside, self.A**2 - x**2, 1.0))), 0.0)
+
+
+@dataclass(frozen=True)
+class Discrete:
+    """A user-given discrete density: atoms x_i with weights w_i (Σw = 1, zero mean)."""
+
+    x: tuple[float, ...]
+    w: tuple[float, ...]
+    name: str = field(default="discrete", init=False)
+
+    def __post_init__(self) -> None:
+        x, w = np.asarray(self.x, float), np.asarray(self.w, float)
+        if x.ndim != 1 or x.shape != w.shape or x.size == 0:
+            raise ValueError("atoms and weights must be non-empty and of equal length")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(w)) and np.all(w >= 0.0)):
+            raise ValueError("atoms must be finite and weights non-negative")
+        if abs(w.sum() - 1.0) > 1e-9:
+            raise ValueError(f"weights must sum to 1; they sum to {w.sum():.12g}")
+        if abs(np.dot(w, x)) > 1e-9 * max(1.0, np.abs(x).max()):
+            raise ValueError("the density must have zero mean (ATC-10 3.4.12)")
+        if np.dot(w, x * x) <= 0.0:
+            raise ValueError("the density must have a positive second moment")
+
+    @property
+    def b(self) -> float:
+        return float(np.dot(self.w, np.square(self.x)))
+
+    @property
+    def max_abs(self) -> float:
+        return float(np.max(np.abs(np.asarray(self.x)[np.asarray(self.w) > 0])))
+
+    @property
+    def rho_max(self) -> float:
+        return math.inf
+
+    @property
+    def symmetric(self) -> bool:
+        x, w = np.asarray(self.x), np.asarray(self.w)
+        order, mirror = np.argsort(x), np.argsort(-x)
+        return bool(np.allclose(x[order], -x[mirror]) and np.allclose(w[order], w[mirror]))
+
+    def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        r = np.asarray(r, dtype=float)
+        x, w = np.asarray(self.x), np.asarray(self.w)
+        with np.errstate(divide="ignore"):
+            logits = r[..., None] * x + np.log(w)
+        g = logsumexp(logits, axis=-1)
+        p = np.exp(logits - g[..., None])  # tilted weights
+        m1 = p @ x
+        return g, m1, np.clip(p @ (x * x) - m1 * m1, 0.0, None)
+
+    def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
+        return rng.choice(np.asarray(self.x), size=size, p=np.asarray(self.w))
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        x, w = np.asarray(self.x), np.asarray(self.w)
+        with np.errstate(divide="ignore"):
+            logits = r * x + np.log(w)
+        p = np.exp(logits - logsumexp(logits))
+        return rng.choice(x, size=size, p=p / p.sum())
+
+    def atoms(self) -> tuple[np.ndarray, np.ndarray]:
+        return np.asarray(self.x), np.asarray(self.w)
+
+
+def density(name: str, b: float) -> AmplitudeDensity:
+    """The density ``name`` (or a report id C1…C4) with second moment ``b``."""
+    b = _check_scale("b", b)
+    key = REPORT_IDS.get(name.upper(), name.lower())
+    if key == "two-point":
+        return TwoPoint(math.sqrt(b))
+    if key == "uniform":
+        return Uniform(math.sqrt(3.0 * b))
+    if key == "triangular":
+        return Triangular(math.sqrt(1.5 * b))
+    if key == "gaussian":
+        return Gaussian(b)
+    if key == "laplace":
+        return Laplace(math.sqrt(0.5 * b))
+    if key == "arcsine":
+        return Arcsine(math.sqrt(2.0 * b))
+    raise ValueError(f"unknown density {name!r}; use one of {', '.join(DENSITY_NAMES)} or C1…C4")
+
+
+def b_of_ell(ell: float) -> float:
+    """The report's contour label ℓ = 1/√(3b) (Figs 3.3–3.6, 3.8) → b = 1/(3ℓ²)."""
+    _check_scale("ell", ell)
+    return 1.0 / (3.0 * ell * ell)
+
+
+def ell_of_b(b: float) -> float:
+    """ℓ = 1/√(3b)."""
+    return 1.0 / math.sqrt(3.0 * _check_scale("b", b))
