@@ -486,15 +486,16 @@ def bounds(
             if not 0.0 < v < 1.0:
                 raise typer.BadParameter(f"{v:g} is not in (0, 1)", param_hint="--at-pd")
         rows = []
+        grid = np.round(np.arange(1, 1000) * 1e-3, 12)  # the exact ROC is interpolated on this θ grid
+        ex_grid = {e: exact_roc(model, grid) for e, model in models} if with_exact else {}
         for e, model in models:
             for pd in pds:
                 th_u = theta_for_pd(model, pd)
                 pf_u = math.exp(-float(chernoff(model, [th_u])[1][0])) if math.isfinite(th_u) else None
                 rows_exact: tuple[float | None, float | None] = (None, None)
                 if with_exact:
-                    th_e = theta_for_pd(model, pd, lambda t, m=model: exact_roc(m, t).log_pm)
-                    if math.isfinite(th_e):
-                        rows_exact = (th_e, _p(exact_roc(model, [th_e]).log_pf[0]))
+                    th_e, pf_e = exp.pf_at_pm(grid, ex_grid[e].log_pf, ex_grid[e].log_pm, 1.0 - pd)
+                    rows_exact = (_fin(th_e), _fin(pf_e))
                 P = model.power
                 th_g = theta_for_pd(model, pd, lambda t, P=P: gaussian_roc(P, t).log_pm)
                 pf_g = _p(gaussian_roc(P, [th_g]).log_pf[0]) if math.isfinite(th_g) else None
@@ -513,7 +514,15 @@ def bounds(
             "theta_gauss",
             "pf_gauss",
         )
-        meta = make_meta("mac-roc bounds", view="at-pd", pd=pds, **base_meta)
+        meta = make_meta(
+            "mac-roc bounds",
+            view="at-pd",
+            pd=pds,
+            contour="theta_up solves E_d(theta) = -ln(1 - pd) (upper contour); theta_gauss solves the ROC_g "
+            "miss equation; theta_exact is interpolated in ln pm on a theta grid of step 0.001 (on a lattice: "
+            "the corner of the step)",
+            **base_meta,
+        )
         emit(Table(columns=cols, rows=rows, meta=meta), fmt.value, out)
         note(f"mac-roc bounds: {len(rows)} contour points", quiet)
         return

@@ -97,6 +97,29 @@ def report_model(
     return MANModel.common(N, tau_over_alpha, density(name, b_of_ell(ell)))
 
 
+def pf_at_pm(theta: np.ndarray, log_pf: np.ndarray, log_pm: np.ndarray, pm: float) -> tuple[float, float]:
+    """(θ, p_f) where a ROC tabulated on an increasing θ grid reaches miss probability ``pm``.
+
+    θ is interpolated in ln p_m between the last grid point with p_m ≤ pm and the next one, then ln p_f
+    is interpolated at that θ (spec §13 T8 uses a grid step of 0.005). On a staircase (a lattice density)
+    this is the corner of the step: the smallest p_f a threshold reaches with p_m ≤ pm. NaN when ``pm``
+    is outside the tabulated range.
+    """
+    target = math.log(pm)
+    ok = np.isfinite(log_pm)
+    t, lm, lf = theta[ok], log_pm[ok], log_pf[ok]
+    if t.size < 2 or not lm[0] <= target <= lm[-1]:
+        return math.nan, math.nan
+    j = int(np.searchsorted(lm, target, side="right"))  # first point with p_m > pm
+    if j >= t.size:
+        return float(t[-1]), float(np.exp(lf[-1]))
+    i = j - 1
+    w = (target - lm[i]) / (lm[j] - lm[i])
+    th = float(t[i] + w * (t[j] - t[i]))
+    with np.errstate(invalid="ignore"):
+        return th, float(np.exp(lf[i] + w * (lf[j] - lf[i])))
+
+
 # --- Monte Carlo ----------------------------------------------------------------------------------
 
 

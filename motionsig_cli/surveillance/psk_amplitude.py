@@ -46,6 +46,19 @@ def _lc(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return a + np.log1p(e) - math.log(2.0), np.tanh(x), 4.0 * e / (1.0 + e) ** 2
 
 
+def chip_correlation(ref: np.ndarray, intf: np.ndarray, delay_chips: float) -> float:
+    """X(δ) = (1/L)[(1 − f)C(k) + f C(k + 1)] at a delay δ = (k + f)τ_c ∈ (−τ, τ) (eq 3.3.7 without the
+    carrier factor): the matched-filter output of reference ``ref`` for interferer ``intf``."""
+    c = as_code(ref)
+    L = c.size
+    if not -L < delay_chips < L:
+        raise ValueError(f"the delay must lie in (-{L}, {L}) chips")
+    k = math.floor(delay_chips)
+    f = delay_chips - k
+    C = aperiodic_correlation(c, intf)  # index m + L holds C(m), m = −L … L
+    return float(((1.0 - f) * C[k + L] + f * C[k + L + 1]) / L)
+
+
 @dataclass(frozen=True)
 class PSKAmplitude:
     """PSK MAN component for a reference code; interferers use random codes or a code family."""

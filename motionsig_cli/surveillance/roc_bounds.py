@@ -74,7 +74,8 @@ def _bracket_up(fun: Fun, x: np.ndarray, start: np.ndarray, rho_max: float) -> t
             hi[moving] = rho_max - 0.5 * (rho_max - hi[moving])
             stuck = hi[moving] >= rho_max
         else:
-            hi[moving] = 2.0 * hi[moving]
+            with np.errstate(over="ignore"):
+                hi[moving] = 2.0 * hi[moving]
             stuck = ~np.isfinite(hi[moving])
         if stuck.any():
             hi[moving[stuck]] = np.inf
