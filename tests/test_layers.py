@@ -32,6 +32,15 @@ CORE = [
     "motionsig_cli.filters.imm",
     "motionsig_cli.detection.glr",
     "motionsig_cli.experiments.maneuver",
+    "motionsig_cli.surveillance.amplitude",
+    "motionsig_cli.surveillance.multiple_access",
+    "motionsig_cli.surveillance.roc_bounds",
+    "motionsig_cli.surveillance.roc_exact",
+    "motionsig_cli.surveillance.gaussian_roc",
+    "motionsig_cli.surveillance.quasi_optimal",
+    "motionsig_cli.surveillance.time_bandwidth",
+    "motionsig_cli.surveillance.psk_amplitude",
+    "motionsig_cli.experiments.mac_roc",
 ]
 
 

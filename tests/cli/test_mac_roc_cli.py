@@ -1,0 +1,234 @@
+"""`motionsig mac-roc` (issue 7): figures' settings, CSV content, the printed values, bad input."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from tests.cli.helpers import run, table
+
+
+def _f(col):
+    return np.array([float(v) if v not in ("", None) else np.nan for v in col])
+
+
+def test_bounds_figure_3_3_rows_and_sandwich_with_exact(capsys, tmp_path):
+    fig = tmp_path / "f33.png"
+    rc, out, err = run(
+        capsys,
+        "mac-roc",
+        "bounds",
+        "--figure",
+        "3.3",
+        "--theta",
+        "0.05:0.95:0.05",
+        "--exact",
+        "--plot",
+        str(fig),
+    )
+    assert rc == 0 and fig.stat().st_size > 10_000 and "5 contour(s)" in err
+    t = table(out, tmp_path)
+    assert t.meta["density"] == "uniform" and t.meta["figure"] == "3.3" and t.meta["N"] == 100000
+    assert len(t.rows) == 5 * 19
+    assert sorted(set(_f(t.column("ell")))) == [4.0, 6.0, 8.0, 10.0, 12.0]
+    up, lo, ex = _f(t.column("log10_pf_up")), _f(t.column("log10_pf_lo")), _f(t.column("log10_pf_exact"))
+    ok = ~np.isnan(lo)
+    assert np.all(ex <= up + 1e-9) and np.all(ex[ok] >= lo[ok] - 1e-9)
+    pd_lo, pm_up = _f(t.column("pd_lo")), _f(t.column("pm_up"))
+    assert np.allclose(pd_lo, 1 - pm_up, atol=1e-15)
+    # the log10 columns carry the value where it is representable
+    pf_up = _f(t.column("pf_up"))
+    assert np.allclose(np.log10(pf_up), up, rtol=1e-12)
+
+
+def test_bounds_spec_t2_row(capsys, tmp_path):
+    rc, out, _ = run(capsys, "mac-roc", "bounds", "--density", "C2", "--ell", "8", "--theta", "0.5", "-q")
+    assert rc == 0
+    t = table(out, tmp_path)
+    (row,) = t.rows
+    r = dict(zip(t.columns, row, strict=True))
+    assert float(r["rho_star"]) == pytest.approx(18.248904, rel=1e-6)
+    assert float(r["pf_up"]) == pytest.approx(5.950548e-3, rel=1e-6)
+    assert float(r["pf_lo"]) == pytest.approx(3.654699e-11, rel=1e-6)
+    rc, out, _ = run(
+        capsys,
+        "mac-roc",
+        "bounds",
+        "--density",
+        "C2",
+        "--ell",
+        "8",
+        "--theta",
+        "0.5",
+        "--lower-variant",
+        "gallager",
+        "-q",
+    )
+    r = dict(zip(*[table(out, tmp_path).columns, table(out, tmp_path).rows[0]], strict=True))
+    assert float(r["pf_lo"]) == pytest.approx(1.158783e-10, rel=1e-6)
+
+
+def test_bounds_at_pd_spec_t5_and_t8(capsys, tmp_path):
+    rc, out, _ = run(
+        capsys, "mac-roc", "bounds", "--density", "uniform", "--ell", "8", "--at-pd", "0.99", "--exact", "-q"
+    )
+    assert rc == 0
+    t = table(out, tmp_path)
+    r = dict(zip(t.columns, t.rows[0], strict=True))
+    assert float(r["pf_up"]) == pytest.approx(7.5054e-3, rel=1e-4)  # T5
+    assert float(r["pf_exact"]) == pytest.approx(4.8e-5, rel=0.05)  # T8(a)
+    assert float(r["pf_gauss"]) == pytest.approx(2.1e-6, rel=0.05)
+
+
+def test_exact_all_inside_and_json(capsys, tmp_path):
+    rc, out, err = run(
+        capsys,
+        "mac-roc",
+        "exact",
+        "--density",
+        "laplace",
+        "--ell",
+        "6,10",
+        "--theta",
+        "0.1:0.9:0.1",
+        "-f",
+        "json",
+    )
+    assert rc == 0 and "0 outside the bounds" in err
+    doc = json.loads(out)
+    assert all(r["inside"] for r in doc["data"]) and len(doc["data"]) == 18
+
+
+def test_montecarlo_reproducible_and_consistent(capsys, tmp_path):
+    args = ("mac-roc", "montecarlo", "--ell", "8", "--trials", "2e5", "--seed", "4", "-q")
+    rc1, out1, _ = run(capsys, *args)
+    rc2, out2, _ = run(capsys, *args)
+    assert rc1 == rc2 == 0 and out1 == out2
+    _, out3, _ = run(capsys, *args[:-3], "--seed", "5", "-q")
+    assert out3 != out1
+    t = table(out1, tmp_path)
+    z = _f(t.column("z_pf"))  # empty where no false alarm was seen (θ = 0.8: p_f = 2e-6, 2e5 trials)
+    assert np.all(np.abs(z[~np.isnan(z)]) < 4) and all(v == "true" for v in t.column("inside"))
+    pc = t.meta["power_check"][0]
+    assert abs(pc["z"]) < 4 and pc["P"] == pytest.approx(0.020833125)
+
+
+def test_montecarlo_importance_and_psk(capsys, tmp_path):
+    rc, out, _ = run(
+        capsys,
+        "mac-roc",
+        "montecarlo",
+        "--ell",
+        "20",
+        "--theta",
+        "0.8",
+        "--importance",
+        "--trials",
+        "2e5",
+        "-q",
+    )
+    assert rc == 0
+    r = dict(zip(*[table(out, tmp_path).columns, table(out, tmp_path).rows[0]], strict=True))
+    assert r["method"] == "importance" and abs(float(r["z_pf"])) < 4
+    assert float(r["pf"]) == pytest.approx(float(r["pf_exact"]), rel=0.03)
+    rc, out, _ = run(
+        capsys,
+        "mac-roc",
+        "montecarlo",
+        "--density",
+        "psk",
+        "--code",
+        "gold:45,75:3",
+        "--interferers",
+        "family",
+        "--theta",
+        "0.5",
+        "--trials",
+        "1e5",
+        "-q",
+    )
+    assert rc == 0
+    t = table(out, tmp_path)
+    assert t.meta["interferers"] == "family" and t.meta["chips"] == 31 and t.column("pf_exact") == [""]
+
+
+def test_gaussian_exponent_densities_bandwidth_report(capsys, tmp_path):
+    rc, out, _ = run(capsys, "mac-roc", "gaussian", "--figure", "3.8", "--ell", "8", "--theta", "0.5", "-q")
+    r = dict(zip(*[table(out, tmp_path).columns, table(out, tmp_path).rows[0]], strict=True))
+    assert rc == 0 and float(r["pf"]) == pytest.approx(2.659856e-4, rel=1e-6)
+    assert float(r["d_prime"]) == pytest.approx(6.92824, rel=1e-6)
+    rc, out, _ = run(
+        capsys, "mac-roc", "exponent", "--figure", "3.9", "--N", "1e5", "--tau-over-alpha", "1e-5", "-q"
+    )
+    r = dict(zip(*[table(out, tmp_path).columns, table(out, tmp_path).rows[0]], strict=True))
+    assert rc == 0 and float(r["Exp"]) == pytest.approx(3.302437, abs=1e-6)
+    rc, out, _ = run(capsys, "mac-roc", "exponent", "--figure", "3.10", "-q")
+    t = table(out, tmp_path)
+    assert rc == 0 and len(t.rows) == 5 * 81
+    rc, out, _ = run(capsys, "mac-roc", "densities", "-q")
+    t = table(out, tmp_path)
+    assert rc == 0 and all(
+        v == pytest.approx(1 / 3, rel=1e-8) for v in t.meta["second_moment_check"].values()
+    )
+    assert _f(t.column("weight"))[~np.isnan(_f(t.column("weight")))].tolist() == [0.5, 0.5]
+    rc, out, _ = run(capsys, "mac-roc", "bandwidth", "-q")
+    t = table(out, tmp_path)
+    W = dict(zip(t.column("code"), _f(t.column("W_tauc")), strict=True))
+    assert W["barker13"] == pytest.approx(0.70028, abs=5e-6) and W["mseq31"] == pytest.approx(
+        0.54151, abs=5e-6
+    )
+    rc, out, _ = run(capsys, "mac-roc", "report", "-q")
+    t = table(out, tmp_path)
+    rows = {r[0]: dict(zip(t.columns, r, strict=True)) for r in t.rows}
+    assert float(rows["reference1_power"]["ours"]) == pytest.approx(50.0, rel=1e-4)  # the printed 50 is 1/p
+    assert float(rows["reference1_exp"]["ours"]) == pytest.approx(9.702096, abs=1e-6)
+    assert (
+        8.5 < float(rows["reference1_exp"]["ours"]) < 10
+        and 1.2 < float(rows["reference1_ratio"]["ours"]) < 1.5
+    )
+    assert rows["reference1_expg"]["status"] == "inconsistent"
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("bounds", "--N", "0"), "--N"),
+        (("bounds", "--N", "-5"), "--N"),
+        (("bounds", "--N", "2.5"), "not an integer"),
+        (("bounds", "--tau-over-alpha", "0.7"), "--tau-over-alpha"),
+        (("bounds", "--tau-over-alpha", "0"), "--tau-over-alpha"),
+        (("bounds", "--density", "cauchy"), "unknown density"),
+        (("bounds", "--theta", "0.9:0.1:0.01"), "empty"),
+        (("bounds", "--theta", "1.5"), "--theta"),
+        (("bounds", "--theta", "0,0.5"), "--theta"),
+        (("bounds", "--ell", "-2"), "--ell"),
+        (("bounds", "--ell", "8", "--b", "0.1"), "--b"),
+        (("bounds", "--figure", "3.9"), "mac-roc exponent"),
+        (("bounds", "--figure", "4.2"), "no Fig"),
+        (("bounds", "--density", "psk", "--exact"), "--exact"),
+        (("exact", "--density", "psk"), "montecarlo"),
+        (("montecarlo", "--trials", "0"), "--trials"),
+        (("montecarlo", "--density", "psk", "--importance"), "--importance"),
+        (("montecarlo", "--density", "psk", "--code", "xyz"), "--code"),
+        (("montecarlo", "--density", "psk", "--interferers", "family"), "--interferers"),
+        (("bounds", "--density", "uniform", "--ell", "1000", "--theta", "0.9", "--N", "3"), "empty"),
+        (("exponent", "--expg", "-1"), "--expg"),
+        (("exponent", "--N", "1:1e3:0"), "--N"),
+        (("densities", "--figure", "3.3"), "mac-roc bounds"),
+        (("bandwidth", "--code", "+2-"), "--code"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2_no_file(capsys, tmp_path, args, needle):
+    out_file = tmp_path / "o.csv"
+    rc, out, err = run(capsys, "mac-roc", *args, "-o", str(out_file))
+    assert rc == 2, err
+    assert err.count("\n") == 1 and needle in err and "Traceback" not in err
+    assert not out_file.exists() and out == ""
+
+
+def test_unrealisable_density_warns_but_computes(capsys, tmp_path):
+    rc, out, err = run(capsys, "mac-roc", "bounds", "--ell", "0.5", "--theta", "0.5", "--density", "uniform")
+    assert rc == 0 and "not realisable" in err
+    assert table(out, tmp_path).meta["realisable"] is False
+    assert math.isfinite(float(table(out, tmp_path).column("E_f")[0]))
