@@ -50,7 +50,10 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig slrt --view decisions --runs 20 --plot $(OUT)/slrt.png
 	@echo '== Seed 002: a target turning twice; IMM, GLR, MLR and a CV Kalman filter on the same 100 runs (summary table)'
 	$(BIN)/motionsig maneuver --method all --view summary --runs 100 --plot $(OUT)/maneuver.png --plot-compare $(OUT)/maneuver_compare.png
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png radar.png fig2_16.png fig4_3.png slrt.png maneuver.png maneuver_compare.png"
+	@echo '== ATC-10 Fig 3.3: ROC bounds under multiple-access noise (uniform density) with the exact ROC; the printed numbers of §3 beside ours'
+	$(BIN)/motionsig mac-roc bounds --figure 3.3 --exact --theta 0.02:0.98:0.02 --plot $(OUT)/fig3_3.png -o $(OUT)/fig3_3.csv
+	$(BIN)/motionsig mac-roc report
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png radar.png fig2_16.png fig3_3.png fig4_3.png slrt.png maneuver.png maneuver_compare.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
@@ -85,7 +88,7 @@ bench: $(DEV_STAMP)
 	$(BIN)/python benchmarks/bench_ukf_bank.py
 	$(BIN)/python benchmarks/bench_imm.py
 
-## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), seed 002 (results/seed002/), ATC-10 §2 (results/atc10_jamming/) and §4 (results/atc10_tracking/)
+## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), seed 002 (results/seed002/), ATC-10 §2 (results/atc10_jamming/), §3 (results/atc10_mac/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)
 	$(BIN)/python scripts/reproduce_seed000.py
 	@mkdir -p results/seed001
@@ -99,6 +102,7 @@ reproduce: $(RUN_STAMP)
 	  $(BIN)/motionsig maneuver --preset $$p --method glr,mlr --view events -o results/seed002/events_$$p.csv -q || exit 1; \
 	done
 	$(BIN)/python scripts/reproduce_atc10_jamming.py
+	$(BIN)/python scripts/reproduce_atc10_mac.py
 	$(BIN)/python scripts/reproduce_atc10_tracking.py
 
 clean:
