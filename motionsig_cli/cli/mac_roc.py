@@ -444,6 +444,13 @@ def bounds(
     ] = None,
     lower_variant: VariantOpt = LowerVariant.report,
     with_exact: Annotated[bool, typer.Option("--exact", help="Add the exact ROC beside the bounds.")] = False,
+    mc_trials: Annotated[
+        str | None,
+        typer.Option(
+            "--montecarlo", help="Add a Monte Carlo ROC with this many trials (e.g. 1e6) per contour."
+        ),
+    ] = None,
+    seed: SeedOpt = DEFAULT_SEED_VALUE,
     code: CodeOpt = "mseq31",
     interferers: InterferersOpt = Interferers.random,
     fmt: FormatOpt = OutputFormat.csv,
@@ -471,6 +478,13 @@ def bounds(
     exact_ok = info["density"] in EXACT_DENSITIES
     if with_exact and not exact_ok:
         raise typer.BadParameter(f"no exact ROC for the {info['density']} density", param_hint="--exact")
+    n_mc = _count(mc_trials, "--montecarlo") if mc_trials is not None else None
+    if n_mc is not None and n_mc > MAX_TRIALS:
+        raise typer.BadParameter(f"at most {MAX_TRIALS:.0e} trials", param_hint="--montecarlo")
+    if n_mc is not None and at_pd is not None:
+        raise typer.BadParameter(
+            "the Monte Carlo overlay needs a theta grid, not --at-pd", param_hint="--montecarlo"
+        )
     base_meta = dict(
         figure=fig,
         **info,
@@ -544,12 +558,27 @@ def bounds(
                     for i, row in enumerate(r)
                 ]
                 curves["exact"] = (ex.log_pm / LN10, ex.log_pf / LN10)
+            if n_mc is not None:
+                mc = exp.monte_carlo(model, th, n_mc, seed)
+                r = [
+                    (*row, float(mc.pf[i]), float(mc.pf_se[i]), float(mc.pm[i]), float(mc.pm_se[i]))
+                    for i, row in enumerate(r)
+                ]
+                with np.errstate(divide="ignore"):
+                    curves["montecarlo"] = (np.log10(mc.pm), np.log10(mc.pf))
             rows.extend(r)
             panels.append((e, curves))
             bar.advance(task)
     _require_nonempty(all_up, "p_f")
-    cols = BOUND_COLS + (("pf_exact", "pm_exact", "log10_pf_exact", "log10_pm_exact") if with_exact else ())
-    meta = make_meta("mac-roc bounds", theta=[float(th[0]), float(th[-1]), int(th.size)], **base_meta)
+    cols = (
+        BOUND_COLS
+        + (("pf_exact", "pm_exact", "log10_pf_exact", "log10_pm_exact") if with_exact else ())
+        + (("pf_mc", "pf_mc_se", "pm_mc", "pm_mc_se") if n_mc is not None else ())
+    )
+    mc_meta = {"montecarlo_trials": n_mc, "seed": seed} if n_mc is not None else {}
+    meta = make_meta(
+        "mac-roc bounds", theta=[float(th[0]), float(th[-1]), int(th.size)], **base_meta, **mc_meta
+    )
     if plot is not None:
         from motionsig_cli.plotting import mac_roc_figure
 

@@ -232,3 +232,14 @@ def test_unrealisable_density_warns_but_computes(capsys, tmp_path):
     assert rc == 0 and "not realisable" in err
     assert table(out, tmp_path).meta["realisable"] is False
     assert math.isfinite(float(table(out, tmp_path).column("E_f")[0]))
+
+
+def test_bounds_with_monte_carlo_overlay(capsys, tmp_path):
+    fig = tmp_path / "b.svg"
+    rc, out, _ = run(capsys, "mac-roc", "bounds", "--density", "C2", "--ell", "6", "--theta", "0.3,0.5", "--exact",
+                     "--montecarlo", "1e5", "--seed", "3", "--plot", str(fig), "-q")  # fmt: skip
+    assert rc == 0 and fig.exists()
+    t = table(out, tmp_path)
+    assert t.meta["montecarlo_trials"] == 100000 and t.meta["seed"] == 3
+    mc, se, ex = _f(t.column("pf_mc")), _f(t.column("pf_mc_se")), _f(t.column("pf_exact"))
+    assert np.all(np.abs(mc - ex) < 4 * se)
