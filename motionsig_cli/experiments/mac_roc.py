@@ -162,7 +162,7 @@ class MonteCarloRoc:
         return math.sqrt(max(self.sum_n4 / self.trials - m2 * m2, 0.0) / self.trials)
 
 
-def _noise(model: MANModel, rng: np.random.Generator, n: int, r: float = 0.0) -> np.ndarray:
+def noise_samples(model: MANModel, rng: np.random.Generator, n: int, r: float = 0.0) -> np.ndarray:
     """n MAN samples: K ~ Bin(M, w(r)) active interferers with (tilted) amplitudes, summed per trial."""
     out = np.zeros(n)
     for dens, m in model.components:
@@ -192,7 +192,7 @@ def monte_carlo_block(
     model: MANModel, theta: np.ndarray, seed: int, block: int, size: int
 ) -> tuple[np.ndarray, ...]:
     """One block: (false alarms, misses, Σn², Σn⁴) at every θ."""
-    n = _noise(model, trial_rng(seed, block, 0), size)
+    n = noise_samples(model, trial_rng(seed, block, 0), size)
     s = np.sort(n)
     fa = size - np.searchsorted(s, theta, side="left")  # #{n ≥ θ}
     miss = np.searchsorted(s, theta - 1.0, side="left")  # #{n < θ − 1} = #{1 + n < θ}
@@ -285,7 +285,7 @@ def importance_sampling(
         logs: list[np.ndarray] = []
         for b, size in blocks:
             rng = trial_rng(seed, b, 1 if side == "pf" else 2, theta_key(float(th)))
-            n = _noise(model, rng, size, r)
+            n = noise_samples(model, rng, size, r)
             hit = n >= th if side == "pf" else n < th - 1.0
             logs.append(-r * n[hit] + lam)  # ln e^{−rn + Λ(r)}
             if progress is not None:

@@ -38,7 +38,7 @@ TAIL_DECADES = 40.0  # stop when the binomial weight is this many decades below 
 MAX_TERMS = 20_000
 
 
-def _bspline_tail(k: int, t: np.ndarray) -> np.ndarray:
+def irwin_hall_tail(k: int, t: np.ndarray) -> np.ndarray:
     """P(IH_k ≥ t) for an Irwin–Hall sum of k U(0, 1) (array t), as F_k(k − t) = Σ_j N_{k+1}(k − t − j)."""
     t = np.asarray(t, dtype=float)
     u = np.clip(k - t, 0.0, float(k))  # P(IH ≥ t) = P(IH ≤ k − t)
@@ -73,9 +73,9 @@ def _log_tail(dens: object, k: int, x: np.ndarray, strict: bool) -> np.ndarray:
             j0 = np.where(on_lattice, near + (1 if strict else 0), np.ceil(tt))
             return binom.logsf(j0 - 1, k, 0.5)
         if isinstance(dens, Uniform):
-            return np.log(_bspline_tail(k, 0.5 * (k + x / dens.a)))
+            return np.log(irwin_hall_tail(k, 0.5 * (k + x / dens.a)))
         if isinstance(dens, Triangular):
-            return np.log(_bspline_tail(2 * k, 0.5 * (2 * k + x / dens.c)))
+            return np.log(irwin_hall_tail(2 * k, 0.5 * (2 * k + x / dens.c)))
         if isinstance(dens, Laplace):
             y = x / dens.beta
             i = np.arange(k)[:, None]
@@ -122,7 +122,7 @@ def _log_sum_over_k(model: MANModel, x: np.ndarray, strict: bool) -> tuple[np.nd
     while k <= M:
         lw = float(binom.logpmf(k, M, q))
         acc = np.logaddexp(acc, lw + _log_tail(dens, k, x, strict))
-        if k > mean and lw < np.max(acc) - TAIL_DECADES * math.log(10.0) and np.all(np.isfinite(acc)):
+        if k > mean and lw < np.min(acc) - TAIL_DECADES * math.log(10.0) and np.all(np.isfinite(acc)):
             break
         if k > mean and lw < -800.0:
             break

@@ -135,7 +135,7 @@ def test_log_mgf_derivatives_against_finite_differences_and_mixtures():
     """The w-form Λ′, Λ″ (spec §3) equal differences of Λ; a two-component model is the sum of its parts."""
     m = report_model("triangular", 6.0)
     r = np.array([0.5, 5.0, 40.0, 300.0])
-    lam, d1, d2 = m.log_mgf(r)
+    _, d1, d2 = m.log_mgf(r)
     h = 1e-5 * r
     lp, lm = m.log_mgf(r + h)[0], m.log_mgf(r - h)[0]
     assert np.allclose(d1, (lp - lm) / (2 * h), rtol=1e-6)
@@ -527,3 +527,16 @@ def test_chip_formula_against_rf_waveform(delay):
     assert x == pytest.approx(oracle.chip_formula(MSEQ31, intf, delay), abs=1e-12)
     phase = 0.9
     assert oracle.rf_mf_output(MSEQ31, intf, delay, phase) == pytest.approx(math.cos(phase) * x, abs=1e-3)
+
+
+@pytest.mark.parametrize("name", ["two-point", "uniform"])
+def test_exact_roc_does_not_depend_on_the_other_thresholds(name):
+    """Regression (found by the notebook's checks): the binomial sum stops per threshold, not on the
+    largest value of the call; the deep tail at ℓ = 40, θ = 0.98 (p_f ~ 1e-78) was 8.7 % off beside θ = 0.02."""
+    m = report_model(name, 40.0)
+    both = exact_roc(m, [0.02, 0.98])
+    alone = exact_roc(m, [0.98])
+    assert both.log_pf[1] == pytest.approx(alone.log_pf[0], rel=1e-12)
+    assert both.log_pm[0] == pytest.approx(exact_roc(m, [0.02]).log_pm[0], rel=1e-12)
+    o = oracle.exact(name, b_of_ell(40.0), N, TA, 0.98)
+    assert math.exp(alone.log_pf[0]) == pytest.approx(o["pf"], rel=1e-9)
