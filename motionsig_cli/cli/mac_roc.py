@@ -8,6 +8,7 @@ density C of second moment b = 1/(3ℓ²). The detector compares y = (signal 1 o
 
 from __future__ import annotations
 
+import functools
 import math
 from enum import StrEnum
 from typing import Annotated
@@ -128,10 +129,26 @@ def _positive_list(text: str, option: str) -> list[float]:
     return list(dict.fromkeys(values))
 
 
+@functools.cache
+def _file_codes(text: str) -> np.ndarray:
+    """The codes of a ``code,chip,value`` table written by ``motionsig encode`` (``file:PATH``, ``file:-``);
+    read once per run (stdin cannot be read twice)."""
+    from motionsig_cli.cli.encode import _read_codes
+
+    _, codes, _ = _read_codes(text.strip()[5:])
+    return codes.astype(float)
+
+
 def _code(text: str, option: str = "--code") -> np.ndarray:
-    """A ±1 code: mseq31, barker13, gold:P1,P2:INDEX, mseq:POLY, or a literal +-/01 string."""
+    """A ±1 code: mseq31, barker13, gold:P1,P2:INDEX, mseq:POLY, file:PATH (the first code of a
+    ``motionsig encode`` table), or a literal +-/01 string."""
     t = text.strip()
     low = t.lower()
+    if low.startswith("file:"):
+        code = _file_codes(t)[0]
+        if code.size > 4095:
+            raise typer.BadParameter(f"a code needs 2 … 4095 chips; got {code.size}", param_hint=option)
+        return code
     if low == "mseq31":
         return tb.MSEQ31.copy()
     if low == "barker13":
@@ -182,10 +199,19 @@ def _code(text: str, option: str = "--code") -> np.ndarray:
 
 
 def _family(text: str, ref: np.ndarray) -> np.ndarray:
-    """The interferers' codes for ``--interferers family``: the other members of the Gold family."""
+    """The interferers' codes for ``--interferers family``: the other members of the Gold family, or the
+    other codes of a ``file:`` table."""
+    if text.strip().lower().startswith("file:"):
+        family = _file_codes(text)
+        family = family[~np.all(family == ref[None, :], axis=1)]
+        if family.shape[0] == 0:
+            raise typer.BadParameter(
+                "the codes file holds no code besides the reference", param_hint="--interferers"
+            )
+        return family
     if not text.strip().lower().startswith("gold:"):
         raise typer.BadParameter(
-            "--interferers family needs a gold:P1,P2:INDEX --code", param_hint="--interferers"
+            "--interferers family needs a gold:P1,P2:INDEX or file:PATH --code", param_hint="--interferers"
         )
     from motionsig_cli.signals.gf2 import parse_polynomial
     from motionsig_cli.signals.gold import gold_family
@@ -209,6 +235,7 @@ def _models(
     exact_only: bool = False,
 ) -> tuple[list[tuple[float, MANModel]], dict[str, object]]:
     """(ℓ, model) per requested power, and the density description for the metadata."""
+    _file_codes.cache_clear()  # a new command reads its files afresh
     key = REPORT_IDS.get(name.upper(), name.lower())
     allowed = (*DENSITY_NAMES, "psk")
     if key not in allowed:
@@ -324,7 +351,9 @@ ThetaOpt = Annotated[str, typer.Option("--theta", help="Thresholds: start:stop:s
 CodeOpt = Annotated[
     str,
     typer.Option(
-        "--code", help="psk reference code: mseq31, barker13, gold:45,75:3, mseq:45 or a +-/01 string."
+        "--code",
+        help="psk reference code: mseq31, barker13, gold:45,75:3, mseq:45, a +-/01 string, or file:PATH "
+        "(a `motionsig encode` table: the first code is the reference, the others the family).",
     ),
 ]
 InterferersOpt = Annotated[

@@ -243,3 +243,27 @@ def test_bounds_with_monte_carlo_overlay(capsys, tmp_path):
     assert t.meta["montecarlo_trials"] == 100000 and t.meta["seed"] == 3
     mc, se, ex = _f(t.column("pf_mc")), _f(t.column("pf_mc_se")), _f(t.column("pf_exact"))
     assert np.all(np.abs(mc - ex) < 4 * se)
+
+
+def test_psk_codes_from_encode(capsys, tmp_path):
+    """`motionsig encode gold --all -o F` then `mac-roc --code file:F --interferers family`: the first code
+    is the reference and the family the others; b is the (F.5) autocorrelation value of that family."""
+    from motionsig_cli.signals.gold import gold_family
+    from motionsig_cli.surveillance.time_bandwidth import b_from_autocorrelations
+
+    codes = tmp_path / "gold.csv"
+    rc, _, _ = run(
+        capsys, "encode", "gold", "--poly1", "45", "--poly2", "75", "--all", "-o", str(codes), "-q"
+    )
+    assert rc == 0
+    rc, out, _ = run(capsys, "mac-roc", "bounds", "--density", "psk", "--code", f"file:{codes}", "--interferers",
+                     "family", "--theta", "0.5", "-q")  # fmt: skip
+    assert rc == 0
+    b = float(table(out, tmp_path).column("b")[0])
+    _, bits = gold_family(0o45, 0o75)
+    pm = 1 - 2 * bits.astype(int)
+    assert b == pytest.approx(b_from_autocorrelations(pm[0], pm[1:]).mean(), rel=1e-12)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("code,chip,value\na,0,2\n")
+    rc, _, err = run(capsys, "mac-roc", "bounds", "--density", "psk", "--code", f"file:{bad}")
+    assert rc == 2 and f"{bad}:2" in err
