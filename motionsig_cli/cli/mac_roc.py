@@ -44,7 +44,7 @@ from motionsig_cli.surveillance.quasi_optimal import (
     exp_of_gaussian_exponent_exact,
 )
 from motionsig_cli.surveillance.roc_bounds import RocBounds, chernoff, roc_bounds, theta_for_pd
-from motionsig_cli.surveillance.roc_exact import EXACT_DENSITIES, exact_roc
+from motionsig_cli.surveillance.roc_exact import EXACT_DENSITIES, MAX_MEAN_ACTIVE, exact_roc
 
 app = typer.Typer(
     help="Detection under multiple-access noise (ATC-10 §3): ROC bounds (3.5.13)-(3.5.14), the exact and "
@@ -530,7 +530,7 @@ def bounds(
                 raise typer.BadParameter(f"{v:g} is not in (0, 1)", param_hint="--at-pd")
         rows = []
         grid = np.round(np.arange(1, 1000) * 1e-3, 12)  # the exact ROC is interpolated on this θ grid
-        ex_grid = {e: exact_roc(model, grid) for e, model in models} if with_exact else {}
+        ex_grid = {e: checked("--N", exact_roc, model, grid) for e, model in models} if with_exact else {}
         for e, model in models:
             for pd in pds:
                 th_u = theta_for_pd(model, pd)
@@ -581,7 +581,7 @@ def bounds(
             r = _bounds_rows(fig, str(info["density"]), e, model, rb)
             curves = _curves_for_plot(e, rb)
             if with_exact:
-                ex = exact_roc(model, th)
+                ex = checked("--N", exact_roc, model, th)
                 r = [
                     (*row, _p(ex.log_pf[i]), _p(ex.log_pm[i]), _l10(ex.log_pf[i]), _l10(ex.log_pm[i]))
                     for i, row in enumerate(r)
@@ -648,7 +648,7 @@ def exact(
     panels = []
     all_pf = []
     for e, model in models:
-        ex = exact_roc(model, th)
+        ex = checked("--N", exact_roc, model, th)
         rb = roc_bounds(model, th, lower_variant.value)
         all_pf.append(ex.log_pf)
         tol = 1e-9
@@ -767,7 +767,8 @@ def montecarlo(
         task = bar.add_task("trials", total=per_model * len(models))
         for e, model in models:
             rb = roc_bounds(model, th, lower_variant.value)
-            ex = exact_roc(model, th) if info["density"] in EXACT_DENSITIES else None
+            has_exact = info["density"] in EXACT_DENSITIES and model.mean_active <= MAX_MEAN_ACTIVE
+            ex = exact_roc(model, th) if has_exact else None
             if importance:
                 f = exp.importance_sampling(model, th, n_trials, seed, "pf", lambda k: bar.advance(task, k))
                 m = exp.importance_sampling(model, th, n_trials, seed, "pm", lambda k: bar.advance(task, k))

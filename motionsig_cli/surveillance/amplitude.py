@@ -76,6 +76,29 @@ class AmplitudeDensity(Protocol):
         ...
 
 
+def log_cosh(x: np.ndarray) -> np.ndarray:
+    """ln cosh x without overflow at large |x| nor cancellation at small |x| (ln cosh x ≈ x²/2):
+    log1p(2 sinh²(x/2)) below |x| = 20, |x| + log1p(e^{−2|x|}) − ln 2 above."""
+    a = np.abs(np.asarray(x, dtype=float))
+    small = a < 20.0
+    s = np.sinh(0.5 * np.where(small, a, 0.0))
+    return np.where(small, np.log1p(2.0 * s * s), a + np.log1p(np.exp(-2.0 * a)) - LN2)
+
+
+def log_i0(x: np.ndarray) -> np.ndarray:
+    """ln I₀(x) for x ≥ 0: log1p of the power series I₀ − 1 = Σ_{k≥1} (x²/4)^k/(k!)² below x = 1 (no
+    cancellation: ln I₀ ≈ x²/4), ln i0e(x) + x above."""
+    x = np.asarray(x, dtype=float)
+    small = x < 1.0
+    y = 0.25 * np.where(small, x, 0.0) ** 2
+    term = np.ones_like(y)
+    acc = np.zeros_like(y)
+    for k in range(1, 12):  # (1/4)^k/(k!)² < 1e-17 relative beyond k = 11 for x < 1
+        term = term * y / (k * k)
+        acc = acc + term
+    return np.where(small, np.log1p(acc), np.log(i0e(np.where(small, 1.0, x))) + np.where(small, 0.0, x))
+
+
 def _even(r: np.ndarray, g: np.ndarray, g1: np.ndarray, g2: np.ndarray) -> tuple[np.ndarray, ...]:
     """Extend (g, g′, g″) computed at |r| to r for an even g."""
     return g, np.sign(r) * g1, g2
@@ -146,7 +169,7 @@ class TwoPoint:
         r = np.asarray(r, dtype=float)
         x = np.abs(r) * self.A
         e = np.exp(-2.0 * x)
-        g = x + np.log1p(e) - LN2  # ln cosh x
+        g = log_cosh(x)  # ln Φ = ln cosh(ρA)
         g1 = self.A * np.tanh(x)
         g2 = self.A**2 * 4.0 * e / (1.0 + e) ** 2  # A² sech² x
         return _even(r, g, g1, g2)
@@ -370,7 +393,7 @@ class Arcsine:
         ratio = i1 / i0  # I₁/I₀
         with np.errstate(divide="ignore", invalid="ignore"):
             over_x = np.where(x > 1e-8, ratio / np.where(x > 1e-8, x, 1.0), 0.5)
-        g = np.log(i0) + x
+        g = log_i0(x)  # ln Φ = ln I₀(ρA)
         g2 = self.A**2 * np.clip(1.0 - over_x - ratio**2, 0.0, None)  # I₀″ = I₀ − I₁/x
         return _even(r, g, self.A * ratio, g2)
 

@@ -34,16 +34,16 @@ from functools import cached_property
 import numpy as np
 from scipy.special import i0e, i1e, logsumexp
 
+from motionsig_cli.surveillance.amplitude import log_cosh, log_i0
 from motionsig_cli.surveillance.time_bandwidth import aperiodic_correlation, as_code
 
 CHUNK_NODES = 2_000_000  # r-values × nodes per evaluation chunk (bounds memory)
 
 
 def _lc(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """ln cosh x, tanh x, sech² x without overflow."""
-    a = np.abs(x)
-    e = np.exp(-2.0 * a)
-    return a + np.log1p(e) - math.log(2.0), np.tanh(x), 4.0 * e / (1.0 + e) ** 2
+    """ln cosh x, tanh x, sech² x without overflow or cancellation."""
+    e = np.exp(-2.0 * np.abs(x))
+    return log_cosh(x), np.tanh(x), 4.0 * e / (1.0 + e) ** 2
 
 
 def chip_correlation(ref: np.ndarray, intf: np.ndarray, delay_chips: float) -> float:
@@ -182,7 +182,7 @@ class PSKAmplitude:
             X, logw = self._nodes
             z = np.abs(r[:, None] * X[None, :])
             i0, i1 = i0e(z), i1e(z)
-            G = np.log(i0) + z  # ln I₀(rX)
+            G = log_i0(z)  # ln I₀(rX)
             ratio = i1 / i0
             with np.errstate(divide="ignore", invalid="ignore"):
                 over = np.where(z > 1e-8, ratio / np.where(z > 1e-8, z, 1.0), 0.5)

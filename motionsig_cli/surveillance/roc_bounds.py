@@ -136,7 +136,7 @@ def chernoff(model: MANModel, x: np.ndarray, sign: float = 1.0) -> tuple[np.ndar
     E = np.full_like(x, np.inf)
     if ok.any():
         lam, _, _ = fun(r[ok])
-        E[ok] = r[ok] * x[ok] - lam
+        E[ok] = np.maximum(r[ok] * x[ok] - lam, 0.0)  # the sup includes r = 0: E ≥ 0
     return r, E
 
 

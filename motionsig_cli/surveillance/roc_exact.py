@@ -36,6 +36,7 @@ from motionsig_cli.surveillance.multiple_access import MANModel
 EXACT_DENSITIES = ("two-point", "uniform", "triangular", "gaussian", "laplace")
 TAIL_DECADES = 40.0  # stop when the binomial weight is this many decades below the running sum
 MAX_TERMS = 20_000
+MAX_MEAN_ACTIVE = 2000.0  # Mq above which the exact sum is refused (too long; the MAN is near Gaussian)
 
 
 def irwin_hall_tail(k: int, t: np.ndarray) -> np.ndarray:
@@ -148,7 +149,7 @@ def exact_roc(model: MANModel, theta: np.ndarray) -> ExactRoc:
             f"the exact ROC is available for a common {', '.join(EXACT_DENSITIES)} density, not {name}; "
             "use Monte Carlo"
         )
-    if model.mean_active > 2000.0:
+    if model.mean_active > MAX_MEAN_ACTIVE:
         raise ValueError(
             f"Mq = {model.mean_active:.4g} overlapping interferers on average: the exact sum is too long; "
             "the MAN is then close to Gaussian (Theorem 3.1)"

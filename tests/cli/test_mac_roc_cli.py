@@ -267,3 +267,23 @@ def test_psk_codes_from_encode(capsys, tmp_path):
     bad.write_text("code,chip,value\na,0,2\n")
     rc, _, err = run(capsys, "mac-roc", "bounds", "--density", "psk", "--code", f"file:{bad}")
     assert rc == 2 and f"{bad}:2" in err
+
+
+def test_exact_too_many_interferers_is_bad_input(capsys):
+    rc, out, err = run(capsys, "mac-roc", "exact", "--N", "1e9", "--ell", "8", "--theta", "0.5")
+    assert rc == 2 and "--N" in err and "too long" in err and out == ""
+    rc, out, _ = run(
+        capsys,
+        "mac-roc",
+        "montecarlo",
+        "--N",
+        "1e9",
+        "--ell",
+        "8",
+        "--theta",
+        "0.5",
+        "--trials",
+        "1000",
+        "-q",
+    )
+    assert rc == 0  # the Monte Carlo still runs; the exact columns stay empty

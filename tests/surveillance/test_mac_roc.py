@@ -540,3 +540,22 @@ def test_exact_roc_does_not_depend_on_the_other_thresholds(name):
     assert both.log_pm[0] == pytest.approx(exact_roc(m, [0.02]).log_pm[0], rel=1e-12)
     o = oracle.exact(name, b_of_ell(40.0), N, TA, 0.98)
     assert math.exp(alone.log_pf[0]) == pytest.approx(o["pf"], rel=1e-9)
+
+
+@pytest.mark.parametrize("name", [*DENSITIES, "arcsine"])
+def test_cgf_has_relative_accuracy_near_zero(name):
+    """ln Φ ≈ bρ²/2 at tiny ρ to full relative precision (ln cosh and ln I₀ without cancellation): the
+    exponents of huge-N models depend on it (N = 1e15 gave E_f < 0 and p_f UB > 1 before)."""
+    d = density(name, 0.01)
+    r = np.array([1e-12, 1e-8, 1e-5])
+    g, g1, _ = d.cgf(r)
+    assert np.allclose(g, 0.5 * 0.01 * r * r, rtol=1e-6)
+    assert np.allclose(g1, 0.01 * r, rtol=1e-6)
+
+
+@pytest.mark.parametrize("name", ["two-point", "uniform", "arcsine", "gaussian"])
+def test_huge_n_exponent_tends_to_the_gaussian_one(name):
+    """Theorem 3.1 in exponent form: with Mq → ∞ at fixed power, E_f(θ) → θ²/(2P) (and E ≥ 0 always)."""
+    m = MANModel.common(10**15, TA, density(name, b_of_ell(8.0)))
+    _, E = chernoff(m, [0.5])
+    assert E[0] == pytest.approx(0.25 / (2 * m.power), rel=1e-6)
