@@ -508,8 +508,11 @@ def bounds(
     if with_exact and not exact_ok:
         raise typer.BadParameter(f"no exact ROC for the {info['density']} density", param_hint="--exact")
     n_mc = _count(mc_trials, "--montecarlo") if mc_trials is not None else None
-    if n_mc is not None and n_mc > MAX_TRIALS:
-        raise typer.BadParameter(f"at most {MAX_TRIALS:.0e} trials", param_hint="--montecarlo")
+    if n_mc is not None and sum(exp.expected_draws(m, n_mc) for _, m in models) > exp.MAX_TOTAL_DRAWS:
+        raise typer.BadParameter(
+            f"too many amplitude draws (trials x overlapping interferers > {exp.MAX_TOTAL_DRAWS:.0e})",
+            param_hint="--montecarlo",
+        )
     if n_mc is not None and at_pd is not None:
         raise typer.BadParameter(
             "the Monte Carlo overlay needs a theta grid, not --at-pd", param_hint="--montecarlo"
@@ -759,6 +762,14 @@ def montecarlo(
         )
     realisable = _warn_realisable(models, quiet)
     th = _thetas(theta)
+    runs = 2 * th.size if importance else 1
+    draws = sum(exp.expected_draws(m, n_trials, runs) for _, m in models)
+    if draws > exp.MAX_TOTAL_DRAWS:
+        raise typer.BadParameter(
+            f"{draws:.3g} amplitude draws expected (trials x {models[0][1].mean_active:.4g} overlapping interferers"
+            f"{' x 2 x thresholds' if importance else ''}); at most {exp.MAX_TOTAL_DRAWS:.0e}",
+            param_hint="--trials",
+        )
     rows = []
     panels = []
     power_checks = []

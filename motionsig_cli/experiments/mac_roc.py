@@ -53,6 +53,14 @@ FIG310_G_RANGE = (0.0, 20.0)  # [ASSUMPTION] covers the text's 12.5
 FIG32_B = 1.0 / 3.0  # [ASSUMPTION] b = 1/3 so that C₁ = U(−1, 1)
 
 BLOCK = 65_536  # trials per random block (the unit of reproducibility)
+MAX_DRAWS = 4_000_000  # amplitudes drawn at once (memory bound)
+MAX_TOTAL_DRAWS = 5e9  # expected amplitude draws of one command (run-time bound, checked by the CLI)
+
+
+def expected_draws(model: MANModel, trials: int, runs: int = 1) -> float:
+    """Expected number of amplitudes a Monte Carlo of ``trials`` draws (Mq per trial, ``runs`` times)."""
+    return float(trials) * max(model.mean_active, 1.0) * runs
+
 
 FIGURES = {
     "3.2": "densities",
@@ -170,15 +178,25 @@ def noise_samples(model: MANModel, rng: np.random.Generator, n: int, r: float = 
             continue
         if r == 0.0:
             p_active = model.q
-            K = rng.binomial(m, p_active, size=n)
-            amps = dens.sample(rng, int(K.sum()))
         else:
             g = float(dens.cgf(np.array([r]))[0][0])
             p_active = float(expit(math.log(model.q) + g - math.log1p(-model.q)))  # w(r)
-            K = rng.binomial(m, p_active, size=n)
-            amps = dens.sample_tilted(rng, r, int(K.sum()))
-        out += np.bincount(np.repeat(np.arange(n), K), weights=amps, minlength=n)
+        K = rng.binomial(m, p_active, size=n)
+        ends = np.cumsum(K)
+        start = 0
+        while start < n:  # amplitudes in slices of at most MAX_DRAWS (bounded memory for huge Mq)
+            base = int(ends[start - 1]) if start else 0
+            stop = max(start + 1, int(np.searchsorted(ends, base + MAX_DRAWS, side="right")))
+            count = int(ends[stop - 1]) - base
+            amps = dens.sample(rng, count) if r == 0.0 else dens.sample_tilted(rng, r, count)
+            out[start:stop] += _sum_per_trial(K[start:stop], amps)
+            start = stop
     return out
+
+
+def _sum_per_trial(K: np.ndarray, amps: np.ndarray) -> np.ndarray:
+    """Σ of each trial's K amplitudes (consecutive in ``amps``)."""
+    return np.bincount(np.repeat(np.arange(K.size), K), weights=amps, minlength=K.size)
 
 
 def n_blocks(trials: int) -> list[tuple[int, int]]:

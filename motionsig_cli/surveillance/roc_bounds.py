@@ -101,7 +101,7 @@ def _newton_bisect(
         lo = np.where(f < 0.0, r, lo)
         hi = np.where(f > 0.0, r, hi)
         done = (f == 0.0) | (hi - lo <= 4e-16 * hi)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             step = r - f / df if newton else np.full_like(r, np.nan)
         inside = np.isfinite(step) & (step > lo) & (step < hi)
         r_new = np.where(done, r, np.where(inside, step, 0.5 * (lo + hi)))

@@ -287,3 +287,20 @@ def test_exact_too_many_interferers_is_bad_input(capsys):
         "-q",
     )
     assert rc == 0  # the Monte Carlo still runs; the exact columns stay empty
+
+
+def test_montecarlo_refuses_an_impossible_workload(capsys, tmp_path):
+    rc, out, err = run(
+        capsys,
+        "mac-roc",
+        "montecarlo",
+        "--N",
+        "1e12",
+        "--ell",
+        "8",
+        "--theta",
+        "0.5",
+        "-o",
+        str(tmp_path / "x.csv"),
+    )
+    assert rc == 2 and "--trials" in err and "amplitude draws" in err and not (tmp_path / "x.csv").exists()

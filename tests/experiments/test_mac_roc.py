@@ -154,3 +154,14 @@ def test_theta_grid_and_figure_routing():
 def test_fig_3_2_densities_have_equal_second_moment():
     for rid, name, *_ in exp.density_curves():
         assert exp.second_moment(density(name, exp.FIG32_B)) == pytest.approx(exp.FIG32_B, rel=1e-8), rid
+
+
+def test_amplitudes_are_drawn_in_bounded_slices(monkeypatch):
+    """With many overlapping interferers the amplitudes are drawn in slices of at most MAX_DRAWS: the
+    per-trial sums are the same as one big draw (uniform draws are sequential in the stream)."""
+    m = MANModel.common(10**7, 2e-5, density("two-point", b_of_ell(8.0)))  # Mq = 400
+    whole = exp.noise_samples(m, np.random.default_rng(1), 3000)
+    monkeypatch.setattr(exp, "MAX_DRAWS", 1000)
+    sliced = exp.noise_samples(m, np.random.default_rng(1), 3000)
+    assert np.allclose(sliced, whole, rtol=0, atol=1e-12)
+    assert exp.expected_draws(m, 1000, 2) == pytest.approx(2 * 1000 * m.mean_active)
