@@ -32,7 +32,6 @@ from motionsig_cli.surveillance.amplitude import (
     AmplitudeDensity,
     Gaussian,
     TwoPoint,
-    Uniform,
     b_of_ell,
     density,
 )
@@ -352,8 +351,7 @@ def second_moment(dens: AmplitudeDensity) -> float:
         return float(np.dot(w, x * x))
     lim = 12.0 * math.sqrt(dens.b) if isinstance(dens, Gaussian) else dens.max_abs
     x = np.linspace(-lim, lim, 200_001)
-    pdf = dens.pdf(x) if not isinstance(dens, Uniform) else np.where(np.abs(x) <= dens.a, 0.5 / dens.a, 0.0)
-    return float(np.trapezoid(x * x * pdf, x))
+    return float(np.trapezoid(x * x * dens.pdf(x), x))
 
 
 # --- the printed numbers of §3 --------------------------------------------------------------------

@@ -178,7 +178,7 @@ def test_spec_t2_bounds_and_exact(name):
     assert math.exp(e.log_pf[0]) == pytest.approx(ex, rel=1e-5)
     assert rb.log_pm_up[0] == pytest.approx(rb.log_pf_up[0], rel=1e-12)
     assert rb.log_pm_lo[0] == pytest.approx(rb.log_pf_lo[0], rel=1e-10)
-    assert e.log_pm[0] == pytest.approx(e.log_pf[0], rel=1e-12) or name == "two-point"
+    assert e.log_pm[0] == pytest.approx(e.log_pf[0], rel=1e-12)  # θ/A = 6.93 is off the lattice
 
 
 CASES = [
