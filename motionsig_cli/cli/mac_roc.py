@@ -96,6 +96,8 @@ def _count(text: str, option: str, *, lo: int = 1) -> int:
 
 
 def _tau_over_alpha(value: float) -> float:
+    if math.isfinite(value) and 0.0 < value < 1e-50:
+        raise typer.BadParameter(f"{value:g} is below 1e-50 (q underflows the log-MGF)")
     if not (math.isfinite(value) and 0.0 < value < 0.5):
         raise typer.BadParameter(
             f"{value:g} is not in (0, 0.5): q = 2 tau/alpha must be < 1 (the window would overlap itself)"
@@ -248,6 +250,8 @@ def _models(
             param_hint="--density",
         )
     N_ = _count(N, "--N")
+    if N_ == 1:
+        raise typer.BadParameter("N = 1 has no interferers: p_f = 0 and p_d = 1 exactly", param_hint="--N")
     info: dict[str, object] = {"density": key}
     if key == "psk":
         if ells is not None or bs is not None:
@@ -459,7 +463,12 @@ def _curves_for_plot(ell: float, rb: RocBounds) -> dict[str, tuple[np.ndarray, n
 @app.command()
 def bounds(
     figure: Annotated[str | None, typer.Option("--figure", help="Fig. 3.3 (C1) … 3.6 (C4) settings.")] = None,
-    density_name: DensityOpt = "two-point",
+    density_name: Annotated[
+        str | None,
+        typer.Option(
+            "--density", help="Amplitude density (as for the other subcommands; default two-point)."
+        ),
+    ] = None,
     ell: EllOpt = None,
     b: BOpt = None,
     N: NOpt = "100000",
@@ -497,10 +506,11 @@ def bounds(
     fig = _figure(figure, "bounds")
     if fig is not None:
         wanted = exp.DENSITY_OF_FIGURE[fig]
-        given = REPORT_IDS.get(density_name.upper(), density_name.lower())
-        if given != "two-point" and given != wanted:
+        given = None if density_name is None else REPORT_IDS.get(density_name.upper(), density_name.lower())
+        if given is not None and given != wanted:
             raise typer.BadParameter(f"Fig. {fig} is drawn for the {wanted} density", param_hint="--density")
         density_name = wanted
+    density_name = density_name or "two-point"
     models, info = _models(density_name, ell, b, N, tau_over_alpha, code, interferers)
     realisable = _warn_realisable(models, quiet)
     variant = lower_variant.value

@@ -85,7 +85,8 @@ def quasi_optimal_exponent_approx(theta: np.ndarray, p: float, N: float, tau_ove
     N, q = _check(N, tau_over_alpha)
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
     z = theta / np.sqrt(N * q * p)
-    return theta * np.sqrt(N * q / p) * np.arcsinh(z) - N * np.log1p(q * (np.sqrt(1.0 + z * z) - 1.0))
+    root_m1 = z * z / (np.sqrt(1.0 + z * z) + 1.0)  # √(1 + z²) − 1 without cancellation
+    return theta * np.sqrt(N * q / p) * np.arcsinh(z) - N * np.log1p(q * root_m1)
 
 
 def exp_of_gaussian_exponent(G: np.ndarray, N: float, tau_over_alpha: float) -> np.ndarray:
@@ -96,7 +97,8 @@ def exp_of_gaussian_exponent(G: np.ndarray, N: float, tau_over_alpha: float) -> 
         raise ValueError("Exp_g must be >= 0")
     lam = N * tau_over_alpha
     z = np.sqrt(G / lam)
-    return np.sqrt(4.0 * lam * G) * np.arcsinh(z) - N * np.log1p(q * (np.sqrt(1.0 + z * z) - 1.0))
+    root_m1 = z * z / (np.sqrt(1.0 + z * z) + 1.0)  # √(1 + z²) − 1 without cancellation
+    return np.sqrt(4.0 * lam * G) * np.arcsinh(z) - N * np.log1p(q * root_m1)
 
 
 def exp_of_gaussian_exponent_exact(G: np.ndarray, N: float, tau_over_alpha: float) -> np.ndarray:

@@ -305,3 +305,27 @@ def test_montecarlo_refuses_an_impossible_workload(capsys, tmp_path):
     )
     assert rc == 2 and "--trials" in err and "amplitude draws" in err and out == ""
     assert not (tmp_path / "x.csv").exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("bounds", "--N", "1", "--theta", "0.5"), "N = 1"),
+        (("gaussian", "--N", "1", "--theta", "0.5"), "N = 1"),
+        (("bounds", "--tau-over-alpha", "1e-70", "--theta", "0.5"), "1e-50"),
+        (("bounds", "--figure", "3.3", "--density", "two-point"), "uniform density"),
+    ],
+)
+def test_review_findings_are_bad_input(capsys, args, needle):
+    """Found by the adversarial review: N = 1 crashed, tiny tau/alpha gave a false 'lower bound' 0.5, and an
+    explicit two-point density was silently replaced by a figure's density."""
+    rc, out, err = run(capsys, "mac-roc", *args)
+    assert rc == 2 and needle in err and out == ""
+
+
+def test_exponent_has_no_cancellation():
+    from motionsig_cli.surveillance.quasi_optimal import exp_of_gaussian_exponent
+
+    for n in (1e14, 1e20, 1e300):
+        assert exp_of_gaussian_exponent(4.0, n, 1e-5) <= 4.0
+    assert exp_of_gaussian_exponent(1e-14, 1e5, 1e-5) <= 1e-14
