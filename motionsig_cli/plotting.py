@@ -527,3 +527,31 @@ def autocorrelation_figure(lines: list[tuple[str, np.ndarray, np.ndarray]]) -> F
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small")
     return fig
+
+
+def calibration_roc_figure(
+    panels: dict[str, dict[str, tuple[np.ndarray, np.ndarray]]], pfa: float, title: str = ""
+) -> Figure:
+    """Empirical ROC curves of the test max Λ > t (``detect --calibrate``): one panel per ANR, one line per
+    horizon; the dashed line marks the calibrated P_FA.
+
+    Args:
+        panels: panel title → {line label → (P_FA, P_D)}.
+    """
+    fig = Figure(figsize=(3.6 * len(panels), 3.6), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(1, len(panels), sharey=True, squeeze=False)).ravel()
+    for ax, (name, lines) in zip(axes, panels.items(), strict=True):
+        for label, (pf, pd) in lines.items():
+            ax.step(np.maximum(pf, 1e-6), pd, where="post", lw=1, label=label)
+        ax.axvline(pfa, color="k", ls="--", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_xlim(max(1e-4, 0.2 / max(len(next(iter(lines.values()))[0]), 1)), 1.0)
+        ax.set_ylim(-0.02, 1.02)
+        ax.set_title(name, fontsize="medium")
+        ax.set_xlabel("$P_{FA}$ (no signature)")
+        ax.grid(alpha=0.3, which="both")
+    axes[0].set_ylabel("$P_D$ (max Λ > t)")
+    axes[0].legend(title="horizon", fontsize="small")
+    if title:
+        fig.suptitle(title)
+    return fig

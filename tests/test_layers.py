@@ -13,6 +13,8 @@ CORE = [
     "motionsig_cli.signals.correlation",
     "motionsig_cli.tables",
     "motionsig_cli.rng",
+    "motionsig_cli.engine",
+    "motionsig_cli.detection.lmp_fft",
     "motionsig_cli.refdata",
     "motionsig_cli.models.vehicle",
     "motionsig_cli.filters.kalman",

@@ -6,7 +6,7 @@ from __future__ import annotations
 import contextlib
 import math
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
@@ -17,6 +17,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from motionsig_cli.cli.io import InputError, atomic_path, check_output_path
+from motionsig_cli.engine import Engine, EngineError, default_workers, run_tasks
 from motionsig_cli.rng import DEFAULT_SEED
 
 T = TypeVar("T")
@@ -179,3 +180,83 @@ def float_list(text: str, *, what: str = "value") -> list[float]:
     if not all(np.isfinite(out)):
         raise ValueError(f"{what} must be finite; got {text!r}")
     return out
+
+
+# ------------------------------------------------------------------ the Monte Carlo engine options
+WorkersOpt = Annotated[
+    int | None,
+    typer.Option(
+        "--workers",
+        help="Local worker processes (default: the machine's cores); with --scheduler local, Dask workers.",
+    ),
+]
+SchedulerOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--scheduler",
+        help="Run on a Dask cluster: a scheduler address (tcp://host:port) or 'local' (a LocalCluster on "
+        "127.0.0.1). Needs the dask extra: pip install 'motionsig_cli[dask]'.",
+    ),
+]
+CheckpointOpt = Annotated[
+    Path | None,
+    typer.Option(
+        "--checkpoint",
+        help="Keep finished chunks in this directory; rerun with it to resume an interrupted run "
+        "(same result as an uninterrupted one).",
+    ),
+]
+
+
+def make_engine(workers: int | None, scheduler: str | None, checkpoint: Path | None) -> Engine:
+    """The engine of ``--workers/--scheduler/--checkpoint`` (a bad value is a one-line usage error)."""
+    try:
+        return Engine(default_workers() if workers is None else workers, scheduler, checkpoint)
+    except EngineError as exc:
+        raise typer.BadParameter(str(exc), param_hint=exc.option) from None
+
+
+def run_monte_carlo(
+    fn: Callable[[Any], T],
+    tasks: Sequence[Any],
+    engine: Engine,
+    *,
+    sizes: Sequence[int],
+    identity: dict[str, Any],
+    label: str,
+    quiet: bool,
+) -> list[T]:
+    """Run the tasks on ``engine`` with a progress bar counting finished trials across workers (see
+    :func:`engine_session` for errors and Ctrl-C)."""
+    with engine_session(engine, int(sum(sizes)), label, quiet) as advance:
+        return run_tasks(fn, tasks, engine, sizes=sizes, progress=advance, identity=identity)
+
+
+@contextlib.contextmanager
+def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Iterator[Callable[[int], None]]:
+    """A progress callback (finished trials) for an engine run inside the ``with`` block.
+
+    An engine error (scheduler unreachable, foreign checkpoint) is a one-line usage error naming the
+    option; Ctrl-C is one line and exit code 130 (no output is written: commands write after the
+    block), with a hint to resume when a checkpoint is kept.
+    """
+    finished = [0]
+    try:
+        with progress(quiet) as bar:
+            task = bar.add_task(label, total=total)
+
+            def advance(n: int) -> None:
+                finished[0] += n
+                bar.advance(task, n)
+
+            yield advance
+    except EngineError as exc:
+        raise typer.BadParameter(str(exc), param_hint=exc.option) from None
+    except KeyboardInterrupt:
+        hint = (
+            f"; rerun with --checkpoint {engine.checkpoint} to resume"
+            if engine.checkpoint is not None
+            else " (--checkpoint DIR keeps finished chunks)"
+        )
+        typer.echo(f"motionsig: interrupted after {finished[0]}/{total} trials{hint}", err=True)
+        raise typer.Exit(130) from None

@@ -13,18 +13,22 @@ import typer
 
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
+    CheckpointOpt,
     DebugOpt,
     FormatOpt,
     OutOpt,
     OutputFormat,
     PlotOpt,
     QuietOpt,
+    SchedulerOpt,
     SeedOpt,
+    WorkersOpt,
     check_outputs,
     checked,
+    engine_session,
     float_list,
+    make_engine,
     note,
-    progress,
     save_figure,
 )
 from motionsig_cli.cli.detect_radar import detect_radar_record, montecarlo_radar, radar_config
@@ -38,7 +42,9 @@ from motionsig_cli.cli.records import (
     uniform_times,
 )
 from motionsig_cli.detection.lmp import LMPConfig, candidate_grid, lmp_detect
-from motionsig_cli.experiments.lmp1d import SEED_ANR_LABELS, anr_db, monte_carlo
+from motionsig_cli.detection.lmp_fft import check_fft_config, lmp_detect_fft
+from motionsig_cli.engine import Engine
+from motionsig_cli.experiments.lmp1d import SEED_ANR_LABELS, MCSpec, anr_db, calibrate, monte_carlo, roc_curve
 from motionsig_cli.filters.unscented import SigmaPointParams
 from motionsig_cli.models.vehicle import Q0_DIAG, Vehicle1D
 from motionsig_cli.signals.correlation import to_bipolar
@@ -94,6 +100,13 @@ class FilterKind(StrEnum):
     auto = "auto"
     kf = "kf"
     ukf = "ukf"
+
+
+class Method(StrEnum):
+    """How the 1-D statistic is computed."""
+
+    bank = "bank"
+    fft = "fft"
 
 
 class ExampleKind(StrEnum):
@@ -184,8 +197,20 @@ def detect(
         typer.Option("--Q0", help="Per-step H0 Q: 1d [x, xdot, r, rdot] (eq 56); 2d 8 values (eq 61)."),
     ] = None,
     Qa: Annotated[
-        float, typer.Option("--Qa", help="1d: per-step Q of the amplitude state (eq 57: 10^0).")
-    ] = 1.0,
+        float | None,
+        typer.Option(
+            "--Qa",
+            help="1d: per-step Q of the amplitude state (eq 57: 10^0; --method fft: 0, which it needs).",
+        ),
+    ] = None,
+    method: Annotated[
+        Method,
+        typer.Option(
+            "--method",
+            help="1d: bank (2C+1 Kalman filters, eq 52) or fft (one steady-state filter and FFT "
+            "cross-correlations; exact identity for Qa = 0, steady-state approximation).",
+        ),
+    ] = Method.bank,
     Q1: Annotated[str | None, typer.Option("--Q1", help="2d: per-step H1 Q, 10 values (eq 62).")] = None,
     filter_: Annotated[
         FilterKind,
@@ -261,6 +286,22 @@ def detect(
     no_signature: Annotated[
         bool, typer.Option("--no-signature", help="Monte Carlo under H0 (argmax should be uniform).")
     ] = False,
+    calibrate_: Annotated[
+        bool,
+        typer.Option(
+            "--calibrate",
+            help="1d: the null distribution of max Lambda (no signature), the threshold for --pfa and "
+            "P_D at it vs horizon and ANR; --plot draws ROC curves.",
+        ),
+    ] = False,
+    pfa: Annotated[float, typer.Option("--pfa", help="--calibrate: target false-alarm probability.")] = 0.01,
+    null_trials: Annotated[
+        int | None,
+        typer.Option("--null-trials", min=1, help="--calibrate: null trials per cell (default 20 / pfa)."),
+    ] = None,
+    workers: WorkersOpt = None,
+    scheduler: SchedulerOpt = None,
+    checkpoint: CheckpointOpt = None,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     plot: PlotOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
@@ -282,10 +323,13 @@ def detect(
       motionsig detect --montecarlo --example 2d --trials 50 --plot fig7.png
     """
     check_outputs(out, plot)
+    engine = make_engine(workers, scheduler, checkpoint)
     sigma = checked("--alpha/--kappa", SigmaPointParams, alpha=alpha, beta=beta, kappa=kappa)
-    if example is ExampleKind.two_d or (not montecarlo and _record_example(source) == "2d"):
+    if example is ExampleKind.two_d or (not (montecarlo or calibrate_) and _record_example(source) == "2d"):
         for opt, given in (
-            ("--Qa", Qa != 1.0),
+            ("--Qa", Qa is not None),
+            ("--method", method is not Method.bank),
+            ("--calibrate", calibrate_),
             ("--Ar", Ar_ is not Ar.cv),
             ("--weights", weights is not Weights.paper),
             ("--center", center is not Center.none),
@@ -299,6 +343,21 @@ def detect(
             raise typer.BadParameter("applies to the 2d example only", param_hint="--anr-pairs/--Q1")
         if filter_ is FilterKind.ukf:
             checked("--alpha/--kappa", sigma.weights, 4)  # the 4-state H0 filter
+    if method is Method.fft and filter_ is FilterKind.ukf:
+        raise typer.BadParameter(
+            "the FFT path replaces the filter bank: drop --filter ukf", param_hint="--method"
+        )
+    if Qa is None:
+        Qa = 0.0 if method is Method.fft else 1.0
+    if calibrate_:
+        if not 0 < pfa < 1:
+            raise typer.BadParameter(f"must lie in (0, 1), got {pfa:g}", param_hint="--pfa")
+        _calibrate(
+            c_r, Q0, Qa, P0, Ar_, tau_grid, fc_grid, include_logdet, weights, center, zdot, horizons, trials,
+            null_trials or math.ceil(20 / pfa), pfa, fr_list or "0.01", R_list, seed, method, engine, plot, fmt,
+            out, quiet,
+        )  # fmt: skip
+        return
     if montecarlo and example is ExampleKind.two_d:
         if filter_ is FilterKind.kf:
             raise typer.BadParameter(
@@ -306,7 +365,7 @@ def detect(
             )
         montecarlo_radar(
             radar_config(c_r, Q0, Q1, P0, tau_grid, fc_grid, include_logdet, zdot, sigma),
-            horizons, trials, fr_list or "0.01", anr_pairs, no_signature, seed, plot, fmt, out, quiet,
+            horizons, trials, fr_list or "0.01", anr_pairs, no_signature, seed, plot, fmt, out, quiet, engine,
         )  # fmt: skip
         return
     if montecarlo:
@@ -338,6 +397,8 @@ def detect(
             fmt,
             out,
             quiet,
+            method,
+            engine,
         )
         return
     table_in = _TABLE_CACHE.pop(source, None) or read_table(source, required=("t",))
@@ -376,12 +437,14 @@ def detect(
     cfg = _lmp_config(
         c_r, Q0 or Q0_DEFAULT, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot
     )
+    if method is Method.fft:
+        checked("--method", check_fft_config, cfg)
     hs = parse_horizons(horizons, times.size * T, T)
     hz = [round(h / T) for h in hs]
     n_used = max(hz)  # the bank runs only as far as the longest horizon
     n_cand = len(candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg))
     need_gb = (2 * n_cand + 1) * n_used * 7 * 8 / 1e9  # gains, S⁻¹, log det per filter and step
-    if need_gb > MAX_BANK_GB:
+    if need_gb > MAX_BANK_GB and method is Method.bank:
         raise typer.BadParameter(
             f"the bank of {2 * n_cand + 1} filters over {n_used} samples needs ~{need_gb:.1f} GB "
             f"(limit {MAX_BANK_GB} GB): use shorter --horizons or a coarser grid",
@@ -392,7 +455,11 @@ def detect(
         raise typer.BadParameter(
             "the sigma-point bank supports --center none and --weights paper only", param_hint="--filter"
         )
-    res = lmp_detect(y[:n_used], chips, vehicle, m_rho, cfg, hz, filter=kind, sigma=sigma)
+    res = (
+        checked("--method", lmp_detect_fft, y[:n_used], chips, vehicle, m_rho, cfg, hz)
+        if method is Method.fft
+        else lmp_detect(y[:n_used], chips, vehicle, m_rho, cfg, hz, filter=kind, sigma=sigma)
+    )
     params = dict(
         source=src,
         c_r=cfg.c_r,
@@ -409,6 +476,7 @@ def detect(
         horizons_s=hs,
         threshold=threshold,
         filter=kind,
+        method=method.value,
         **(sigma_meta(sigma, res.repairs) if kind == "ukf" else {}),
         input_meta=meta,
     )
@@ -452,6 +520,8 @@ def _montecarlo(
     fmt: OutputFormat,
     out: Path | None,
     quiet: bool,
+    method: Method = Method.bank,
+    engine: Engine | None = None,
 ) -> None:
     frs = checked("--fr-list", float_list, fr_list, what="frequency")
     Rs = checked("--R-list", float_list, R_list, what="variance")
@@ -471,9 +541,15 @@ def _montecarlo(
     )
     if min(hs) <= 0:
         raise typer.BadParameter("horizons must be > 0 seconds", param_hint="--horizons")
+    if method is Method.fft:
+        checked("--method", check_fft_config, cfg)
     chips = to_bipolar(table1_codes("corrected")).astype(float)
-    with progress(quiet) as bar:
-        task = bar.add_task("Monte Carlo trials", total=trials * len(Rs))
+    engine = engine or Engine()
+    identity = dict(
+        command="detect --montecarlo", method=method.value, cfg=repr(cfg), fr_list=frs, R_list=Rs, horizons_s=hs,
+        trials=trials, seed=seed, signature=not no_signature,
+    )  # fmt: skip
+    with engine_session(engine, trials * len(Rs), "Monte Carlo trials", quiet) as advance:
         cells = monte_carlo(
             vehicle,
             chips,
@@ -485,8 +561,11 @@ def _montecarlo(
             hs,
             trials,
             seed,
-            on_chunk=lambda n: bar.advance(task, n),
+            on_chunk=advance,
             signature=not no_signature,
+            method=method.value,
+            engine=engine,
+            identity=identity,
         )
     rows = []
     for cell in cells:
@@ -510,6 +589,7 @@ def _montecarlo(
     n_cand = len(candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg))
     meta = make_meta(
         "detect --montecarlo",
+        method=method.value,
         trials=trials,
         fr_list=frs,
         R_list=Rs,
@@ -573,3 +653,131 @@ def _montecarlo(
         )
     emit(table, fmt.value, out)
     note(f"{len(cells)} cells x {trials} trials; chance level {100.0 / n_cand:.2f} %", quiet)
+
+
+def _calibrate(
+    c_r: float,
+    Q0: str | None,
+    Qa: float,
+    P0: float,
+    Ar_: Ar,
+    tau_grid: TauGrid,
+    fc_grid: str | None,
+    include_logdet: bool,
+    weights: Weights,
+    center: Center,
+    zdot: Zdot,
+    horizons: str | None,
+    trials: int,
+    null_trials: int,
+    pfa: float,
+    fr_list: str,
+    R_list: str,
+    seed: int,
+    method: Method,
+    engine: Engine,
+    plot: Path | None,
+    fmt: OutputFormat,
+    out: Path | None,
+    quiet: bool,
+) -> None:
+    """``detect --calibrate``: threshold of max Λ for a false-alarm probability, and P_D at it."""
+    frs = checked("--fr-list", float_list, fr_list, what="frequency")
+    Rs = checked("--R-list", float_list, R_list, what="variance")
+    if min(Rs) <= 0:
+        raise typer.BadParameter("measurement variances must be > 0", param_hint="--R-list")
+    if min(frs) < 0:
+        raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
+    vehicle = Vehicle1D()
+    f_c, m_rho = 1.0, 20
+    cfg = _lmp_config(
+        c_r, Q0 or Q0_DEFAULT, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot
+    )
+    if method is Method.fft:
+        checked("--method", check_fft_config, cfg)
+    hs = (
+        parse_horizons(horizons, 80.0, vehicle.T)
+        if horizons is None
+        else checked("--horizons", float_list, horizons, what="horizon")
+    )
+    if min(hs) <= 0 or round(min(hs) / vehicle.T) < 1:
+        raise typer.BadParameter(f"horizons must be >= {vehicle.T:g} seconds", param_hint="--horizons")
+    chips = to_bipolar(table1_codes("corrected")).astype(float)
+    spec = MCSpec(vehicle, chips, m_rho, f_c, cfg, tuple(frs), tuple(hs), seed, True, method.value)
+    identity = dict(
+        command="detect --calibrate", method=method.value, cfg=repr(cfg), fr_list=frs, R_list=Rs, horizons_s=hs,
+        trials=trials, null_trials=null_trials, pfa=pfa, seed=seed,
+    )  # fmt: skip
+    total = (trials + null_trials) * len(Rs)
+    with engine_session(engine, total, "Calibration trials (null + signature)", quiet) as advance:
+        cal = checked(
+            "--pfa",
+            calibrate,
+            spec,
+            Rs,
+            trials,
+            null_trials,
+            pfa,
+            engine=engine,
+            on_chunk=advance,
+            identity=identity,
+        )
+    rows = []
+    for c in cal.cells:
+        lin, l10, lnl = anr_db(c.R, vehicle.a_sig)
+        rows.append(
+            (c.f_r, c.R, lin, l10, lnl, SEED_ANR_LABELS.get(c.R, ""), c.horizon_s, c.pfa, c.threshold,
+             c.false_alarms / c.null_trials, c.null_trials, c.pd, c.pd_se, c.detections_correct / c.trials,
+             c.trials)
+        )  # fmt: skip
+    meta = make_meta(
+        "detect --calibrate",
+        method=method.value,
+        pfa=pfa,
+        trials=trials,
+        null_trials=null_trials,
+        fr_list=frs,
+        R_list=Rs,
+        horizons_s=hs,
+        seed=seed,
+        c_r=cfg.c_r,
+        Q0=list(cfg.Q0),
+        Q_a=cfg.Q_a,
+        P0=cfg.P0,
+        A_r=cfg.A_r,
+        tau_grid=cfg.tau_grid,
+        fc_grid=list(cfg.fc_grid),
+        include_logdet=cfg.include_logdet,
+        T=vehicle.T,
+        m_rho=m_rho,
+        f_c=f_c,
+        codes="corrected",
+        statistic="max over candidates of Lambda (eq 29); declare present when it exceeds the threshold",
+        threshold_rule="order statistic of the null maxima leaving at most floor(pfa * null_trials) above it",
+        trial_streams="signature trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)); "
+        "null trial t: spawn_key=(2^40 + t, 0|1|2), drawn with no signature",
+    )
+    table = Table(
+        ("f_r", "R", "anr_linear", "anr_db_log10", "anr_db_paper_ln", "seed_anr_label", "horizon_s", "pfa_target",
+         "threshold", "pfa_in_sample", "null_trials", "pd", "pd_se", "pd_and_correct", "trials"),
+        rows,
+        meta,
+    )  # fmt: skip
+    if plot is not None:
+        from motionsig_cli.plotting import calibration_roc_figure
+
+        panels: dict[str, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
+        for R in Rs:
+            for f, fr in enumerate(frs):
+                name = f"ANR {anr_db(R, vehicle.a_sig)[2]:.1f} (R={R:g})" + (
+                    f", f_r={fr:g}" if len(frs) > 1 else ""
+                )
+                panels[name] = {
+                    f"{h:g} s": roc_curve(cal.null[R][f, :, j], cal.signal[R][f, :, j])
+                    for j, h in enumerate(hs)
+                }
+        save_figure(
+            calibration_roc_figure(panels, pfa, f"{method.value}: {trials} + {null_trials} null trials"), plot
+        )
+    emit(table, fmt.value, out)
+    note(f"{len(cal.cells)} cells; threshold for P_FA = {pfa:g} from {null_trials} null trials each", quiet)

@@ -10,7 +10,15 @@ from typing import Any
 import numpy as np
 import typer
 
-from motionsig_cli.cli.common import OutputFormat, checked, float_list, int_list, note, progress, save_figure
+from motionsig_cli.cli.common import (
+    OutputFormat,
+    checked,
+    engine_session,
+    float_list,
+    int_list,
+    note,
+    save_figure,
+)
 from motionsig_cli.cli.io import InputError, Table, emit, make_meta
 from motionsig_cli.cli.records import (
     emit_record_result,
@@ -21,6 +29,7 @@ from motionsig_cli.cli.records import (
     uniform_times,
 )
 from motionsig_cli.detection.lmp import RadarLMPConfig, candidate_grid, lmp_detect_radar
+from motionsig_cli.engine import Engine
 from motionsig_cli.experiments.lmp2d import monte_carlo_2d
 from motionsig_cli.filters.unscented import SigmaPointParams
 from motionsig_cli.models.vehicle2d import Q0_2D, Q1_2D, SEED_ANR_PAIRS, Vehicle2D, anr_pair_variances
@@ -222,6 +231,7 @@ def montecarlo_radar(
     fmt: OutputFormat,
     out: Path | None,
     quiet: bool,
+    engine: Engine | None = None,
 ) -> None:
     """Fig 7: % correct (i, τ) vs horizon for Fig 7's (angle, range) ANR pairs."""
     frs = checked("--fr-list", float_list, fr_list, what="frequency")
@@ -248,8 +258,13 @@ def montecarlo_radar(
     n = round(max(hs) / vehicle.T)
     _check_size(2 * n_cand + 1, trials * len(frs) * len(pair_ids), n, "--trials", min(trials, 25))
     pairs = [anr_pair_variances(p, vehicle.a_sig) for p in pair_ids]
-    with progress(quiet) as bar:
-        task = bar.add_task("Monte Carlo trials (2-D radar)", total=trials * len(pairs) * len(frs))
+    engine = engine or Engine()
+    identity = dict(
+        command="detect --montecarlo --example 2d", cfg=repr(cfg), fr_list=frs, pairs=pairs, horizons_s=hs,
+        trials=trials, seed=seed, signature=not no_signature,
+    )  # fmt: skip
+    total = trials * len(pairs) * len(frs)
+    with engine_session(engine, total, "Monte Carlo trials (2-D radar)", quiet) as advance:
         cells = monte_carlo_2d(
             vehicle,
             chips,
@@ -261,9 +276,10 @@ def montecarlo_radar(
             hs,
             trials,
             seed,
-            chunk=25,
-            on_chunk=lambda k: bar.advance(task, k),
+            on_chunk=advance,
             signature=not no_signature,
+            engine=engine,
+            identity=identity,
         )
     rows = []
     for cell in cells:

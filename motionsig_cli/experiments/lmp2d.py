@@ -10,10 +10,13 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
+from typing import Any
 
 import numpy as np
 
 from motionsig_cli.detection.lmp import RadarLMPConfig, lmp_detect_radar
+from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.experiments.lmp1d import CorrectRates, TrialDraw, draw_trial, signature_batch
 from motionsig_cli.models.vehicle2d import Vehicle2D, simulate_2d
 
@@ -56,6 +59,38 @@ class RadarMCCell(CorrectRates):
     repairs: int  # covariance repairs (state + innovation) in this pair's banks, over all horizons
 
 
+@dataclass(frozen=True)
+class RadarMCSpec:
+    """Everything a Fig 7 Monte Carlo task needs (picklable)."""
+
+    vehicle: Vehicle2D
+    chips: np.ndarray
+    m_rho: int
+    f_c: float
+    cfg: RadarLMPConfig
+    horizons_s: tuple[float, ...]
+    seed: int
+    signature: bool = True
+
+
+def radar_task(
+    spec: RadarMCSpec, task: tuple[float, int, float, float, range]
+) -> tuple[np.ndarray, np.ndarray, int]:
+    """One task: trials ``task[4]`` of one (f_r, pair) → (% correct counts (H,), mode counts (H,), repairs)."""
+    fr, _, R_range, R_bearing, ids = task
+    veh = replace(spec.vehicle, f_r=fr, R_range=R_range, R_bearing=R_bearing)
+    n = round(max(spec.horizons_s) / veh.T)
+    hz = [round(h / veh.T) for h in spec.horizons_s]
+    sim, draws = simulate_trials_2d(veh, spec.chips, spec.m_rho, spec.f_c, n, spec.seed, list(ids),
+                                    signature=spec.signature)  # fmt: skip
+    res = lmp_detect_radar(sim["y"], spec.chips, veh, spec.m_rho, spec.cfg, hz)
+    best, _ = res.best()  # (B, H)
+    c = res.candidates
+    ok_mode = c.mode[best] == np.array([d.mode for d in draws])[:, None]
+    ok = ok_mode & (c.tau[best] == np.array([d.tau for d in draws])[:, None])
+    return ok.sum(0), ok_mode.sum(0), int(sum(res.repairs))
+
+
 def monte_carlo_2d(
     vehicle: Vehicle2D,
     chips: np.ndarray,
@@ -68,36 +103,40 @@ def monte_carlo_2d(
     trials: int,
     seed: int,
     *,
-    chunk: int = 50,
+    chunk: int | None = None,
     on_chunk: Callable[[int], None] | None = None,
     signature: bool = True,
+    engine: Engine | None = None,
+    identity: dict[str, Any] | None = None,
 ) -> list[RadarMCCell]:
     """% correct (i, τ) vs horizon for every reference frequency and (R_κ, R_χ) pair — Fig 7.
 
     One record per trial (the longest horizon) serves every horizon; trial t uses the same draws in
-    every pair (common random numbers), so pairs differ only by the noise level.
+    every pair (common random numbers), so pairs differ only by the noise level. Tasks of ≥ 0.1 s
+    (a sigma-point trial costs ≈ 1.6 µs per filter-step, 2C + 1 filters) run on ``engine``.
     """
+    spec = RadarMCSpec(vehicle, np.asarray(chips, float), m_rho, f_c, cfg, tuple(horizons_s), seed, signature)
     n = round(max(horizons_s) / vehicle.T)
-    hz = [round(h / vehicle.T) for h in horizons_s]
+    C = chips.shape[0] * chips.shape[1] * (m_rho if cfg.tau_grid == "samples" else 1) * len(cfg.fc_grid)
+    per = chunk or min(50, trials_per_task(n * (2 * C + 1) * 1.6e-6))
+    keys = [(fr, p, pr) for fr in fr_list for p, pr in enumerate(pairs, start=1)]
+    tasks = [
+        (float(fr), p, float(pr[0]), float(pr[1]), r) for fr, p, pr in keys for r in tasks_of(trials, per)
+    ]
+    results = run_tasks(
+        partial(radar_task, spec),
+        tasks,
+        engine or Engine(),
+        sizes=[len(t[4]) for t in tasks],
+        progress=on_chunk,
+        identity=identity,
+    )
     cells: list[RadarMCCell] = []
-    for fr, p, (R_range, R_bearing) in ((fr, p, pr) for fr in fr_list for p, pr in enumerate(pairs, start=1)):
-        veh = replace(vehicle, f_r=fr, R_range=R_range, R_bearing=R_bearing)
-        ok_n = np.zeros(len(hz), int)
-        okm_n = np.zeros(len(hz), int)
-        repairs = 0
-        for start in range(0, trials, chunk):
-            ids = list(range(start, min(trials, start + chunk)))
-            sim, draws = simulate_trials_2d(veh, chips, m_rho, f_c, n, seed, ids, signature=signature)
-            res = lmp_detect_radar(sim["y"], chips, veh, m_rho, cfg, hz)
-            best, _ = res.best()  # (B, H)
-            c = res.candidates
-            ok_mode = c.mode[best] == np.array([d.mode for d in draws])[:, None]
-            ok = ok_mode & (c.tau[best] == np.array([d.tau for d in draws])[:, None])
-            ok_n += ok.sum(0)
-            okm_n += ok_mode.sum(0)
-            repairs += sum(res.repairs)
-            if on_chunk:
-                on_chunk(len(ids))
+    for fr, p, (R_range, R_bearing) in keys:
+        mine = [res for t, res in zip(tasks, results, strict=True) if t[0] == fr and t[1] == p]
+        ok_n = np.sum([m[0] for m in mine], axis=0)
+        okm_n = np.sum([m[1] for m in mine], axis=0)
+        repairs = sum(m[2] for m in mine)
         for j, hs in enumerate(horizons_s):
             cells.append(
                 RadarMCCell(

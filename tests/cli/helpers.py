@@ -16,3 +16,19 @@ def table(text: str, tmp_path, name: str = "t.csv") -> Table:
     p = tmp_path / name
     p.write_text(text)
     return read_table(p)
+
+
+def engine_outputs(capsys, tmp_path, dask_address: str, *args: str) -> dict[str, bytes]:
+    """Run ``motionsig *args -o FILE`` with 1 worker, 2 workers and on the Dask cluster at
+    ``dask_address``; return each run's output bytes (they must be identical)."""
+    outs = {}
+    for name, engine in (
+        ("w1", ("--workers", "1")),
+        ("w2", ("--workers", "2")),
+        ("dask", ("--scheduler", dask_address)),
+    ):
+        path = tmp_path / f"engine_{name}.csv"
+        rc, _, err = run(capsys, *args, *engine, "-o", str(path), "-q")
+        assert rc == 0, err
+        outs[name] = path.read_bytes()
+    return outs

@@ -1,0 +1,359 @@
+"""One Monte Carlo engine for every command: in-process, a local process pool, or a Dask cluster.
+
+A Monte Carlo run is a list of *tasks* (chunks of trials, each worth ≥ 0.1 s of work) and a pure,
+picklable task function. Each trial draws only from its own ``SeedSequence(seed, spawn_key=(t, …))``
+child (:mod:`motionsig_cli.rng`) and the chunking depends on the parameters only, never on the
+number of workers; results come back **in task order** and are reduced in that order. So the
+output of a command is byte-identical for 1 worker, N workers and a Dask cluster.
+
+``checkpoint``: a directory that keeps every finished task's result (pickled, written atomically)
+next to a manifest naming the command and its parameters. A rerun with the same directory loads
+the finished tasks and runs only the others, so an interrupted sweep resumes to the result of an
+uninterrupted one. A directory made by another command or parameter set is refused.
+
+Workers ignore SIGINT: Ctrl-C reaches the main process only, which cancels the pending tasks,
+stops the workers and re-raises :class:`KeyboardInterrupt` (the command layer turns it into one
+line and exit code 130; no output file is written before all tasks are done).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import logging
+import math
+import multiprocessing
+import os
+import pickle
+import signal
+import socket
+import tempfile
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, TypeVar
+
+R = TypeVar("R")
+
+MIN_TASK_SECONDS = 0.1  # a task shorter than this costs more in scheduling than it computes
+MANIFEST = "manifest.json"
+CHECKPOINT_VERSION = 1
+DASK_EXTRA = "pip install 'motionsig_cli[dask]'  (installs dask and distributed)"
+
+
+def default_workers() -> int:
+    """The cores this process may run on."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+class EngineError(ValueError):
+    """Bad engine input; ``option`` names the command-line option to blame."""
+
+    def __init__(self, option: str, message: str) -> None:
+        super().__init__(message)
+        self.option = option
+
+
+@dataclass(frozen=True, slots=True)
+class Engine:
+    """Where the tasks run.
+
+    Attributes:
+        workers: Local processes (1 = in this process); with ``scheduler="local"`` the number of
+            Dask workers of the LocalCluster.
+        scheduler: ``None`` (local process pool), ``"local"`` (a Dask LocalCluster on 127.0.0.1) or
+            the address of a running Dask scheduler (``tcp://host:port`` or ``host:port``).
+        checkpoint: Directory for finished task results (resume after an interruption).
+        connect_timeout: Seconds to wait for a remote scheduler before giving up.
+    """
+
+    workers: int = 1
+    scheduler: str | None = None
+    checkpoint: Path | None = None
+    connect_timeout: float = 5.0
+
+    def __post_init__(self) -> None:
+        if isinstance(self.workers, bool) or int(self.workers) != self.workers or self.workers < 1:
+            raise EngineError("--workers", f"must be an integer >= 1, got {self.workers}")
+        if self.scheduler is not None and not self.scheduler.strip():
+            raise EngineError("--scheduler", "is empty; give an address like tcp://10.0.0.5:8786 or 'local'")
+
+
+def tasks_of(n_trials: int, per_task: int) -> list[range]:
+    """Trials 0..n−1 in consecutive chunks of ``per_task`` (the last one shorter)."""
+    if per_task < 1:
+        raise ValueError("per_task must be >= 1")
+    return [range(s, min(n_trials, s + per_task)) for s in range(0, n_trials, per_task)]
+
+
+def trials_per_task(seconds_per_trial: float, *, at_most: int = 1_000_000) -> int:
+    """Trials per task so that a task is worth ≥ :data:`MIN_TASK_SECONDS` (from a cost model, never
+    from a clock: the chunking must not depend on the machine, or the output would)."""
+    if not (seconds_per_trial > 0 and math.isfinite(seconds_per_trial)):
+        return at_most
+    return int(min(at_most, max(1, math.ceil(min_task_seconds() / seconds_per_trial))))
+
+
+def min_task_seconds() -> float:
+    """:data:`MIN_TASK_SECONDS`, or ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests set it tiny to get many tasks)."""
+    text = os.environ.get("MOTIONSIG_MIN_TASK_SECONDS")
+    try:
+        value = float(text) if text else MIN_TASK_SECONDS
+    except ValueError:
+        return MIN_TASK_SECONDS
+    return value if value > 0 and math.isfinite(value) else MIN_TASK_SECONDS
+
+
+# --------------------------------------------------------------------------------------- checkpoint
+def _canonical(identity: Mapping[str, Any]) -> dict[str, Any]:
+    """The identity as plain JSON values (tuples → lists, numpy scalars → Python)."""
+    return json.loads(json.dumps(identity, sort_keys=True, default=_json_default))
+
+
+def _json_default(obj: Any) -> Any:
+    if hasattr(obj, "tolist"):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"{type(obj).__name__} is not JSON serialisable")
+
+
+class Checkpoint:
+    """Finished task results of one run, kept in a directory (see the module docstring)."""
+
+    def __init__(self, directory: Path, identity: Mapping[str, Any], n_tasks: int) -> None:
+        self.dir = directory
+        want = {"version": CHECKPOINT_VERSION, "tasks": n_tasks, **_canonical(identity)}
+        manifest = directory / MANIFEST
+        if directory.exists() and not directory.is_dir():
+            raise EngineError("--checkpoint", f"{directory} exists and is not a directory")
+        if manifest.exists():
+            try:
+                have = json.loads(manifest.read_text())
+            except (OSError, ValueError) as exc:
+                raise EngineError("--checkpoint", f"{manifest}: unreadable manifest ({exc})") from None
+            if have != want:
+                diff = sorted(k for k in set(have) | set(want) if have.get(k) != want.get(k))
+                what = "another command" if have.get("command") != want.get("command") else "other parameters"
+                raise EngineError(
+                    "--checkpoint",
+                    f"{directory} holds a checkpoint of {what} ({', '.join(diff)} differ: "
+                    f"{have.get('command')!r}); use a new directory",
+                )
+        else:
+            if directory.is_dir() and any(directory.iterdir()):
+                raise EngineError("--checkpoint", f"{directory} is not empty and holds no {MANIFEST}")
+            try:
+                directory.mkdir(parents=True, exist_ok=True)
+                _atomic_write(manifest, json.dumps(want, sort_keys=True, indent=1).encode())
+            except OSError as exc:
+                raise EngineError(
+                    "--checkpoint", f"{directory}: cannot write ({exc.strerror or exc})"
+                ) from None
+
+    def _path(self, i: int) -> Path:
+        return self.dir / f"task-{i:07d}.pkl"
+
+    def load(self, i: int) -> tuple[bool, Any]:
+        path = self._path(i)
+        if not path.exists():
+            return False, None
+        try:
+            with path.open("rb") as fh:
+                return True, pickle.load(fh)
+        except Exception:  # a damaged file: recompute the task
+            return False, None
+
+    def save(self, i: int, result: Any) -> None:
+        _atomic_write(self._path(i), pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def _atomic_write(path: Path, data: bytes) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+# ------------------------------------------------------------------------------------------ running
+def run_tasks(
+    fn: Callable[[Any], R],
+    tasks: Sequence[Any],
+    engine: Engine,
+    *,
+    sizes: Sequence[int] | None = None,
+    progress: Callable[[int], None] | None = None,
+    identity: Mapping[str, Any] | None = None,
+) -> list[R]:
+    """``[fn(t) for t in tasks]``, computed where ``engine`` says, returned in task order.
+
+    Args:
+        fn: A picklable, deterministic function (module-level, or a ``functools.partial`` of one).
+        tasks: Picklable task descriptions (e.g. ``range`` objects of trial ids).
+        engine: Workers, scheduler and checkpoint.
+        sizes: Trials per task, for ``progress`` (default 1 per task).
+        progress: Called with a task's size each time a task finishes (in completion order).
+        identity: The command and its parameters (JSON values); required with a checkpoint.
+    """
+    n = len(tasks)
+    sizes = list(sizes) if sizes is not None else [1] * n
+    results: list[Any] = [None] * n
+    done = [False] * n
+    ckpt: Checkpoint | None = None
+    if engine.checkpoint is not None:
+        if identity is None:
+            raise ValueError("a checkpoint needs the run's identity")
+        ckpt = Checkpoint(engine.checkpoint, identity, n)
+        for i in range(n):
+            done[i], results[i] = ckpt.load(i)
+            if done[i] and progress is not None:
+                progress(sizes[i])
+    pending = [i for i in range(n) if not done[i]]
+
+    def finish(i: int, value: Any) -> None:
+        results[i] = value
+        if ckpt is not None:
+            ckpt.save(i, value)
+        if progress is not None:
+            progress(sizes[i])
+
+    if engine.scheduler is not None:
+        _run_dask(fn, tasks, pending, engine, finish)
+    elif engine.workers == 1 or len(pending) <= 1:
+        for i in pending:
+            finish(i, fn(tasks[i]))
+    else:
+        _run_pool(fn, tasks, pending, min(engine.workers, len(pending)), finish)
+    return results
+
+
+def _ignore_sigint() -> None:
+    """Worker initializer: Ctrl-C is the main process's business."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _run_pool(
+    fn: Callable[[Any], Any],
+    tasks: Sequence[Any],
+    pending: list[int],
+    workers: int,
+    finish: Callable[[int, Any], None],
+) -> None:
+    # spawn, not fork: the parent may hold threads (progress bar) whose locks a fork would copy
+    pool = ProcessPoolExecutor(
+        max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint
+    )
+    ok = False
+    try:
+        futures: dict[Future[Any], int] = {}
+        queue = iter(pending)
+        for i in queue:  # keep at most 2 tasks per worker in flight (bounded memory, early checkpoints)
+            futures[pool.submit(fn, tasks[i])] = i
+            if len(futures) >= 2 * workers:
+                break
+        while futures:
+            finished, _ = wait(futures, return_when=FIRST_COMPLETED)
+            for fut in sorted(finished, key=futures.__getitem__):
+                i = futures.pop(fut)
+                finish(i, fut.result())
+                nxt = next(queue, None)
+                if nxt is not None:
+                    futures[pool.submit(fn, tasks[nxt])] = nxt
+        ok = True
+    finally:
+        if ok:
+            pool.shutdown(wait=True)
+        else:  # interrupted or failed: do not wait for running tasks
+            procs = list(getattr(pool, "_processes", {}).values())
+            pool.shutdown(wait=False, cancel_futures=True)
+            for p in procs:
+                with contextlib.suppress(Exception):
+                    p.terminate()
+            for p in procs:
+                with contextlib.suppress(Exception):
+                    p.join(timeout=5)
+
+
+def split_address(address: str) -> tuple[str, int]:
+    """(host, port) of ``tcp://host:port`` or ``host:port``."""
+    rest = address.strip()
+    if "://" in rest:
+        proto, rest = rest.split("://", 1)
+        if proto not in ("tcp", "tls"):
+            raise EngineError("--scheduler", f"{address!r}: only tcp:// or tls:// addresses (or 'local')")
+    host, sep, port = rest.rpartition(":")
+    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise EngineError(
+            "--scheduler", f"{address!r} is not an address like tcp://10.0.0.5:8786 (or 'local')"
+        )
+    return host.strip("[]"), int(port)
+
+
+@contextlib.contextmanager
+def dask_client(engine: Engine) -> Iterator[Any]:
+    """A ``distributed.Client`` for ``engine.scheduler`` (a LocalCluster for ``"local"``)."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise EngineError("--scheduler", f"needs Dask, which is not installed: {DASK_EXTRA}") from None
+    if engine.scheduler == "local":
+        cluster = LocalCluster(
+            n_workers=engine.workers,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=":0",  # a free port: 8787 may be taken
+            silence_logs=logging.ERROR,
+        )
+        try:
+            with Client(cluster) as client:
+                yield client
+        finally:
+            cluster.close()
+        return
+    assert engine.scheduler is not None
+    host, port = split_address(engine.scheduler)
+    try:  # fail fast: a plain TCP connect first (Client would retry until its timeout)
+        socket.create_connection((host, port), timeout=engine.connect_timeout).close()
+    except OSError as exc:
+        raise EngineError(
+            "--scheduler", f"cannot reach the Dask scheduler at {engine.scheduler} ({exc.strerror or exc})"
+        ) from None
+    try:
+        client = Client(engine.scheduler, timeout=engine.connect_timeout)
+    except (OSError, TimeoutError) as exc:
+        raise EngineError("--scheduler", f"no Dask scheduler answers at {engine.scheduler} ({exc})") from None
+    try:
+        yield client
+    finally:
+        client.close()
+
+
+def _run_dask(
+    fn: Callable[[Any], Any],
+    tasks: Sequence[Any],
+    pending: list[int],
+    engine: Engine,
+    finish: Callable[[int, Any], None],
+) -> None:
+    with dask_client(engine) as client:
+        from distributed import as_completed
+
+        futures = [client.submit(fn, tasks[i], pure=False) for i in pending]
+        index = {f.key: i for f, i in zip(futures, pending, strict=True)}
+        try:
+            for fut in as_completed(futures):
+                finish(index[fut.key], fut.result())
+        except BaseException:
+            with contextlib.suppress(Exception):
+                client.cancel(futures)
+            raise

@@ -1,0 +1,216 @@
+"""``detect`` on the Monte Carlo engine (issue 9): identical output for 1 worker, 2 workers and Dask,
+checkpoint resume, Ctrl-C, bad engine input, ``--method fft`` and ``--calibrate``."""
+
+import math
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from motionsig_cli.detection.lmp import LMPConfig
+from motionsig_cli.experiments.lmp1d import MCSpec, mc_task, mc_tasks, threshold_for
+from motionsig_cli.models.vehicle import Vehicle1D
+from motionsig_cli.signals.correlation import to_bipolar
+from motionsig_cli.signals.modes import table1_codes
+from tests.cli.helpers import engine_outputs, run, table
+
+MC_1D = ("detect", "--montecarlo", "--trials", "6", "--fr-list", "0.01,0.1", "--R-list", "1e-2,1e-3",
+         "--horizons", "5,10")  # fmt: skip
+MC_2D = (
+    "detect",
+    "--montecarlo",
+    "--example",
+    "2d",
+    "--trials",
+    "2",
+    "--anr-pairs",
+    "3,4",
+    "--horizons",
+    "3",
+)
+CAL = ("detect", "--calibrate", "--method", "fft", "--trials", "20", "--null-trials", "40", "--pfa", "0.1",
+       "--R-list", "1", "--horizons", "5,10")  # fmt: skip
+
+
+def _tasks(spec_kwargs, R_list, trials):
+    spec = MCSpec(Vehicle1D(), np.ones((3, 31)), 20, 1.0, LMPConfig(), **spec_kwargs)
+    return mc_tasks(spec, R_list, trials)
+
+
+@pytest.mark.parametrize(
+    "args", [MC_1D, (*MC_1D, "--method", "fft"), MC_2D, CAL], ids=["bank", "fft", "radar", "calibrate"]
+)
+def test_output_is_byte_identical_for_1_and_2_workers_and_dask(
+    capsys, tmp_path, dask_address, many_tasks, args
+):
+    outs = engine_outputs(capsys, tmp_path, dask_address, *args)
+    assert outs["w1"] == outs["w2"] == outs["dask"]
+    assert b"workers" not in outs["w1"] and b"scheduler" not in outs["w1"]
+
+
+def test_the_runs_above_really_are_split_into_tasks(many_tasks):
+    assert len(_tasks(dict(fr_list=(0.01, 0.1), horizons_s=(5.0, 10.0), seed=1), [1e-2, 1e-3], 6)) == 12
+
+
+def test_default_chunks_are_worth_a_tenth_of_a_second(monkeypatch):
+    """Bank: 2C+1 = 187 filters × 1600 steps × 7e-8 s ≈ 21 ms per trial and f_r → 5 trials per task (3 f_r: 2)."""
+    monkeypatch.delenv("MOTIONSIG_MIN_TASK_SECONDS", raising=False)
+    tasks = _tasks(dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1), [1e-3], 50)
+    assert [len(t[1]) for t in tasks] == [5] * 10
+
+
+def test_checkpoint_resume_is_identical_and_foreign_checkpoints_are_refused(capsys, tmp_path, many_tasks):
+    ck = tmp_path / "ck"
+    rc, _, err = run(
+        capsys, *MC_1D, "--workers", "1", "--checkpoint", str(ck), "-o", str(tmp_path / "a.csv"), "-q"
+    )
+    assert rc == 0, err
+    files = sorted(ck.glob("task-*.pkl"))
+    assert len(files) == 12
+    for f in files[::3]:
+        f.unlink()
+    rc, _, err = run(
+        capsys, *MC_1D, "--workers", "2", "--checkpoint", str(ck), "-o", str(tmp_path / "b.csv"), "-q"
+    )
+    assert rc == 0, err
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
+    rc, _, err = run(capsys, *MC_1D, "--seed", "9", "--checkpoint", str(ck), "-q")
+    assert rc == 2
+    assert err.count("\n") == 1 and "--checkpoint" in err and "seed" in err
+    rc, _, err = run(capsys, *MC_2D, "--checkpoint", str(ck), "-q")
+    assert rc == 2 and "another command" in err
+
+
+@pytest.mark.parametrize(
+    ("extra", "option"),
+    [
+        (("--workers", "0"), "--workers"),
+        (("--scheduler", "nowhere"), "--scheduler"),
+        (("--scheduler", ""), "--scheduler"),
+    ],
+)
+def test_bad_engine_options_are_one_line_errors(capsys, extra, option):
+    rc, out, err = run(capsys, *MC_1D, *extra)
+    assert rc == 2 and out == ""
+    assert err.count("\n") == 1 and option in err
+
+
+def test_unreachable_scheduler_fails_fast_with_its_address(capsys, tmp_path):
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    address = f"tcp://127.0.0.1:{s.getsockname()[1]}"
+    s.close()
+    t0 = time.perf_counter()
+    rc, _, err = run(capsys, *MC_1D, "--scheduler", address, "-o", str(tmp_path / "x.csv"))
+    assert rc == 2 and address in err and err.count("\n") == 1
+    assert time.perf_counter() - t0 < 5
+    assert not (tmp_path / "x.csv").exists()
+
+
+def test_ctrl_c_stops_cleanly_and_the_checkpoint_resumes_to_the_same_result(tmp_path):
+    """SIGINT to the whole process group (what a terminal's Ctrl-C does) while 2 workers run."""
+    args = ["detect", "--montecarlo", "--trials", "12", "--fr-list", "0.01", "--R-list", "1e-2,1e-3",
+            "--horizons", "10,20", "--workers", "2"]  # fmt: skip
+    env = {**os.environ, "MOTIONSIG_MIN_TASK_SECONDS": "1e-9"}
+    ck = tmp_path / "ck"
+    exe = [sys.executable, "-m", "motionsig_cli"]
+    proc = subprocess.Popen(
+        [*exe, *args, "--checkpoint", str(ck), "-o", "out.csv"], cwd=tmp_path, env=env,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+    )  # fmt: skip
+    deadline = time.time() + 120
+    while time.time() < deadline and len(list(ck.glob("task-*.pkl"))) < 2:
+        time.sleep(0.05)
+    assert len(list(ck.glob("task-*.pkl"))) >= 2, "no task finished"
+    os.killpg(proc.pid, signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and err.strip().count("\n") == 0, err
+    assert "interrupted after" in err and "--checkpoint" in err
+    assert not (tmp_path / "out.csv").exists()
+    assert not [p for p in tmp_path.iterdir() if p.name not in ("ck",)]  # no temporary or partial file
+    done = len(list(ck.glob("task-*.pkl")))
+    assert done < 24, "the run had finished before the interrupt; the test proves nothing"
+    subprocess.run(
+        [*exe, *args, "--checkpoint", str(ck), "-o", "resumed.csv", "-q"], cwd=tmp_path, env=env, check=True
+    )
+    subprocess.run(
+        [*exe, *args, "--workers", "1", "-o", "plain.csv", "-q"], cwd=tmp_path, env=env, check=True
+    )
+    assert (tmp_path / "resumed.csv").read_bytes() == (tmp_path / "plain.csv").read_bytes()
+
+
+@pytest.mark.parametrize(
+    ("extra", "option", "word"),
+    [
+        (("--Qa", "1"), "--method", "Q_a = 0"),
+        (("--center", "h0-noise"), "--method", "center"),
+        (("--filter", "ukf"), "--method", "filter bank"),
+    ],
+)
+def test_fft_refuses_what_it_does_not_implement(capsys, extra, option, word):
+    rc, _, err = run(capsys, *MC_1D, "--method", "fft", *extra)
+    assert rc == 2 and option in err and word in err and err.count("\n") == 1
+
+
+def test_fft_on_a_record_finds_the_simulated_mode(capsys, tmp_path):
+    rc, rec, err = run(capsys, "simulate", "--mode", "2", "--tau-chips", "5", "--R", "1e-3", "--seed", "3")
+    assert rc == 0, err
+    src = tmp_path / "rec.csv"
+    src.write_text(rec)
+    rc, out, err = run(capsys, "detect", str(src), "--method", "fft", "--horizons", "40")
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    row = dict(zip(t.columns, t.rows[-1], strict=True))
+    assert float(row["mode_hat"]) == 2 and float(row["tau_hat_chips"]) == 5
+    assert t.meta["method"] == "fft"
+
+
+def test_radar_refuses_the_fft_path_and_calibration(capsys):
+    for extra in (("--method", "fft"), ("--Qa", "0")):
+        rc, _, err = run(capsys, *MC_2D, *extra)
+        assert rc == 2 and "1d" in err
+
+
+def test_calibrated_threshold_holds_its_false_alarm_rate_on_fresh_seeds(capsys, tmp_path):
+    """Calibrate on seed 11 (n₁ null trials), then count exceedances among n₂ null maxima of seed 12.
+    |P̂_FA − p| ≤ 4 √(p(1−p)(1/n₁ + 1/n₂)) + 1/n₁ (sampling error of both sets plus the order statistic's
+    granularity)."""
+    p, n1, n2 = 0.05, 1200, 1200
+    rc, out, err = run(capsys, "detect", "--calibrate", "--method", "fft", "--trials", "10", "--null-trials", str(n1),
+                       "--pfa", str(p), "--R-list", "1e-2", "--horizons", "10", "--seed", "11", "--workers", "1")  # fmt: skip
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    row = dict(zip(t.columns, t.rows[0], strict=True))
+    thr = float(row["threshold"])
+    assert float(row["pfa_in_sample"]) <= p
+    chips = to_bipolar(table1_codes("corrected")).astype(float)
+    spec = MCSpec(Vehicle1D(), chips, 20, 1.0, LMPConfig(Q_a=0.0), (0.01,), (10.0,), 12, False, "fft")
+    null = mc_task(spec, (1e-2, range(n2))).lam_max[0, :, 0]
+    p_hat = float(np.mean(null > thr))
+    assert abs(p_hat - p) <= 4 * math.sqrt(p * (1 - p) * (1 / n1 + 1 / n2)) + 1 / n1
+
+
+def test_threshold_rule():
+    x = np.arange(100.0)
+    assert threshold_for(x, 0.05) == 94.0  # 5 values (95..99) above
+    assert threshold_for(x, 0.001) == 99.0
+    assert np.sum(x > threshold_for(x, 0.1)) == 10
+
+
+def test_calibration_plot_and_columns(capsys, tmp_path):
+    png = tmp_path / "roc.png"
+    rc, out, err = run(capsys, *CAL, "--plot", str(png))
+    assert rc == 0, err
+    assert png.stat().st_size > 1000
+    t = table(out, tmp_path)
+    assert len(t.rows) == 2
+    row = dict(zip(t.columns, t.rows[0], strict=True))
+    assert float(row["pfa_in_sample"]) <= 0.1 and 0 <= float(row["pd"]) <= 1
+    rc, _, err = run(capsys, *CAL, "--pfa", "1.5")
+    assert rc == 2 and "--pfa" in err

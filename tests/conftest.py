@@ -1,0 +1,29 @@
+"""Shared fixtures: one Dask LocalCluster for the whole session (engine tests pass its address)."""
+
+import logging
+
+import pytest
+
+
+@pytest.fixture(scope="session")
+def dask_address():
+    """Address of a 2-worker Dask LocalCluster on 127.0.0.1 (skips when the dask extra is missing)."""
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address=":0",  # a free port: 8787 may be taken
+        silence_logs=logging.ERROR,
+    )
+    try:
+        yield cluster.scheduler_address
+    finally:
+        cluster.close()
+
+
+@pytest.fixture
+def many_tasks(monkeypatch):
+    """Chunk Monte Carlo runs into tiny tasks, so that 2 workers really share the work."""
+    monkeypatch.setenv("MOTIONSIG_MIN_TASK_SECONDS", "1e-9")

@@ -1,0 +1,142 @@
+"""The Monte Carlo engine: task order, chunking, checkpoints, scheduler errors (issue 9)."""
+
+import functools
+import socket
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from motionsig_cli import engine as eng
+from motionsig_cli.engine import Engine, EngineError, run_tasks, split_address, tasks_of, trials_per_task
+from motionsig_cli.rng import trial_rng
+
+CALLS: list[int] = []
+
+
+def _draws(scale: float, trials: range) -> np.ndarray:
+    """A task: one normal draw per trial from the trial's own stream."""
+    CALLS.append(trials.start)
+    return np.array([scale * trial_rng(5, t).standard_normal() for t in trials])
+
+
+def test_tasks_cover_the_trials_in_order():
+    tasks = tasks_of(10, 4)
+    assert [list(t) for t in tasks] == [[0, 1, 2, 3], [4, 5, 6, 7], [8, 9]]
+    with pytest.raises(ValueError):
+        tasks_of(3, 0)
+
+
+def test_chunks_are_worth_a_tenth_of_a_second(monkeypatch):
+    monkeypatch.delenv("MOTIONSIG_MIN_TASK_SECONDS", raising=False)
+    assert trials_per_task(0.03) == 4  # 4 × 0.03 s ≥ 0.1 s
+    assert trials_per_task(0.5) == 1
+    assert trials_per_task(1e-6, at_most=500) == 500
+    monkeypatch.setenv("MOTIONSIG_MIN_TASK_SECONDS", "1e-9")
+    assert trials_per_task(0.03) == 1
+
+
+def test_results_are_in_task_order_whatever_the_workers():
+    tasks = tasks_of(23, 3)
+    fn = functools.partial(_draws, 2.0)
+    one = np.concatenate(run_tasks(fn, tasks, Engine(1)))
+    two = np.concatenate(run_tasks(fn, tasks, Engine(2)))
+    assert one.tobytes() == two.tobytes()
+    chunked = np.concatenate(run_tasks(fn, tasks_of(23, 7), Engine(1)))
+    assert chunked.tobytes() == one.tobytes()  # per-trial streams: the chunking does not matter either
+
+
+def test_progress_counts_trials():
+    seen = []
+    tasks = tasks_of(10, 4)
+    run_tasks(
+        functools.partial(_draws, 1.0), tasks, Engine(1), sizes=[len(t) for t in tasks], progress=seen.append
+    )
+    assert seen == [4, 4, 2]
+
+
+def test_checkpoint_resumes_only_the_missing_tasks(tmp_path):
+    tasks = tasks_of(12, 3)
+    fn = functools.partial(_draws, 1.0)
+    ident = {"command": "test", "n": 12}
+    full = run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
+    (tmp_path / "ck" / "task-0000002.pkl").unlink()
+    CALLS.clear()
+    again = run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
+    assert CALLS == [6]  # only task 2 ran again
+    assert np.concatenate(again).tobytes() == np.concatenate(full).tobytes()
+
+
+def test_checkpoint_of_other_parameters_is_refused(tmp_path):
+    fn = functools.partial(_draws, 1.0)
+    run_tasks(fn, tasks_of(4, 2), Engine(1, None, tmp_path), identity={"command": "a", "seed": 1})
+    with pytest.raises(EngineError, match=r"other parameters.*seed") as exc:
+        run_tasks(fn, tasks_of(4, 2), Engine(1, None, tmp_path), identity={"command": "a", "seed": 2})
+    assert exc.value.option == "--checkpoint"
+    with pytest.raises(EngineError, match="another command"):
+        run_tasks(fn, tasks_of(4, 2), Engine(1, None, tmp_path), identity={"command": "b", "seed": 1})
+
+
+def test_a_non_empty_directory_without_manifest_is_refused(tmp_path):
+    (tmp_path / "notes.txt").write_text("mine")
+    with pytest.raises(EngineError, match="not empty"):
+        run_tasks(
+            functools.partial(_draws, 1.0),
+            tasks_of(2, 1),
+            Engine(1, None, tmp_path),
+            identity={"command": "a"},
+        )
+
+
+@pytest.mark.parametrize("workers", [0, -1, 1.5, True])
+def test_bad_worker_counts(workers):
+    with pytest.raises(EngineError) as exc:
+        Engine(workers)
+    assert exc.value.option == "--workers"
+
+
+@pytest.mark.parametrize("address", ["nohost", "tcp://host", "http://a:1", "a:0", "a:99999", "   "])
+def test_bad_scheduler_addresses(address):
+    with pytest.raises(EngineError) as exc:
+        Engine(1, address)
+        split_address(address)
+    assert exc.value.option == "--scheduler"
+
+
+def _closed_port() -> int:
+    s = socket.socket()
+    s.bind(("127.0.0.1", 0))
+    port = s.getsockname()[1]
+    s.close()
+    return port
+
+
+def test_unreachable_scheduler_fails_fast_naming_the_address():
+    pytest.importorskip("distributed")
+    address = f"tcp://127.0.0.1:{_closed_port()}"
+    t0 = time.perf_counter()
+    with pytest.raises(EngineError, match=address.replace(".", r"\.")):
+        run_tasks(functools.partial(_draws, 1.0), tasks_of(4, 2), Engine(1, address))
+    assert time.perf_counter() - t0 < 5.0
+
+
+def test_without_dask_the_scheduler_says_how_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "distributed", None)
+    with pytest.raises(EngineError, match=r"motionsig_cli\[dask\]"):
+        run_tasks(functools.partial(_draws, 1.0), tasks_of(4, 2), Engine(1, "local"))
+
+
+def test_dask_cluster_gives_the_same_results(dask_address):
+    tasks = tasks_of(15, 2)
+    fn = functools.partial(_draws, 3.0)
+    local = np.concatenate(run_tasks(fn, tasks, Engine(1)))
+    dask = np.concatenate(run_tasks(fn, tasks, Engine(1, dask_address)))
+    assert local.tobytes() == dask.tobytes()
+
+
+def test_min_task_seconds_env_is_validated(monkeypatch):
+    monkeypatch.setenv("MOTIONSIG_MIN_TASK_SECONDS", "abc")
+    assert eng.min_task_seconds() == eng.MIN_TASK_SECONDS
+    monkeypatch.setenv("MOTIONSIG_MIN_TASK_SECONDS", "-1")
+    assert eng.min_task_seconds() == eng.MIN_TASK_SECONDS
