@@ -15,7 +15,7 @@ def dask_address():
         processes=True,
         host="127.0.0.1",
         dashboard_address=":0",  # a free port: 8787 may be taken
-        silence_logs=logging.ERROR,
+        silence_logs=logging.CRITICAL,  # task errors reach the user as one line, not as worker logs
     )
     try:
         yield cluster.scheduler_address

@@ -13,6 +13,7 @@ import contextlib
 import math
 from collections.abc import Iterator
 from enum import StrEnum
+from functools import partial
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -21,18 +22,22 @@ import typer
 
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
+    CheckpointOpt,
     DebugOpt,
     FormatOpt,
     OutOpt,
     OutputFormat,
     PlotOpt,
     QuietOpt,
+    SchedulerOpt,
     SeedOpt,
+    WorkersOpt,
     check_outputs,
     checked,
     float_list,
+    make_engine,
     note,
-    progress,
+    run_monte_carlo,
     save_figure,
 )
 from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
@@ -287,6 +292,9 @@ def maneuver(
         Path | None,
         typer.Option("--plot-compare", help="Also draw RMS error and declarations of every method."),
     ] = None,
+    workers: WorkersOpt = None,
+    scheduler: SchedulerOpt = None,
+    checkpoint: CheckpointOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
     out: OutOpt = None,
     plot: PlotOpt = None,
@@ -300,8 +308,13 @@ def maneuver(
       motionsig maneuver --runs 100 --plot figs.png                  # Figs 2-4 and the IMM probabilities
       motionsig maneuver --method all --view summary --plot-compare cmp.png
       motionsig maneuver --view measurements --runs 1 --sigma 100 | motionsig maneuver --input - --method glr
+      motionsig maneuver --runs 5000 --method all --workers 8 --checkpoint ckpt/   # resumable if interrupted
+
+    --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary); the
+    measurements view and --input run no Monte Carlo and ignore them.
     """
     check_outputs(out, plot, extra={"--plot-compare": plot_compare})
+    engine = make_engine(workers, scheduler, checkpoint)
     methods = _methods(method)
     cfg_kw: dict[str, Any] = dict(q0=q0, window=window, glr_threshold=glr_threshold, mlr_threshold=mlr_threshold,
                                   sigma_u=mlr_sigma_u, correction=correction.value, continuation=continuation.value,
@@ -341,13 +354,22 @@ def maneuver(
             param_hint="--runs",
         )
     resp = response
-    results: dict[float, dict[str, exp.MCResult]] = {}
-    with progress(quiet) as bar:
-        task = bar.add_task("maneuver", total=runs * len(sigmas))
-        for s in sigmas:
-            with _numerics(s, T_):
-                results[s] = exp.monte_carlo(sc, s, runs, seed, methods, cfg,
-                                             on_chunk=lambda n: bar.advance(task, n))  # fmt: skip
+    job = exp.MCJob(sc, tuple(sigmas), runs, seed, methods, cfg, quiet_fp=True)
+    tasks = job.tasks()
+    try:
+        partials = run_monte_carlo(
+            partial(exp.mc_task, job),
+            tasks,
+            engine,
+            sizes=[len(r) for _, r in tasks],
+            identity={"command": "maneuver", **job.identity()},
+            label="maneuver",
+            quiet=quiet,
+        )
+    except exp.SingularCovariance as exc:
+        raise _singular(exc.sigma, T_) from None
+    with np.errstate(all="ignore"):
+        results = exp.mc_reduce(job, tasks, partials)
     table = _table(view, sc, results, methods, resp)
     meta = make_meta(
         "maneuver",
@@ -427,11 +449,15 @@ def _numerics(sigma: float, T: float) -> Iterator[None]:
         with np.errstate(all="ignore"):
             yield
     except np.linalg.LinAlgError:
-        raise typer.BadParameter(
-            f"σ = {sigma:g} m is too small for the motion over T = {T:g} s: the innovation covariance is "
-            "numerically singular (increase --sigma or decrease --T)",
-            param_hint="--sigma",
-        ) from None
+        raise _singular(sigma, T) from None
+
+
+def _singular(sigma: float, T: float) -> typer.BadParameter:
+    return typer.BadParameter(
+        f"σ = {sigma:g} m is too small for the motion over T = {T:g} s: the innovation covariance is "
+        "numerically singular (increase --sigma or decrease --T)",
+        param_hint="--sigma",
+    )
 
 
 def _cell(v: float) -> float | None:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from enum import StrEnum
+from functools import partial
 from pathlib import Path
 from typing import Annotated
 
@@ -17,19 +18,23 @@ import typer
 
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
+    CheckpointOpt,
     DebugOpt,
     FormatOpt,
     OutOpt,
     OutputFormat,
     PlotOpt,
     QuietOpt,
+    SchedulerOpt,
     SeedOpt,
+    WorkersOpt,
     check_outputs,
     checked,
     float_list,
+    make_engine,
     note,
     positive,
-    progress,
+    run_monte_carlo,
     save_figure,
 )
 from motionsig_cli.cli.io import Table, emit, make_meta
@@ -145,6 +150,9 @@ def slrt(
         Path | None,
         typer.Option("--plot-scan", help="Also draw one scan (radars, clutter, target) of run 0."),
     ] = None,
+    workers: WorkersOpt = None,
+    scheduler: SchedulerOpt = None,
+    checkpoint: CheckpointOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
     out: OutOpt = None,
     plot: PlotOpt = None,
@@ -157,8 +165,10 @@ def slrt(
     Example:
       motionsig slrt --plot slrt.png                          # the slides' four panels, 50 runs
       motionsig slrt --view decisions --runs 200              # confirm / delete / undecided, mean decision time
+      motionsig slrt --runs 2000 --workers 8 --checkpoint ckpt/  # parallel; rerun to resume if interrupted
     """
     check_outputs(out, plot, extra={"--plot-scan": plot_scan})
+    engine = make_engine(workers, scheduler, checkpoint)
     pds = list(dict.fromkeys(checked("--pd", float_list, pd, what="p_D")))
     if any(not 0.0 < v <= 1.0 for v in pds) or len(pds) > 10:
         raise typer.BadParameter("each p_D must be in (0, 1] (at most 10 values)", param_hint="--pd")
@@ -191,14 +201,22 @@ def slrt(
             param_hint="--runs",
         )
     log_a, log_b = wald_thresholds(alpha, beta)
-    results = []
-    with progress(quiet) as bar:
-        task = bar.add_task("slrt", total=len(cases))
-        for label, sc in cases:
-            scores, gen = exp.run(sc, runs, seed, names, lkf_mean=lkf_mean.value)
-            results.append((label, sc, scores, gen))
-            bar.advance(task)
-    for label, _, scores, _ in results:
+    job = exp.SlrtJob(tuple(sc for _, sc in cases), runs, seed, names, lkf_mean.value)
+    tasks = job.tasks()
+    partials = run_monte_carlo(
+        partial(exp.score_task, job),
+        tasks,
+        engine,
+        sizes=[len(r) for _, r in tasks],
+        identity={"command": "slrt", **job.identity()},
+        label="slrt",
+        quiet=quiet,
+    )
+    results = [
+        (label, sc, scores)
+        for (label, sc), scores in zip(cases, exp.collect(job, tasks, partials), strict=True)
+    ]
+    for label, _, scores in results:
         for m, v in scores.items():
             if np.any(np.isnan(v) | (v == np.inf)):
                 raise RuntimeError(f"NaN or +inf log LR in {label}, {m}")
@@ -207,7 +225,7 @@ def slrt(
     k = np.arange(1, scans + 1)
     if view is View.curves:
         rows = []
-        for label, sc, scores, _ in results:
+        for label, sc, scores in results:
             for m in names:
                 st = exp.summarise(scores[m])
                 for j in range(scans):
@@ -226,7 +244,7 @@ def slrt(
         )
     else:
         rows = []
-        for label, sc, scores, _ in results:
+        for label, sc, scores in results:
             for m in names:
                 d = exp.decisions(scores[m], alpha, beta)
                 conf, dele = d.decision == 1, d.decision == -1
@@ -275,7 +293,7 @@ def slrt(
         from motionsig_cli.plotting import slrt_figure
 
         panels = []
-        for label, _, scores, _ in results:
+        for label, _, scores in results:
             curves = {}
             for m in names:
                 st = exp.summarise(scores[m])
@@ -283,21 +301,21 @@ def slrt(
             panels.append((label, k, curves))
         save_figure(slrt_figure(panels, (log_a, log_b)), plot)
     if plot_scan is not None:
-        _scan_picture(results[0], plot_scan)
+        _scan_picture(cases[0], seed, plot_scan)
     last = "; ".join(
         f"{label}: " + ", ".join(f"{m} {scores[m][:, -1].mean():.1f}" for m in names)
-        for label, _, scores, _ in results
+        for label, _, scores in results
     )
     note(f"slrt: mean log LR at scan {scans}: {last}", quiet)
 
 
-def _scan_picture(
-    result: tuple[str, exp.SlrtScenario, dict[str, np.ndarray], exp.Generated], path: Path
-) -> None:
-    """Run 0, last scan, measurements mapped to Cartesian coordinates."""
+def _scan_picture(case: tuple[str, exp.SlrtScenario], seed: int, path: Path) -> None:
+    """Run 0, last scan, measurements mapped to Cartesian coordinates (run 0 drawn again: it depends on
+    (seed, 0) only, so it is the run 0 of the Monte Carlo)."""
     from motionsig_cli.plotting import slrt_scan_figure
 
-    label, sc, _, gen = result
+    label, sc = case
+    gen = exp.generate(sc, range(1), seed)
     k = sc.scans - 1
     clutter_xy, target_xy = exp.scan_xy(sc, gen, 0, k)
     sensors = sc.sensors

@@ -9,17 +9,26 @@ tracker initialises by two-point differencing at scan 2, so estimates start at s
 Run r draws only from ``trial_rng(seed, r)``: the standard-normal measurement errors w_r (N, 2), scaled by σ.
 Every σ and every method therefore sees the same w_r (common random numbers), and a result does not depend on
 the number of runs, their order or how they are chunked.
+
+The Monte Carlo (:class:`MCJob`) runs on the engine (:mod:`motionsig_cli.engine`): a task is a chunk of
+consecutive runs at one σ (:func:`mc_task` returns the chunk's error sums and declarations), chunks are sized
+from :func:`cost` only, and :func:`mc_reduce` adds the partial sums in task order — so a result is
+byte-identical on 1 worker, N workers or a Dask cluster.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
+from functools import partial
+from typing import Any
 
 import numpy as np
 
 from motionsig_cli.detection.glr import CHI2_2_999, GLRConfig, InputModel, input_tracker
+from motionsig_cli.engine import MIN_TASK_SECONDS, Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.models.motion import (
     H_POS4,
@@ -37,12 +46,17 @@ __all__ = [
     "PRESETS",
     "DetectionSummary",
     "ErrorStats",
+    "MCJob",
+    "MCPartial",
     "MCResult",
     "ManeuverScenario",
+    "SingularCovariance",
     "TrackerConfig",
     "Tracks",
     "detection_summary",
     "error_stats",
+    "mc_reduce",
+    "mc_task",
     "measurements",
     "monte_carlo",
     "run_trackers",
@@ -249,6 +263,162 @@ class MCResult:
     onset: np.ndarray | None
 
 
+class SingularCovariance(np.linalg.LinAlgError):
+    """A covariance stopped being positive definite in floating point at this σ (a bad σ/T combination).
+    Picklable (``args == (sigma,)``), so it crosses process boundaries intact."""
+
+    def __init__(self, sigma: float) -> None:
+        super().__init__(sigma)
+        self.sigma = sigma
+
+    def __str__(self) -> str:
+        return f"numerically singular covariance at sigma = {self.sigma:g}"
+
+
+@dataclass(frozen=True)
+class MCJob:
+    """A Monte Carlo: runs 0..runs−1 of every σ, tracked by ``methods``.
+
+    A task is ``(σ index, range of runs)``; :meth:`tasks` chunks the runs into tasks of :meth:`runs_per_task`
+    runs (``chunk``, or from the cost model), never from the number of workers, so the floating-point sums —
+    added in task order by :func:`mc_reduce` — are the same however the tasks are spread.
+
+    Attributes:
+        chunk: runs per task (None: from :func:`cost`).
+        quiet_fp: run the trackers under ``np.errstate(all="ignore")`` (in the worker, where it matters).
+    """
+
+    sc: ManeuverScenario
+    sigmas: tuple[float, ...]
+    runs: int
+    seed: int
+    methods: tuple[str, ...]
+    cfg: TrackerConfig
+    chunk: int | None = None
+    quiet_fp: bool = False
+
+    def __post_init__(self) -> None:
+        if self.runs < 1:
+            raise ValueError("at least one run")
+        if not self.sigmas:
+            raise ValueError("at least one sigma")
+        if not self.methods or any(m not in METHODS for m in self.methods):
+            raise ValueError(f"methods must be among {', '.join(METHODS)}; got {self.methods!r}")
+        if self.chunk is not None and self.chunk < 1:
+            raise ValueError("chunk must be >= 1")
+
+    def runs_per_task(self) -> int:
+        """``chunk``, or runs per task worth at least the engine's minimum task time *and* 4× the per-batch
+        overhead of :func:`cost` (the trackers' Python loop over scans), so that chunking costs ≤ 25 % extra;
+        at most 250 runs (bounded memory). Scales with ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests: 1 run)."""
+        if self.chunk is not None:
+            return self.chunk
+        fixed = cost(self.sc.scans, 0, self.methods, 1)
+        per_run = cost(self.sc.scans, 1, self.methods, 1) - fixed
+        return trials_per_task(per_run * MIN_TASK_SECONDS / max(MIN_TASK_SECONDS, 4.0 * fixed), at_most=250)
+
+    def tasks(self) -> list[tuple[int, range]]:
+        """(σ index, runs) in σ order, runs in increasing order within a σ."""
+        per_task = self.runs_per_task()
+        return [(i, r) for i in range(len(self.sigmas)) for r in tasks_of(self.runs, per_task)]
+
+    def identity(self) -> dict[str, Any]:
+        """Everything the task results depend on (JSON values), for a checkpoint's manifest."""
+        return {
+            "scenario": {
+                "preset": self.sc.preset,
+                "T": self.sc.T,
+                "scans": self.sc.scans,
+                "p0": list(self.sc.p0),
+            },
+            "sigmas": list(self.sigmas),
+            "runs": self.runs,
+            "seed": self.seed,
+            "methods": list(self.methods),
+            "tracker": asdict(self.cfg),
+            "runs_per_task": self.runs_per_task(),
+        }
+
+
+@dataclass(frozen=True)
+class MCPartial:
+    """One tracker's sums over the runs of one task (error = truth − estimate, scans 3..N).
+
+    Attributes:
+        s1, s2: (N−2, 2) Σ e and Σ e² over the task's runs.
+        mu: (N−2, r) Σ IMM model probabilities, or None.
+        track0: (N−2, 2) run 0's estimated track if the task holds run 0, else None.
+        detected, onset: (runs, N−2) GLR/MLR declarations, or None.
+    """
+
+    s1: np.ndarray
+    s2: np.ndarray
+    mu: np.ndarray | None
+    track0: np.ndarray | None
+    detected: np.ndarray | None
+    onset: np.ndarray | None
+
+
+def mc_task(job: MCJob, task: tuple[int, range]) -> dict[str, MCPartial]:
+    """One task (module level: picklable): every tracker on the task's runs at σ = ``job.sigmas[i]``."""
+    i, runs = task
+    sigma = job.sigmas[i]
+    truth = job.sc.truth()[FIRST_SCAN - 1 :, [0, 2]]
+    try:
+        with np.errstate(all="ignore") if job.quiet_fp else contextlib.nullcontext():
+            tracks = run_trackers(job.sc, sigma, runs, job.seed, job.methods, job.cfg)
+            out = {}
+            for m, tr in tracks.items():
+                err = truth[None] - tr.pos
+                out[m] = MCPartial(
+                    err.sum(axis=0),
+                    (err * err).sum(axis=0),
+                    None if tr.mu is None else tr.mu.sum(axis=0),
+                    tr.pos[0] if runs.start == 0 and len(runs) else None,
+                    tr.detected,
+                    tr.onset,
+                )
+    except np.linalg.LinAlgError:
+        raise SingularCovariance(sigma) from None
+    return out
+
+
+def mc_reduce(
+    job: MCJob, tasks: Sequence[tuple[int, range]], partials: Sequence[dict[str, MCPartial]]
+) -> dict[float, dict[str, MCResult]]:
+    """Per σ and tracker, the Monte Carlo result: the tasks' sums added in task order (eqs 14–15)."""
+    per_sigma: list[list[dict[str, MCPartial]]] = [[] for _ in job.sigmas]
+    for (i, _), part in zip(tasks, partials, strict=True):
+        per_sigma[i].append(part)
+    n = job.runs
+    n_scan = job.sc.scans - FIRST_SCAN + 1
+    out: dict[float, dict[str, MCResult]] = {}
+    for sigma, parts in zip(job.sigmas, per_sigma, strict=True):
+        res = {}
+        for m in job.methods:
+            s1, s2 = np.zeros((n_scan, 2)), np.zeros((n_scan, 2))
+            mu = track0 = None
+            det, on = [], []
+            for p in (part[m] for part in parts):
+                s1 += p.s1
+                s2 += p.s2
+                if p.mu is not None:
+                    mu = p.mu if mu is None else mu + p.mu
+                if track0 is None:
+                    track0 = p.track0
+                if p.detected is not None:
+                    det.append(p.detected)
+                    on.append(p.onset)
+            mean = s1 / n  # eq (14)
+            msq = s2 / n
+            sd = np.sqrt(np.maximum(msq - mean * mean, 0.0))  # eq (15)
+            stats = ErrorStats(np.arange(FIRST_SCAN, job.sc.scans + 1), mean, sd, np.sqrt(msq.sum(axis=1)))
+            res[m] = MCResult(stats, track0, None if mu is None else mu / n,
+                              np.concatenate(det) if det else None, np.concatenate(on) if on else None)  # fmt: skip
+        out[sigma] = res
+    return out
+
+
 def monte_carlo(
     sc: ManeuverScenario,
     sigma: float,
@@ -259,41 +429,25 @@ def monte_carlo(
     *,
     chunk: int = 250,
     on_chunk: Callable[[int], None] | None = None,
+    engine: Engine | None = None,
 ) -> dict[str, MCResult]:
-    """Runs 0..n_runs−1 in chunks (memory stays bounded); sums of errors are accumulated, so the result does
-    not depend on the chunk size beyond floating-point summation order."""
+    """Runs 0..n_runs−1 in chunks of ``chunk`` runs (memory stays bounded) on ``engine`` (default: in this
+    process); sums of errors are accumulated in chunk order, so the result does not depend on the engine, and
+    on the chunk size only through floating-point summation order. ``on_chunk`` gets each finished chunk's
+    number of runs."""
     if n_runs < 1:
         raise ValueError("at least one run")
-    truth = sc.truth()[FIRST_SCAN - 1 :, [0, 2]]
-    n_scan = sc.scans - FIRST_SCAN + 1
-    acc = {m: {"s1": np.zeros((n_scan, 2)), "s2": np.zeros((n_scan, 2)), "mu": None, "det": [], "on": [],
-               "track0": None} for m in methods}  # fmt: skip
-    for lo in range(0, n_runs, chunk):
-        runs = range(lo, min(lo + chunk, n_runs))
-        for m, tr in run_trackers(sc, sigma, runs, seed, methods, cfg).items():
-            a = acc[m]
-            err = truth[None] - tr.pos
-            a["s1"] += err.sum(axis=0)
-            a["s2"] += (err * err).sum(axis=0)
-            if a["track0"] is None:
-                a["track0"] = tr.pos[0]
-            if tr.mu is not None:
-                a["mu"] = tr.mu.sum(axis=0) + (0 if a["mu"] is None else a["mu"])
-            if tr.detected is not None:
-                a["det"].append(tr.detected)
-                a["on"].append(tr.onset)
-        if on_chunk is not None:
-            on_chunk(len(runs))
-    out = {}
-    for m, a in acc.items():
-        mean = a["s1"] / n_runs  # eq (14)
-        msq = a["s2"] / n_runs
-        sd = np.sqrt(np.maximum(msq - mean * mean, 0.0))  # eq (15)
-        stats = ErrorStats(np.arange(FIRST_SCAN, sc.scans + 1), mean, sd, np.sqrt(msq.sum(axis=1)))
-        out[m] = MCResult(stats, a["track0"], None if a["mu"] is None else a["mu"] / n_runs,
-                          np.concatenate(a["det"]) if a["det"] else None,
-                          np.concatenate(a["on"]) if a["on"] else None)  # fmt: skip
-    return out
+    job = MCJob(sc, (sigma,), n_runs, seed, tuple(methods), cfg, chunk=chunk)
+    tasks = job.tasks()
+    partials = run_tasks(
+        partial(mc_task, job),
+        tasks,
+        Engine() if engine is None else engine,
+        sizes=[len(r) for _, r in tasks],
+        progress=on_chunk,
+        identity={"command": "maneuver", **job.identity()},
+    )
+    return mc_reduce(job, tasks, partials)[sigma]
 
 
 def cost(scans: int, runs: int, methods: Sequence[str], n_sigma: int) -> float:

@@ -3,22 +3,39 @@ none), Poisson clutter uniform in each field of view, and the three track-existe
 
 Run r draws only from ``trial_rng(seed, r)`` (truth, detections, clutter, the initial track draw), so a
 result does not depend on the number of runs or on their order.
+
+The command's Monte Carlo (:class:`SlrtJob`) runs on the engine (:mod:`motionsig_cli.engine`): tasks are
+chunks of consecutive runs of one case, sized from :func:`cost` only (never from the worker count), and
+:func:`collect` joins the chunks in task order, so the scores are the same on 1 worker, N workers or Dask.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass
+from functools import partial
+from typing import Any
 
 import numpy as np
 
 from motionsig_cli.detection.sprt import Decisions, first_crossing, wald_thresholds
 from motionsig_cli.detection.track_existence import METHODS, ScanData, TrackExistenceModel, run_methods
+from motionsig_cli.engine import MIN_TASK_SECONDS, Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.models.radar import MeasurementModel, cv_model, wrap_angle
 from motionsig_cli.rng import trial_rng
 
-__all__ = ["SlrtScenario", "decisions", "generate", "run", "summarise"]
+__all__ = [
+    "SlrtJob",
+    "SlrtScenario",
+    "collect",
+    "decisions",
+    "generate",
+    "monte_carlo",
+    "run",
+    "score_task",
+    "summarise",
+]
 
 MAX_SECONDS = 240.0
 """Largest estimated run time accepted (:func:`cost`)."""
@@ -192,6 +209,89 @@ def run(
         raise ValueError(f"the measurements would need about {nbytes / 1e9:.1f} GB; the limit is 2 GB")
     gen = generate(sc, range(runs), seed)
     return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean), gen
+
+
+@dataclass(frozen=True)
+class SlrtJob:
+    """The command's Monte Carlo: runs 0..runs−1 of every case, scored by ``methods``.
+
+    A task is ``(case index, range of runs)``; :meth:`tasks` chunks each case's runs into tasks of
+    :meth:`runs_per_task` runs (from the cost model, so the chunking — and with it every floating-point
+    result — depends on the parameters only, never on the number of workers).
+    """
+
+    cases: tuple[SlrtScenario, ...]
+    runs: int
+    seed: int
+    methods: tuple[str, ...] = METHODS
+    lkf_mean: str = "lr"
+
+    def __post_init__(self) -> None:
+        if not self.cases:
+            raise ValueError("at least one case")
+        if self.runs < 1:
+            raise ValueError("the number of Monte Carlo runs must be >= 1")
+        if not self.methods or any(m not in METHODS for m in self.methods):
+            raise ValueError(f"methods must be among {', '.join(METHODS)}; got {self.methods!r}")
+
+    def runs_per_task(self) -> int:
+        """Runs per task: worth at least the engine's minimum task time *and* 4× the per-batch overhead of
+        the cost model (the filters' Python loop over scans and sensors), so that chunking costs ≤ 25 %
+        extra. Both scale with ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests set it tiny: one run per task)."""
+        fixed = max(cost(sc, 0)[0] for sc in self.cases)
+        per_run = max(cost(sc, 1)[0] - cost(sc, 0)[0] for sc in self.cases)
+        return trials_per_task(per_run * MIN_TASK_SECONDS / max(MIN_TASK_SECONDS, 4.0 * fixed))
+
+    def tasks(self) -> list[tuple[int, range]]:
+        """(case, runs) in case order, runs in increasing order within a case."""
+        per_task = self.runs_per_task()
+        return [(c, r) for c in range(len(self.cases)) for r in tasks_of(self.runs, per_task)]
+
+    def identity(self) -> dict[str, Any]:
+        """Everything the task results depend on (JSON values), for a checkpoint's manifest."""
+        return {
+            "cases": [asdict(sc) for sc in self.cases],
+            "runs": self.runs,
+            "seed": self.seed,
+            "methods": list(self.methods),
+            "lkf_mean": self.lkf_mean,
+            "runs_per_task": self.runs_per_task(),
+        }
+
+
+def score_task(job: SlrtJob, task: tuple[int, range]) -> dict[str, np.ndarray]:
+    """One task: log LR (runs in the task × scans) per method of one case (module level: picklable)."""
+    case, runs = task
+    sc = job.cases[case]
+    gen = generate(sc, runs, job.seed)
+    return run_methods(sc.model(), gen.m0, gen.scans, job.methods, lkf_mean=job.lkf_mean)
+
+
+def collect(
+    job: SlrtJob, tasks: Sequence[tuple[int, range]], results: Sequence[dict[str, np.ndarray]]
+) -> list[dict[str, np.ndarray]]:
+    """Per case, the log LR (runs × scans) per method: the tasks' results joined in task order."""
+    parts: list[list[dict[str, np.ndarray]]] = [[] for _ in job.cases]
+    for (case, _), res in zip(tasks, results, strict=True):
+        parts[case].append(res)
+    return [{m: np.concatenate([p[m] for p in ps]) for m in job.methods} for ps in parts]
+
+
+def monte_carlo(
+    job: SlrtJob, engine: Engine | None = None, *, progress: Callable[[int], None] | None = None
+) -> list[dict[str, np.ndarray]]:
+    """:func:`score_task` over :meth:`SlrtJob.tasks` on ``engine`` (default: in this process), then
+    :func:`collect`. ``progress`` is called with the number of runs of each finished task."""
+    tasks = job.tasks()
+    results = run_tasks(
+        partial(score_task, job),
+        tasks,
+        Engine() if engine is None else engine,
+        sizes=[len(r) for _, r in tasks],
+        progress=progress,
+        identity={"command": "slrt", **job.identity()},
+    )
+    return collect(job, tasks, results)
 
 
 def scan_xy(

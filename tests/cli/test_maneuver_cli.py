@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
+from motionsig_cli.engine import Engine
 from motionsig_cli.experiments import maneuver as ex
-from tests.cli.helpers import run, table
+from tests.cli.helpers import engine_outputs, run, table
 
 SMALL = ("--runs", "4", "--scans", "240")
 
@@ -173,3 +174,94 @@ def test_undefined_statistics_are_empty_cells_and_svg_is_reproducible(capsys, tm
     for p in (a, b):
         assert run(capsys, "maneuver", "--runs", "2", "--scans", "220", "--plot", str(p))[0] == 0
     assert a.read_bytes() == b.read_bytes()
+
+
+# ------------------------------------------------------------------ the Monte Carlo engine (issue 9)
+ENGINE_ARGS = ("maneuver", "--runs", "3", "--scans", "215", "--method", "imm,glr", "--sigma", "100,150")
+
+
+def test_same_bytes_on_one_worker_two_workers_and_dask(capsys, tmp_path, dask_address, many_tasks):
+    outs = engine_outputs(capsys, tmp_path, dask_address, *ENGINE_ARGS)
+    assert outs["w1"] == outs["w2"] == outs["dask"]
+    assert b"workers" not in outs["w1"] and b"scheduler" not in outs["w1"]
+    # under many_tasks each σ's 3 runs are 3 tasks: 2 σ -> 6 tasks, partial sums added in task order
+    job = ex.MCJob(
+        ex.ManeuverScenario(scans=215), (100.0, 150.0), 3, 2008, ("imm", "glr"), ex.TrackerConfig()
+    )
+    assert job.runs_per_task() == 1 and len(job.tasks()) == 6
+
+
+def test_chunking_depends_on_the_parameters_only(monkeypatch):
+    monkeypatch.delenv("MOTIONSIG_MIN_TASK_SECONDS", raising=False)
+    sc = ex.ManeuverScenario()
+    job = ex.MCJob(sc, (100.0, 200.0), 500, 1, ("imm",), ex.TrackerConfig())
+    per_task = job.runs_per_task()
+    assert 1 < per_task <= 250
+    fixed = ex.cost(sc.scans, 0, ("imm",), 1)
+    seconds = ex.cost(sc.scans, per_task, ("imm",), 1) - fixed
+    assert seconds >= 0.1 and seconds >= 4 * fixed  # >= 0.1 s and >= 4x the per-batch overhead
+    tasks = job.tasks()
+    for i in (0, 1):
+        runs = [r for j, r in tasks if j == i]
+        assert [t for r in runs for t in r] == list(range(500))
+        assert all(len(r) == per_task for r in runs[:-1])
+    # the library function on an engine: same numbers as in this process
+    a = ex.monte_carlo(
+        ex.ManeuverScenario(scans=210), 100.0, 3, 5, ("imm", "glr"), ex.TrackerConfig(), chunk=1
+    )
+    b = ex.monte_carlo(ex.ManeuverScenario(scans=210), 100.0, 3, 5, ("imm", "glr"), ex.TrackerConfig(), chunk=1,
+                       engine=Engine(2))  # fmt: skip
+    for m in ("imm", "glr"):
+        np.testing.assert_array_equal(a[m].stats.sd, b[m].stats.sd)
+        np.testing.assert_array_equal(a[m].track0, b[m].track0)
+    np.testing.assert_array_equal(a["glr"].onset, b["glr"].onset)
+
+
+def test_checkpoint_resumes_to_the_same_bytes_and_refuses_other_parameters(capsys, tmp_path, many_tasks):
+    ref, resumed, ck = tmp_path / "ref.csv", tmp_path / "resumed.csv", tmp_path / "ck"
+    assert run(capsys, *ENGINE_ARGS, "--workers", "1", "-q", "-o", str(ref))[0] == 0
+    rc, _, err = run(
+        capsys, *ENGINE_ARGS, "--workers", "1", "-q", "--checkpoint", str(ck), "-o", str(resumed)
+    )
+    assert rc == 0, err
+    assert resumed.read_bytes() == ref.read_bytes()
+    done = sorted(ck.glob("task-*.pkl"))
+    assert len(done) == 6
+    for f in done[::2]:  # an interrupted run: some chunks missing (run 0's track among them)
+        f.unlink()
+    resumed.unlink()
+    rc, _, err = run(
+        capsys, *ENGINE_ARGS, "--workers", "2", "-q", "--checkpoint", str(ck), "-o", str(resumed)
+    )
+    assert rc == 0, err
+    assert resumed.read_bytes() == ref.read_bytes() and len(list(ck.glob("task-*.pkl"))) == 6
+    # another view of the same Monte Carlo reuses the checkpoint (views are computed from the task results)
+    rc, _, err = run(capsys, *ENGINE_ARGS, "--view", "summary", "-q", "--checkpoint", str(ck))
+    assert rc == 0, err
+    other = tmp_path / "other.csv"
+    for args in (("--seed", "7"), ("--glr-threshold", "10")):
+        rc, _, err = run(capsys, *ENGINE_ARGS, *args, "-q", "--checkpoint", str(ck), "-o", str(other))
+        assert rc == 2 and err.count("\n") == 1 and "--checkpoint" in err
+        assert not other.exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"), [(("--workers", "0"), "--workers"), (("--scheduler", " "), "--scheduler")]
+)
+def test_bad_engine_options(capsys, tmp_path, args, needle):
+    out = tmp_path / "o.csv"
+    rc, _, err = run(capsys, *ENGINE_ARGS, *args, "-o", str(out))
+    assert rc == 2 and err.count("\n") == 1 and needle in err and not out.exists()
+
+
+def test_views_without_monte_carlo_ignore_the_engine_options(capsys, tmp_path):
+    ck = tmp_path / "ck"
+    rc, out, err = run(capsys, "maneuver", "--view", "measurements", "--runs", "1", "--scans", "5", "--sigma",
+                       "100", "--workers", "2", "--checkpoint", str(ck))  # fmt: skip
+    assert rc == 0, err
+    assert not ck.exists()
+    rec = tmp_path / "rec.csv"
+    rec.write_text(out)
+    rc, _, err = run(capsys, "maneuver", "--input", str(rec), "--workers", "2", "--checkpoint", str(ck))
+    assert rc == 0, err
+    assert not ck.exists()

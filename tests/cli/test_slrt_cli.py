@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from tests.cli.helpers import run, table
+from motionsig_cli.experiments import slrt as exp
+from tests.cli.helpers import engine_outputs, run, table
 
 
 def test_curves_and_plots(capsys, tmp_path):
@@ -79,3 +80,66 @@ def test_stop_freezes_scores_and_pd_one_gives_minus_inf_not_nan(capsys, tmp_path
     t = table(out, tmp_path, "b.csv")
     nt = [v for v, c in zip(t.column("mean_loglr"), t.column("case"), strict=True) if c == "no target"]
     assert rc == 0 and set(nt) == {"-inf"} and "clutter_floor" in t.meta
+
+
+# ------------------------------------------------------------------ the Monte Carlo engine (issue 9)
+ENGINE_ARGS = ("slrt", "--runs", "5", "--scans", "6", "--pd", "0.9", "--clutter", "2")
+
+
+def test_same_bytes_on_one_worker_two_workers_and_dask(capsys, tmp_path, dask_address, many_tasks):
+    outs = engine_outputs(capsys, tmp_path, dask_address, *ENGINE_ARGS)
+    assert outs["w1"] == outs["w2"] == outs["dask"]
+    assert b"workers" not in outs["w1"] and b"scheduler" not in outs["w1"]
+    # under many_tasks each case's 5 runs are 5 tasks: 2 cases -> 10 tasks, reduced across chunks
+    sc = exp.SlrtScenario(clutter_rate=2.0, scans=6)
+    job = exp.SlrtJob((sc, sc), 5, 2008)
+    assert job.runs_per_task() == 1 and len(job.tasks()) == 10
+
+
+def test_chunking_depends_on_the_parameters_only(monkeypatch):
+    monkeypatch.delenv("MOTIONSIG_MIN_TASK_SECONDS", raising=False)
+    sc = exp.SlrtScenario()
+    job = exp.SlrtJob((sc, exp.SlrtScenario(target=False)), 200, 1)
+    per_task = job.runs_per_task()
+    assert 1 < per_task < 200
+    seconds = exp.cost(sc, per_task)[0] - exp.cost(sc, 0)[0]
+    assert seconds >= 0.1 and seconds >= 4 * exp.cost(sc, 0)[0]  # >= 0.1 s and >= 4x the batch overhead
+    tasks = job.tasks()
+    assert [c for c, _ in tasks] == sorted(c for c, _ in tasks)
+    for case in (0, 1):
+        runs = [r for c, r in tasks if c == case]
+        assert [t for r in runs for t in r] == list(range(200))
+        assert all(len(r) == per_task for r in runs[:-1]) and 0 < len(runs[-1]) <= per_task
+
+
+def test_checkpoint_resumes_to_the_same_bytes_and_refuses_other_parameters(capsys, tmp_path, many_tasks):
+    ref, resumed, ck = tmp_path / "ref.csv", tmp_path / "resumed.csv", tmp_path / "ck"
+    assert run(capsys, *ENGINE_ARGS, "--workers", "1", "-q", "-o", str(ref))[0] == 0
+    rc, _, err = run(
+        capsys, *ENGINE_ARGS, "--workers", "1", "-q", "--checkpoint", str(ck), "-o", str(resumed)
+    )
+    assert rc == 0, err
+    assert resumed.read_bytes() == ref.read_bytes()
+    done = sorted(ck.glob("task-*.pkl"))
+    assert len(done) == 10
+    for f in done[1::3]:  # an interrupted run: some chunks missing
+        f.unlink()
+    resumed.unlink()
+    rc, _, err = run(
+        capsys, *ENGINE_ARGS, "--workers", "2", "-q", "--checkpoint", str(ck), "-o", str(resumed)
+    )
+    assert rc == 0, err
+    assert resumed.read_bytes() == ref.read_bytes() and len(list(ck.glob("task-*.pkl"))) == 10
+    other = tmp_path / "other.csv"
+    rc, _, err = run(capsys, *ENGINE_ARGS, "--seed", "7", "-q", "--checkpoint", str(ck), "-o", str(other))
+    assert rc == 2 and err.count("\n") == 1 and "--checkpoint" in err and "seed" in err
+    assert not other.exists()
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"), [(("--workers", "0"), "--workers"), (("--scheduler", " "), "--scheduler")]
+)
+def test_bad_engine_options(capsys, tmp_path, args, needle):
+    out = tmp_path / "o.csv"
+    rc, _, err = run(capsys, *ENGINE_ARGS, *args, "-o", str(out))
+    assert rc == 2 and err.count("\n") == 1 and needle in err and not out.exists()
