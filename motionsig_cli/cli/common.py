@@ -187,7 +187,8 @@ WorkersOpt = Annotated[
     int | None,
     typer.Option(
         "--workers",
-        help="Local worker processes (default: the machine's cores); with --scheduler local, Dask workers.",
+        help="Local worker processes (default: the machine's cores); with --scheduler local, Dask workers "
+        "(a remote scheduler brings its own).",
     ),
 ]
 SchedulerOpt = Annotated[
@@ -210,8 +211,15 @@ CheckpointOpt = Annotated[
 
 def make_engine(workers: int | None, scheduler: str | None, checkpoint: Path | None) -> Engine:
     """The engine of ``--workers/--scheduler/--checkpoint`` (a bad value is a one-line usage error)."""
+    cores = default_workers()
+    if workers is not None and workers > 4 * cores and (scheduler is None or scheduler == "local"):
+        raise typer.BadParameter(
+            f"{workers} processes on this machine's {cores} cores would only slow the run down; use at most "
+            f"{4 * cores}",
+            param_hint="--workers",
+        )
     try:
-        return Engine(default_workers() if workers is None else workers, scheduler, checkpoint)
+        return Engine(cores if workers is None else workers, scheduler, checkpoint)
     except EngineError as exc:
         raise typer.BadParameter(str(exc), param_hint=exc.option) from None
 
