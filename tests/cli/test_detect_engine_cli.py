@@ -90,6 +90,7 @@ def test_checkpoint_resume_is_identical_and_foreign_checkpoints_are_refused(caps
     ("extra", "option"),
     [
         (("--workers", "0"), "--workers"),
+        (("--workers", "100000"), "--workers"),
         (("--scheduler", "nowhere"), "--scheduler"),
         (("--scheduler", ""), "--scheduler"),
     ],
