@@ -18,21 +18,27 @@ import typer
 
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
+    CheckpointOpt,
     DebugOpt,
     FormatOpt,
     OutOpt,
     OutputFormat,
     PlotOpt,
     QuietOpt,
+    SchedulerOpt,
     SeedOpt,
+    WorkersOpt,
     check_outputs,
     checked,
     float_list,
+    make_engine,
     note,
     progress,
+    run_monte_carlo,
     save_figure,
 )
 from motionsig_cli.cli.io import Table, emit, make_meta
+from motionsig_cli.engine import Engine
 from motionsig_cli.experiments import mac_roc as exp
 from motionsig_cli.surveillance import time_bandwidth as tb
 from motionsig_cli.surveillance.amplitude import DENSITY_NAMES, REPORT_IDS, b_of_ell, density, ell_of_b
@@ -491,6 +497,9 @@ def bounds(
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     code: CodeOpt = "mseq31",
     interferers: InterferersOpt = Interferers.random,
+    workers: WorkersOpt = None,
+    scheduler: SchedulerOpt = None,
+    checkpoint: CheckpointOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
     out: OutOpt = None,
     plot: PlotOpt = None,
@@ -501,8 +510,10 @@ def bounds(
 
     One row per (ℓ, θ): the Chernoff optima ρ*, γ*, exponents E_f, E_d, Gallager roots ρ₁, γ₁, and the
     bounds on p_f and p_m = 1 − p_d (log10 columns stay exact where a probability underflows).
+    --workers/--scheduler/--checkpoint run the --montecarlo overlay.
     """
     check_outputs(out, plot)
+    engine = make_engine(workers, scheduler, checkpoint)
     fig = _figure(figure, "bounds")
     if fig is not None:
         wanted = exp.DENSITY_OF_FIGURE[fig]
@@ -526,6 +537,11 @@ def bounds(
     if n_mc is not None and at_pd is not None:
         raise typer.BadParameter(
             "the Monte Carlo overlay needs a theta grid, not --at-pd", param_hint="--montecarlo"
+        )
+    if n_mc is None and (scheduler is not None or checkpoint is not None):
+        raise typer.BadParameter(
+            "runs only the --montecarlo overlay; add --montecarlo N",
+            param_hint="--scheduler" if scheduler is not None else "--checkpoint",
         )
     base_meta = dict(
         figure=fig,
@@ -583,8 +599,7 @@ def bounds(
         note(f"mac-roc bounds: {len(rows)} contour points", quiet)
         return
     th = _thetas(theta)
-    rows = []
-    panels = []
+    per_model = []
     all_up = []
     with progress(quiet) as bar:
         task = bar.add_task("bounds", total=len(models))
@@ -600,18 +615,28 @@ def bounds(
                     for i, row in enumerate(r)
                 ]
                 curves["exact"] = (ex.log_pm / LN10, ex.log_pf / LN10)
-            if n_mc is not None:
-                mc = exp.monte_carlo(model, th, n_mc, seed)
-                r = [
-                    (*row, float(mc.pf[i]), float(mc.pf_se[i]), float(mc.pm[i]), float(mc.pm_se[i]))
-                    for i, row in enumerate(r)
-                ]
-                with np.errstate(divide="ignore"):
-                    curves["montecarlo"] = (np.log10(mc.pm), np.log10(mc.pf))
-            rows.extend(r)
-            panels.append((e, curves))
+            per_model.append((e, r, curves))
             bar.advance(task)
     _require_nonempty(all_up, "p_f")
+    if n_mc is not None:
+        specs = [exp.PlainRun(m, tuple(float(t) for t in th), n_mc, seed) for _, m in models]
+        identity = {
+            "command": "mac-roc bounds --montecarlo",
+            "figure": fig,
+            "lower_variant": variant,
+            "exact": with_exact,
+            **_mc_identity(info, models, th, n_mc, seed),
+        }
+        mcs = _run_specs(specs, engine, identity, "montecarlo", quiet)
+        for (_, r, curves), mc in zip(per_model, mcs, strict=True):
+            r[:] = [
+                (*row, float(mc.pf[i]), float(mc.pf_se[i]), float(mc.pm[i]), float(mc.pm_se[i]))
+                for i, row in enumerate(r)
+            ]
+            with np.errstate(divide="ignore"):
+                curves["montecarlo"] = (np.log10(mc.pm), np.log10(mc.pf))
+    rows = [row for _, r, _ in per_model for row in r]
+    panels = [(e, curves) for e, _, curves in per_model]
     cols = (
         BOUND_COLS
         + (("pf_exact", "pm_exact", "log10_pf_exact", "log10_pm_exact") if with_exact else ())
@@ -730,6 +755,37 @@ def exact(
     note(f"mac-roc exact: {len(rows)} points, {bad} outside the bounds", quiet)
 
 
+def _mc_identity(
+    info: dict[str, object], models: list[tuple[float, MANModel]], th: np.ndarray, trials: int, seed: int
+) -> dict[str, object]:
+    """The parameters that determine a Monte Carlo's tasks (for a checkpoint's manifest)."""
+    return {
+        **info,
+        "N": models[0][1].N,
+        "tau_over_alpha": models[0][1].tau_over_alpha,
+        "b": [m.power / m.mean_active if m.mean_active else None for _, m in models],
+        "ell": [e for e, _ in models],
+        "theta": [float(t) for t in th],
+        "trials": trials,
+        "seed": seed,
+    }
+
+
+def _run_specs(specs: list, engine: Engine, identity: dict[str, object], label: str, quiet: bool) -> list:
+    """Run Monte Carlo specs as one list of tasks on the engine, with a progress bar in trials."""
+    tasks, sizes, per = exp.plan_tasks(specs)
+    results = run_monte_carlo(
+        functools.partial(exp.run_spec_task, tuple(specs)),
+        tasks,
+        engine,
+        sizes=sizes,
+        identity={**identity, "blocks_per_task": per},
+        label=label,
+        quiet=quiet,
+    )
+    return exp.combine_specs(specs, tasks, results)
+
+
 @app.command()
 def montecarlo(
     density_name: DensityOpt = "uniform",
@@ -749,6 +805,9 @@ def montecarlo(
     interferers: InterferersOpt = Interferers.random,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     lower_variant: VariantOpt = LowerVariant.report,
+    workers: WorkersOpt = None,
+    scheduler: SchedulerOpt = None,
+    checkpoint: CheckpointOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
     out: OutOpt = None,
     plot: PlotOpt = None,
@@ -758,9 +817,12 @@ def montecarlo(
     """The Monte Carlo ROC (Level A; chip level with --density psk) beside the exact ROC and the bounds.
 
     z_pf, z_pm = (estimate − exact)/SE where the exact ROC exists; inside = the estimate lies within
-    [LB − 4 SE, UB + 4 SE] for both p_f and p_m.
+    [LB − 4 SE, UB + 4 SE] for both p_f and p_m. The trials run in blocks of 65 536 on --workers local
+    processes or a Dask --scheduler; the result is the same bit for bit, and --checkpoint DIR resumes
+    an interrupted run.
     """
     check_outputs(out, plot)
+    engine = make_engine(workers, scheduler, checkpoint)
     n_trials = _count(trials, "--trials")
     if n_trials > MAX_TRIALS:
         raise typer.BadParameter(f"at most {MAX_TRIALS:.0e} trials", param_hint="--trials")
@@ -780,67 +842,94 @@ def montecarlo(
             f"{' x 2 x thresholds' if importance else ''}); at most {exp.MAX_TOTAL_DRAWS:.0e}",
             param_hint="--trials",
         )
+    identity = {
+        "command": "mac-roc montecarlo",
+        "importance": importance,
+        "lower_variant": lower_variant.value,
+        **_mc_identity(info, models, th, n_trials, seed),
+    }
+    references = []  # the bounds and the exact ROC first: a bad setting fails before the Monte Carlo
+    for _, model in models:
+        rb = roc_bounds(model, th, lower_variant.value)
+        has_exact = info["density"] in EXACT_DENSITIES and model.mean_active <= MAX_MEAN_ACTIVE
+        references.append((rb, exact_roc(model, th) if has_exact else None))
+    results: list = []
+    if importance:  # every (model, side, θ) is a spec; all of them run as one list of tasks
+        sides = [
+            (
+                *exp.importance_runs(m, th, n_trials, seed, "pf"),
+                *exp.importance_runs(m, th, n_trials, seed, "pm"),
+            )
+            for _, m in models
+        ]
+        specs = [r for f_runs, _, m_runs, _ in sides for r in (*f_runs, *m_runs) if r is not None]
+        done = iter(_run_specs(specs, engine, identity, "trials", quiet))
+
+        def estimate(runs: list, tilt: np.ndarray) -> exp.ImportanceEstimate:
+            return exp.importance_estimate(
+                th, n_trials, tilt, [None if r is None else next(done) for r in runs]
+            )
+
+        results = [
+            (estimate(f_runs, f_tilt), estimate(m_runs, m_tilt)) for f_runs, f_tilt, m_runs, m_tilt in sides
+        ]
+    else:
+        specs = [exp.PlainRun(model, tuple(float(t) for t in th), n_trials, seed) for _, model in models]
+        results = _run_specs(specs, engine, identity, "trials", quiet)
     rows = []
     panels = []
     power_checks = []
-    with progress(quiet) as bar:
-        per_model = n_trials * (2 * th.size if importance else 1)
-        task = bar.add_task("trials", total=per_model * len(models))
-        for e, model in models:
-            rb = roc_bounds(model, th, lower_variant.value)
-            has_exact = info["density"] in EXACT_DENSITIES and model.mean_active <= MAX_MEAN_ACTIVE
-            ex = exact_roc(model, th) if has_exact else None
-            if importance:
-                f = exp.importance_sampling(model, th, n_trials, seed, "pf", lambda k: bar.advance(task, k))
-                m = exp.importance_sampling(model, th, n_trials, seed, "pm", lambda k: bar.advance(task, k))
-                pf, pm = f.p, m.p
-                pf_se, pm_se = f.p * f.rel_se, m.p * m.rel_se
-            else:
-                mc = exp.monte_carlo(model, th, n_trials, seed, lambda k: bar.advance(task, k))
-                pf, pm, pf_se, pm_se = mc.pf, mc.pm, mc.pf_se, mc.pm_se
-                power_checks.append(
-                    {"ell": e, "P": model.power, "mean_n2": mc.power, "se": mc.power_se,
-                     "z": (mc.power - model.power) / mc.power_se if mc.power_se > 0 else None}
-                )  # fmt: skip
-            up_f, lo_f = np.exp(rb.log_pf_up), np.exp(rb.log_pf_lo)
-            up_m, lo_m = np.exp(rb.log_pm_up), np.exp(rb.log_pm_lo)
-            inside = exp.within_bounds(pf, pf_se, lo_f, up_f, n_trials) & exp.within_bounds(
-                pm, pm_se, lo_m, up_m, n_trials
-            )
-            for i, t in enumerate(th):
-                ef = math.exp(ex.log_pf[i]) if ex is not None else None
-                em = math.exp(ex.log_pm[i]) if ex is not None else None
-                zf = (pf[i] - ef) / pf_se[i] if ef is not None and pf_se[i] > 0 else None
-                zm = (pm[i] - em) / pm_se[i] if em is not None and pm_se[i] > 0 else None
-                rows.append(
-                    (
-                        info["density"],
-                        e,
-                        model.power,
-                        float(t),
-                        "importance" if importance else "plain",
-                        n_trials,
-                        float(pf[i]),
-                        float(pf_se[i]),
-                        float(pm[i]),
-                        float(pm_se[i]),
-                        ef,
-                        zf,
-                        em,
-                        zm,
-                        float(up_f[i]),
-                        float(lo_f[i]),
-                        float(up_m[i]),
-                        float(lo_m[i]),
-                        bool(inside[i]),
-                    )
+    for (e, model), (rb, ex), result in zip(models, references, results, strict=True):
+        if importance:
+            f, m = result
+            pf, pm = f.p, m.p
+            pf_se, pm_se = f.p * f.rel_se, m.p * m.rel_se
+        else:
+            mc = result
+            pf, pm, pf_se, pm_se = mc.pf, mc.pm, mc.pf_se, mc.pm_se
+            power_checks.append(
+                {"ell": e, "P": model.power, "mean_n2": mc.power, "se": mc.power_se,
+                 "z": (mc.power - model.power) / mc.power_se if mc.power_se > 0 else None}
+            )  # fmt: skip
+        up_f, lo_f = np.exp(rb.log_pf_up), np.exp(rb.log_pf_lo)
+        up_m, lo_m = np.exp(rb.log_pm_up), np.exp(rb.log_pm_lo)
+        inside = exp.within_bounds(pf, pf_se, lo_f, up_f, n_trials) & exp.within_bounds(
+            pm, pm_se, lo_m, up_m, n_trials
+        )
+        for i, t in enumerate(th):
+            ef = math.exp(ex.log_pf[i]) if ex is not None else None
+            em = math.exp(ex.log_pm[i]) if ex is not None else None
+            zf = (pf[i] - ef) / pf_se[i] if ef is not None and pf_se[i] > 0 else None
+            zm = (pm[i] - em) / pm_se[i] if em is not None and pm_se[i] > 0 else None
+            rows.append(
+                (
+                    info["density"],
+                    e,
+                    model.power,
+                    float(t),
+                    "importance" if importance else "plain",
+                    n_trials,
+                    float(pf[i]),
+                    float(pf_se[i]),
+                    float(pm[i]),
+                    float(pm_se[i]),
+                    ef,
+                    zf,
+                    em,
+                    zm,
+                    float(up_f[i]),
+                    float(lo_f[i]),
+                    float(up_m[i]),
+                    float(lo_m[i]),
+                    bool(inside[i]),
                 )
-            curves = _curves_for_plot(e, rb)
-            if ex is not None:
-                curves["exact"] = (ex.log_pm / LN10, ex.log_pf / LN10)
-            with np.errstate(divide="ignore"):
-                curves["montecarlo"] = (np.log10(pm), np.log10(pf))
-            panels.append((e, curves))
+            )
+        curves = _curves_for_plot(e, rb)
+        if ex is not None:
+            curves["exact"] = (ex.log_pm / LN10, ex.log_pf / LN10)
+        with np.errstate(divide="ignore"):
+            curves["montecarlo"] = (np.log10(pm), np.log10(pf))
+        panels.append((e, curves))
     cols = (
         "density",
         "ell",

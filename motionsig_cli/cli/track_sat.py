@@ -19,20 +19,24 @@ import typer
 
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
+    CheckpointOpt,
     DebugOpt,
     FormatOpt,
     OutOpt,
     OutputFormat,
     PlotOpt,
     QuietOpt,
+    SchedulerOpt,
     SeedOpt,
+    WorkersOpt,
     check_outputs,
     checked,
     float_list,
     int_list,
+    make_engine,
     note,
     positive,
-    progress,
+    run_monte_carlo,
     save_figure,
 )
 from motionsig_cli.cli.io import InputError, Table, emit, make_meta, read_table
@@ -731,6 +735,9 @@ def simulate(
     outage_sats: OutageSatsOpt = "1,2,3",
     rsat_re: SimRsatReOpt = None,
     rsat_km: RsatKmOpt = None,
+    workers: WorkersOpt = None,
+    scheduler: SchedulerOpt = None,
+    checkpoint: CheckpointOpt = None,
     fmt: FormatOpt = OutputFormat.csv,
     out: OutOpt = None,
     plot: PlotOpt = None,
@@ -744,8 +751,10 @@ def simulate(
     Example:
       motionsig track-sat simulate --example I --sigma0 50 --rsat-re 9.235 --plot mc.png
       motionsig track-sat simulate --example II --rho 0.9 --estimators report,kf2 --outage-length 0 --epochs 300
+      motionsig track-sat simulate --runs 20000 --workers 8 --checkpoint ckpt/   # resumable, same result
     """
     check_outputs(out, plot)
+    engine = make_engine(workers, scheduler, checkpoint)
     if not 0.5 < rho <= 1.0:
         raise typer.BadParameter(f"{rho:g} is outside (1/2, 1]", param_hint="--rho")
     names = tuple(dict.fromkeys(e.strip() for e in estimators.split(",") if e.strip()))
@@ -776,11 +785,38 @@ def simulate(
     )  # fmt: skip
     checked("--velocity-enu", exp.check_track, cfg)
     _check(con, sats=False, aircraft=False, quiet=quiet)
-    with progress(quiet) as bar:
-        task = bar.add_task("track-sat simulate", total=runs)
-        res = checked(
-            "--velocity-enu", exp.simulate, cfg, runs, seed, on_progress=lambda k: bar.advance(task, k)
-        )
+    tasks = checked("--velocity-enu", exp.simulation_tasks, cfg, runs)
+    identity = {
+        "command": "track-sat simulate",
+        "example": example.value,
+        "r_sat_km": rs,
+        "sigma_ns": sigma,
+        "sigma0_ns": sigma0,
+        "rho": rho,
+        "runs": runs,
+        "seed": seed,
+        "estimators": list(names),
+        "epochs": epochs,
+        "outage_start": outage_start,
+        "outage_length": outage_length,
+        "outage_sats": list(con.triplet),
+        "reinit_after_outage": reinit_after_outage,
+        "gain": gain.value,
+        "velocity_enu_mps": list(vel),
+        "runs_per_task": len(tasks[0]),
+    }
+    parts = checked(
+        "--velocity-enu",
+        run_monte_carlo,
+        exp.task_function(cfg, seed),
+        tasks,
+        engine,
+        sizes=[len(t) for t in tasks],
+        identity=identity,
+        label="track-sat simulate",
+        quiet=quiet,
+    )
+    res = exp.combine_runs(cfg, parts)
     rows = []
     for j, n in enumerate(res.n):
         row: list[object] = [int(n), int(res.K[j]), float(res.analytic_report[j])]

@@ -14,18 +14,25 @@ likelihood ratio e^{−rn + Λ(r)}. The relative standard error stays ~1e-3 with
 Reproducibility: trials run in blocks of ``BLOCK`` = 65 536; block t draws from
 ``SeedSequence(seed, spawn_key=(t, …))`` (``rng.trial_rng``), so a result depends on (seed, trials)
 only, not on how blocks are scheduled. Importance-sampling streams are keyed by the threshold value
-itself, so adding a θ to the list leaves the others' numbers unchanged.
+itself, so adding a θ to the list leaves the others' numbers unchanged. The blocks run as tasks of the
+Monte Carlo engine (:mod:`motionsig_cli.engine`: in this process, local worker processes or a Dask
+cluster): :class:`PlainRun` and :class:`ImportanceRun` are the task specs, :func:`run_spec_task` the
+task function, and the partial results are reduced block by block in block order, so the numbers are
+the same bit for bit for any number of workers and any number of blocks per task.
 """
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.special import expit, logsumexp
 
+from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.surveillance.amplitude import (
     FIGURE_OF,
@@ -217,27 +224,191 @@ def monte_carlo_block(
     return fa, miss, np.array(n2.sum()), np.array((n2 * n2).sum())
 
 
+# --- the engine's tasks ---------------------------------------------------------------------------
+# A Monte Carlo is split into tasks of whole blocks (the unit of reproducibility); a task returns
+# per-block partial results and the reduction combines them in block order, so a result is the same
+# bit for bit whatever the number of blocks per task and wherever the tasks run
+# (:mod:`motionsig_cli.engine`). The number of blocks per task comes from a cost model (seconds per
+# trial, measured on one core), never from a clock or the number of workers.
+TRIAL_SECONDS = 1e-7
+"""Per trial: the binomial draw, the sums and the sort."""
+DRAW_SECONDS = 2.5e-8
+"""Per amplitude draw (a chip-level psk draw with random codes costs CHIP_SECONDS per chip more)."""
+CHIP_SECONDS = 1.2e-8
+TILT_FACTOR = 1.4
+"""Tilted draws (importance sampling) cost about 40 % more."""
+
+
+def _draw_seconds(dens: AmplitudeDensity) -> float:
+    if getattr(dens, "name", "") == "psk" and getattr(dens, "family", ()) is None:
+        return DRAW_SECONDS + CHIP_SECONDS * float(dens.L)  # type: ignore[attr-defined]
+    return DRAW_SECONDS
+
+
+def _seconds_per_trial(model: MANModel, r: float = 0.0) -> float:
+    """Cost model: seconds per trial of :func:`noise_samples` (tilted at ``r``)."""
+    s = TRIAL_SECONDS
+    for dens, m in model.components:
+        if m == 0:
+            continue
+        if r == 0.0:
+            s += m * model.q * _draw_seconds(dens)
+        else:
+            g = float(dens.cgf(np.array([r]))[0][0])
+            w = float(expit(math.log(model.q) + g - math.log1p(-model.q)))
+            s += m * w * _draw_seconds(dens) * TILT_FACTOR
+    return s
+
+
+def blocks_per_task(seconds_per_trial: float) -> int:
+    """Whole blocks per task, so that a task is worth ≥ the engine's minimum task time."""
+    return max(1, math.ceil(trials_per_task(seconds_per_trial, at_most=2**62) / BLOCK))
+
+
+@dataclass(frozen=True)
+class PlainRun:
+    """Plain Monte Carlo of one model (the engine's task spec; picklable)."""
+
+    model: MANModel
+    theta: tuple[float, ...]
+    trials: int
+    seed: int
+
+    def blocks_per_task(self) -> int:
+        return blocks_per_task(_seconds_per_trial(self.model))
+
+    def run(self, blocks: range) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Blocks ``blocks``: summed counts, and Σn², Σn⁴ per block (summed in block order later)."""
+        theta = np.asarray(self.theta, dtype=float)
+        fa = np.zeros(theta.shape, np.int64)
+        miss = np.zeros(theta.shape, np.int64)
+        s2, s4 = np.empty(len(blocks)), np.empty(len(blocks))
+        for j, b in enumerate(blocks):
+            f, m, a2, a4 = monte_carlo_block(self.model, theta, self.seed, b, _block_size(self.trials, b))
+            fa += f
+            miss += m
+            s2[j], s4[j] = float(a2), float(a4)
+        return fa, miss, s2, s4
+
+    def combine(
+        self, parts: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]
+    ) -> MonteCarloRoc:
+        theta = np.asarray(self.theta, dtype=float)
+        fa = np.zeros(theta.shape, np.int64)
+        miss = np.zeros(theta.shape, np.int64)
+        s2 = s4 = 0.0
+        for f, m, a2, a4 in parts:
+            fa += f
+            miss += m
+            for v2, v4 in zip(a2, a4, strict=True):  # one block at a time, in block order
+                s2 += float(v2)
+                s4 += float(v4)
+        return MonteCarloRoc(theta, self.trials, fa, miss, s2, s4)
+
+
+@dataclass(frozen=True)
+class ImportanceRun:
+    """Importance sampling of one side (pf or pm) at one θ, tilted at ``r`` (the engine's task spec)."""
+
+    model: MANModel
+    theta: float
+    side: str
+    r: float
+    lam: float
+    trials: int
+    seed: int
+
+    def blocks_per_task(self) -> int:
+        return blocks_per_task(_seconds_per_trial(self.model, self.r))
+
+    def run(self, blocks: range) -> np.ndarray:
+        """ln e^{−rn + Λ(r)} of the hits of blocks ``blocks``, in trial order."""
+        logs: list[np.ndarray] = []
+        for b in blocks:
+            rng = trial_rng(self.seed, b, 1 if self.side == "pf" else 2, theta_key(self.theta))
+            n = noise_samples(self.model, rng, _block_size(self.trials, b), self.r)
+            hit = n >= self.theta if self.side == "pf" else n < self.theta - 1.0
+            logs.append(-self.r * n[hit] + self.lam)
+        return np.concatenate(logs)
+
+    def combine(self, parts: Sequence[np.ndarray]) -> tuple[float, float, int]:
+        """(ln p, relative standard error, hits) from the hits' log weights, in block order."""
+        lw = np.concatenate(parts)
+        if lw.size == 0:
+            return -math.inf, 0.0, 0
+        log_p = float(logsumexp(lw) - math.log(self.trials))
+        second = logsumexp(2.0 * lw) - math.log(self.trials)  # ln E[w² 1]
+        var = np.expm1(second - 2.0 * log_p) if second - 2.0 * log_p > 0 else 0.0
+        return log_p, math.sqrt(max(var, 0.0) / self.trials), int(lw.size)
+
+
+def _block_size(trials: int, block: int) -> int:
+    return min(BLOCK, trials - block * BLOCK)
+
+
+def run_spec_task(specs: Sequence[PlainRun | ImportanceRun], task: tuple[int, range]) -> Any:
+    """The engine's task function: blocks ``task[1]`` of ``specs[task[0]]`` (module-level, picklable)."""
+    i, blocks = task
+    return specs[i].run(blocks)
+
+
+def plan_tasks(
+    specs: Sequence[PlainRun | ImportanceRun],
+) -> tuple[list[tuple[int, range]], list[int], list[int]]:
+    """Tasks (spec index, block range) of several Monte Carlo runs, their sizes in trials, and the
+    blocks per task of each spec (for a checkpoint's identity)."""
+    tasks, sizes, per = [], [], []
+    for i, spec in enumerate(specs):
+        k = spec.blocks_per_task()
+        per.append(k)
+        for blocks in tasks_of(len(n_blocks(spec.trials)), k):
+            tasks.append((i, blocks))
+            sizes.append(sum(_block_size(spec.trials, b) for b in blocks))
+    return tasks, sizes, per
+
+
+def combine_specs(
+    specs: Sequence[PlainRun | ImportanceRun], tasks: Sequence[tuple[int, range]], results: Sequence[Any]
+) -> list[Any]:
+    """Each spec's combined result from the task results (in task order)."""
+    parts: list[list[Any]] = [[] for _ in specs]
+    for (i, _), res in zip(tasks, results, strict=True):
+        parts[i].append(res)
+    return [spec.combine(p) for spec, p in zip(specs, parts, strict=True)]
+
+
+def run_specs(
+    specs: Sequence[PlainRun | ImportanceRun],
+    engine: Engine | None = None,
+    progress: Callable[[int], None] | None = None,
+) -> list[Any]:
+    """Run several Monte Carlo specs as one list of tasks on ``engine`` (default: in this process)."""
+    tasks, sizes, per = plan_tasks(specs)
+    results = run_tasks(
+        functools.partial(run_spec_task, tuple(specs)),
+        tasks,
+        engine or Engine(),
+        sizes=sizes,
+        progress=progress,
+        identity={"command": "mac_roc.run_specs", "specs": [repr(s) for s in specs], "blocks_per_task": per},
+    )
+    return combine_specs(specs, tasks, results)
+
+
 def monte_carlo(
     model: MANModel,
     theta: np.ndarray,
     trials: int,
     seed: int,
     progress: Callable[[int], None] | None = None,
+    *,
+    engine: Engine | None = None,
 ) -> MonteCarloRoc:
     """The Monte Carlo ROC (Level A, or Level B with a chip-level density)."""
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
-    fa = np.zeros(theta.shape, np.int64)
-    miss = np.zeros(theta.shape, np.int64)
-    s2 = s4 = 0.0
-    for b, size in n_blocks(trials):
-        f, m, a2, a4 = monte_carlo_block(model, theta, seed, b, size)
-        fa += f
-        miss += m
-        s2 += float(a2)
-        s4 += float(a4)
-        if progress is not None:
-            progress(size)
-    return MonteCarloRoc(theta, trials, fa, miss, s2, s4)
+    n_blocks(trials)  # checks trials >= 1
+    spec = PlainRun(model, tuple(float(t) for t in theta), int(trials), int(seed))
+    return run_specs([spec], engine, progress)[0]
 
 
 def within_bounds(
@@ -270,6 +441,42 @@ def theta_key(theta: float) -> int:
     return round(theta * 2**32)
 
 
+def importance_runs(
+    model: MANModel, theta: np.ndarray, trials: int, seed: int, side: str = "pf"
+) -> tuple[list[ImportanceRun | None], np.ndarray]:
+    """The tilted runs of one side at each θ (None where no tilt reaches the level), and the tilts."""
+    theta = np.atleast_1d(np.asarray(theta, dtype=float))
+    if side not in ("pf", "pm"):
+        raise ValueError("side must be pf or pm")
+    n_blocks(trials)  # checks trials >= 1
+    sign = 1.0 if side == "pf" else -1.0
+    level = theta if side == "pf" else 1.0 - theta
+    r_star, _ = chernoff(model, level, sign)
+    runs: list[ImportanceRun | None] = []
+    for i, th in enumerate(theta):
+        r = sign * float(r_star[i])
+        if not math.isfinite(r):
+            runs.append(None)
+            continue
+        lam = float(model.log_mgf(np.array([r]))[0][0])
+        runs.append(ImportanceRun(model, float(th), side, r, lam, int(trials), int(seed)))
+    return runs, sign * r_star
+
+
+def importance_estimate(
+    theta: np.ndarray, trials: int, tilt: np.ndarray, combined: Sequence[tuple[float, float, int] | None]
+) -> ImportanceEstimate:
+    """An :class:`ImportanceEstimate` from each θ's combined run (None: p = 0 exactly)."""
+    theta = np.atleast_1d(np.asarray(theta, dtype=float))
+    log_p = np.full(theta.shape, -np.inf)
+    rel = np.zeros(theta.shape)
+    hits = np.zeros(theta.shape, np.int64)
+    for i, c in enumerate(combined):
+        if c is not None:
+            log_p[i], rel[i], hits[i] = c
+    return ImportanceEstimate(theta, trials, log_p, rel, tilt, hits)
+
+
 def importance_sampling(
     model: MANModel,
     theta: np.ndarray,
@@ -277,46 +484,20 @@ def importance_sampling(
     seed: int,
     side: str = "pf",
     progress: Callable[[int], None] | None = None,
+    *,
+    engine: Engine | None = None,
 ) -> ImportanceEstimate:
     """p_f (side="pf", tilt at ρ*) or p_m (side="pm", tilt at −γ*) by exponential tilting (spec §12.1).
 
     Where no tilt reaches the level (a bounded density beyond its support) p = 0 exactly.
     """
-    theta = np.atleast_1d(np.asarray(theta, dtype=float))
-    if side not in ("pf", "pm"):
-        raise ValueError("side must be pf or pm")
-    sign = 1.0 if side == "pf" else -1.0
-    level = theta if side == "pf" else 1.0 - theta
-    r_star, _ = chernoff(model, level, sign)
-    log_p = np.full(theta.shape, -np.inf)
-    rel = np.zeros(theta.shape)
-    hits = np.zeros(theta.shape, np.int64)
-    blocks = n_blocks(trials)
-    for i, th in enumerate(theta):
-        r = sign * float(r_star[i])
-        if not math.isfinite(r):
-            if progress is not None:
-                progress(trials)
-            continue
-        lam = float(model.log_mgf(np.array([r]))[0][0])
-        logs: list[np.ndarray] = []
-        for b, size in blocks:
-            rng = trial_rng(seed, b, 1 if side == "pf" else 2, theta_key(float(th)))
-            n = noise_samples(model, rng, size, r)
-            hit = n >= th if side == "pf" else n < th - 1.0
-            logs.append(-r * n[hit] + lam)  # ln e^{−rn + Λ(r)}
-            if progress is not None:
-                progress(size)
-        lw = np.concatenate(logs)
-        hits[i] = lw.size
-        if lw.size == 0:
-            continue
-        lse = logsumexp(lw)
-        log_p[i] = lse - math.log(trials)
-        second = logsumexp(2.0 * lw) - math.log(trials)  # ln E[w² 1]
-        var = np.expm1(second - 2.0 * log_p[i]) if second - 2.0 * log_p[i] > 0 else 0.0
-        rel[i] = math.sqrt(max(var, 0.0) / trials)
-    return ImportanceEstimate(theta, trials, log_p, rel, sign * r_star, hits)
+    runs, tilt = importance_runs(model, theta, trials, seed, side)
+    specs = [r for r in runs if r is not None]
+    if progress is not None:
+        for _ in range(len(runs) - len(specs)):
+            progress(trials)
+    done = iter(run_specs(specs, engine, progress))
+    return importance_estimate(theta, trials, tilt, [None if r is None else next(done) for r in runs])
 
 
 # --- Fig. 3.2 / 3.7 -------------------------------------------------------------------------------

@@ -12,6 +12,7 @@ Conventions (project decision, see the errata page):
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -19,6 +20,7 @@ from enum import StrEnum
 
 import numpy as np
 
+from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.refdata import load
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.surveillance.clock import ClockModel, psi
@@ -514,106 +516,192 @@ def _draws(
     return {"tau0": np.array(tau0), "x": np.array(x), "eps": np.array(eps), "off": np.array(off)}
 
 
-def simulate(
-    cfg: SimulationConfig,
-    runs: int,
-    seed: int,
-    *,
-    chunk: int = 2000,
-    on_progress: Callable[[int], None] | None = None,
-) -> SimulationResult:
-    """Monte Carlo of the configured estimators (spec §6.1), vectorised over runs, in chunks.
+# Cost model of one task (seconds; measured on one core, used only to size the tasks — never a clock):
+# per run and update, each estimator costs RUN_UPDATE_SECONDS[e] (the trackers scale with the number of
+# linearisations); the vectorised loop over updates costs a fixed UPDATE_OVERHEAD_SECONDS per update and
+# task (plus TRACKER_OVERHEAD_SECONDS per tracker), whatever the number of runs in the task.
+RUN_UPDATE_SECONDS = {"none": 2.6e-6, "report": 2.0e-6, "kf2": 3.4e-6}
+UPDATE_OVERHEAD_SECONDS = 2e-4
+TRACKER_OVERHEAD_SECONDS = 3.5e-4
+CHOLESKY_FLOP_SECONDS = 1e-9
+AMORTISE = 2.0
+"""A task does at least this many times its fixed cost in per-run work (vectorisation pays off)."""
+MAX_TASK_RUNS = 2000
+MAX_TASK_VALUES = 16_000_000
+"""Largest runs x updates x (satellites + 2) random numbers held by one task (memory bound)."""
 
-    Measurements: T̂_ni − nτ̄ = τ_0 + x_n + ‖p_n − S_i‖/c + ε_ni (eq 4.2.2, η = 0, exact c). Run r uses
-    only ``trial_rng(seed, r)``, so results do not depend on the chunk size.
+
+def _uses_cholesky(cfg: SimulationConfig) -> bool:
+    return cfg.rho != 1.0 and cfg.sigma0 != 0.0
+
+
+def clock_factor(cfg: SimulationConfig) -> np.ndarray | None:
+    """The Cholesky factor of a ρ < 1 clock's covariance (None for ρ = 1 or a perfect clock).
+
+    Computed once, where the run is planned, and shipped with the task function: LAPACK's blocked
+    Cholesky gives different last bits for different BLAS thread counts (a Dask worker runs with
+    OPENBLAS_NUM_THREADS=1), so a factor computed on each worker would break the byte-identical
+    output. The product of the factor with a vector does not depend on the thread count.
     """
+    if not _uses_cholesky(cfg):
+        return None
+    return ClockModel(cfg.sigma0, cfg.sigma0, cfg.rho).cholesky(cfg.timeline.epochs)
+
+
+def task_function(cfg: SimulationConfig, seed: int) -> Callable[[range], dict[str, np.ndarray]]:
+    """The picklable task function of a run: :func:`simulate_runs` with the configuration, the seed and
+    the clock's Cholesky factor bound."""
+    return functools.partial(simulate_runs, cfg, seed, chol=clock_factor(cfg))
+
+
+def runs_per_task(cfg: SimulationConfig) -> int:
+    """Runs per task, from the cost model only (never from a clock or the number of workers): each task
+    is worth ≥ :func:`~motionsig_cli.engine.min_task_seconds` and ≥ ``AMORTISE`` × its fixed cost of
+    per-run work, within the memory bound."""
+    E = cfg.timeline.epochs + 1
+    trackers = sum(1 for e in cfg.estimators if e != "none")
+    relin = (1 + cfg.relinearise) / 3.0  # the costs were measured with 3 linearisations per update
+    per_update = sum(RUN_UPDATE_SECONDS[e] * (1.0 if e == "none" else relin) for e in cfg.estimators)
+    per_run = E * per_update
+    if _uses_cholesky(cfg):
+        per_run += CHOLESKY_FLOP_SECONDS * float(E - 1) ** 2
+    fixed = E * (UPDATE_OVERHEAD_SECONDS + TRACKER_OVERHEAD_SECONDS * trackers)
+    floor = math.ceil(AMORTISE * fixed / per_run)
+    memory = max(1, MAX_TASK_VALUES // (E * (cfg.constellation.K + 2)))
+    return int(max(1, min(MAX_TASK_RUNS, memory, max(floor, trials_per_task(per_run)))))
+
+
+def simulation_tasks(cfg: SimulationConfig, runs: int, *, chunk: int | None = None) -> list[range]:
+    """Check the run (limits, geometry, track) and split runs 0..runs−1 into tasks of
+    :func:`runs_per_task` runs (or ``chunk``)."""
     if runs < 1:
         raise ValueError("the number of Monte Carlo runs must be >= 1")
     if runs * (cfg.timeline.epochs + 1) > MAX_WORK:
         raise ValueError(f"runs x updates = {runs * (cfg.timeline.epochs + 1):,} exceeds {MAX_WORK:,}")
+    cfg.constellation.check()
+    check_track(cfg)
+    if runs > MAX_RUNS:
+        raise ValueError(f"{runs} runs: at most {MAX_RUNS} (per-run errors are kept for an order-free sum)")
+    return tasks_of(runs, runs_per_task(cfg) if chunk is None else chunk)
+
+
+def simulate_runs(
+    cfg: SimulationConfig, seed: int, runs: range, *, chol: np.ndarray | None = None
+) -> dict[str, np.ndarray]:
+    """The task function: squared position errors [ft²], (len(runs), epochs + 1) per estimator, of runs
+    ``runs`` (run r draws from ``trial_rng(seed, r)`` only, so a run's errors do not depend on the task
+    it is in). Module-level and pure: it runs in worker processes and on Dask workers. ``chol``: the
+    clock's Cholesky factor (:func:`clock_factor`; computed here when a ρ < 1 run does not pass it)."""
     con = cfg.constellation
-    con.check()
     tl = cfg.timeline
     E = tl.epochs + 1
     out, reinit = tl.outage(), tl.reinit()
-    check_track(cfg)
     sats, truth = _truth_light_ns(con, cfg)
     K = con.K
     idx_all, idx3 = np.arange(K), np.array(con.triplet)
-    perfect = cfg.sigma0 == 0.0
-    chol = None if cfg.rho == 1.0 or perfect else ClockModel(cfg.sigma0, cfg.sigma0, cfg.rho).cholesky(E - 1)
-    if runs > MAX_RUNS:
-        raise ValueError(f"{runs} runs: at most {MAX_RUNS} (per-run errors are kept for an order-free sum)")
-    e2_all = {e: np.empty((runs, E)) for e in cfg.estimators}
+    if chol is None:
+        chol = clock_factor(cfg)
     g_steady = None
     if cfg.steady_gain:
         g_steady = np.asarray(
             psi((8.0 / 27.0) * cfg.sigma0**2 * float(metrics(con.directions()).beta) / cfg.sigma**2)
         )
-    done = 0
-    for start in range(0, runs, chunk):
-        rr = range(start, min(runs, start + chunk))
-        d = _draws(cfg, seed, rr, K, chol)
-        R = len(rr)
-        p_guess = truth[0] + d["off"] * (1e3 / C_M_PER_NS)  # km → light-ns
-        trackers: dict[str, ReportClock | RateKalmanClock] = {}
-        if "report" in cfg.estimators:
-            trackers["report"] = ReportClock(cfg.sigma, cfg.sigma0, steady_gain=g_steady)
-        if "kf2" in cfg.estimators:
-            trackers["kf2"] = RateKalmanClock(cfg.sigma, cfg.sigma0)
-        p_hat: dict[str, np.ndarray] = {}
-        for n in range(E):
-            idx = idx3 if out[n] else idx_all
-            S = sats[idx]
-            rng_true = np.linalg.norm(truth[n] - S, axis=-1)
-            T = d["tau0"][:, None] + d["x"][:, n, None] + rng_true[None, :] + d["eps"][:, n, idx]
-            est_p: dict[str, np.ndarray] = {}
-            if n == 0 or ("none" in cfg.estimators and not out[n]):
-                start_p = p_guess if n == 0 else p_hat.get("none", p_hat.get("report", p_guess))
-                _, p_ls, _ = ls_position_clock(T, S, start_p)
-                if "none" in cfg.estimators:
-                    est_p["none"] = p_ls
-            if n == 0:
-                pm = pseudo_measurement(T, S, p_ls)
-                for name, tr in trackers.items():
+    R = len(runs)
+    e2 = {e: np.empty((R, E)) for e in cfg.estimators}
+    d = _draws(cfg, seed, runs, K, chol)
+    p_guess = truth[0] + d["off"] * (1e3 / C_M_PER_NS)  # km → light-ns
+    trackers: dict[str, ReportClock | RateKalmanClock] = {}
+    if "report" in cfg.estimators:
+        trackers["report"] = ReportClock(cfg.sigma, cfg.sigma0, steady_gain=g_steady)
+    if "kf2" in cfg.estimators:
+        trackers["kf2"] = RateKalmanClock(cfg.sigma, cfg.sigma0)
+    p_hat: dict[str, np.ndarray] = {}
+    for n in range(E):
+        idx = idx3 if out[n] else idx_all
+        S = sats[idx]
+        rng_true = np.linalg.norm(truth[n] - S, axis=-1)
+        T = d["tau0"][:, None] + d["x"][:, n, None] + rng_true[None, :] + d["eps"][:, n, idx]
+        est_p: dict[str, np.ndarray] = {}
+        if n == 0 or ("none" in cfg.estimators and not out[n]):
+            start_p = p_guess if n == 0 else p_hat.get("none", p_hat.get("report", p_guess))
+            _, p_ls, _ = ls_position_clock(T, S, start_p)
+            if "none" in cfg.estimators:
+                est_p["none"] = p_ls
+        if n == 0:
+            pm = pseudo_measurement(T, S, p_ls)
+            for name, tr in trackers.items():
+                tr.reinit(pm["y"], pm["beta"])
+                est_p[name] = position_update(pm, p_ls, pm["y"])  # τ̂_0 = y_0 (4.5.3)
+        else:
+            for name, tr in trackers.items():
+                p_star = p_hat[name]
+                if reinit[n] and name == "report":
+                    _, p_ls, _ = ls_position_clock(T, S, p_star)
+                    pm = pseudo_measurement(T, S, p_ls)
                     tr.reinit(pm["y"], pm["beta"])
-                    est_p[name] = position_update(pm, p_ls, pm["y"])  # τ̂_0 = y_0 (4.5.3)
-            else:
-                for name, tr in trackers.items():
-                    p_star = p_hat[name]
-                    if reinit[n] and name == "report":
-                        _, p_ls, _ = ls_position_clock(T, S, p_star)
-                        pm = pseudo_measurement(T, S, p_ls)
-                        tr.reinit(pm["y"], pm["beta"])
-                        est_p[name] = position_update(pm, p_ls, pm["y"])
-                        continue
-                    for _ in range(1 + cfg.relinearise):
-                        pm = pseudo_measurement(T, S, p_star)
-                        beta = None if out[n] else pm["beta"]
-                        p_star = position_update(pm, p_star, tr.estimate(pm["y"], beta))
-                    tr.commit(pm["y"], beta)
-                    est_p[name] = p_star
-            if "none" in cfg.estimators and out[n]:
-                est_p["none"] = np.full((R, 3), np.nan)
-            for name, p in est_p.items():
-                if name != "none" or not out[n]:
-                    p_hat[name] = p
-                e2_all[name][rr.start : rr.stop, n] = (
-                    np.sum((p - truth[n]) ** 2, axis=-1) * C_FT_PER_NS_EXACT**2
-                )
-        done += R
-        if on_progress is not None:
-            on_progress(R)
+                    est_p[name] = position_update(pm, p_ls, pm["y"])
+                    continue
+                for _ in range(1 + cfg.relinearise):
+                    pm = pseudo_measurement(T, S, p_star)
+                    beta = None if out[n] else pm["beta"]
+                    p_star = position_update(pm, p_star, tr.estimate(pm["y"], beta))
+                tr.commit(pm["y"], beta)
+                est_p[name] = p_star
+        if "none" in cfg.estimators and out[n]:
+            est_p["none"] = np.full((R, 3), np.nan)
+        for name, p in est_p.items():
+            if name != "none" or not out[n]:
+                p_hat[name] = p
+            e2[name][:, n] = np.sum((p - truth[n]) ** 2, axis=-1) * C_FT_PER_NS_EXACT**2
+    return e2
+
+
+def combine_runs(cfg: SimulationConfig, parts: Sequence[dict[str, np.ndarray]]) -> SimulationResult:
+    """The reduction: the tasks' per-run errors stacked in task order (= run order), then mean and
+    standard error over all runs at once — the same numbers whatever the tasks or workers."""
+    con, tl = cfg.constellation, cfg.timeline
+    E = tl.epochs + 1
+    runs = sum(len(next(iter(p.values()))) for p in parts)
     rms, se = {}, {}
     for e in cfg.estimators:
-        m = e2_all[e].mean(axis=0)
-        var = e2_all[e].var(axis=0, ddof=1) if runs > 1 else np.full(E, np.nan)
+        e2 = np.concatenate([p[e] for p in parts], axis=0)
+        m = e2.mean(axis=0)
+        var = e2.var(axis=0, ddof=1) if runs > 1 else np.full(E, np.nan)
         rms[e] = np.sqrt(m)
         with np.errstate(invalid="ignore", divide="ignore"):
             se[e] = np.sqrt(np.maximum(var, 0.0) / runs) / (2.0 * rms[e])  # delta method
     ana, ls = analytic_curve(cfg)
-    Kn = np.where(out, 3, K)
+    Kn = np.where(tl.outage(), 3, con.K)
     return SimulationResult(tl.n, Kn, rms, se, ana, ls, runs)
+
+
+def simulate(
+    cfg: SimulationConfig,
+    runs: int,
+    seed: int,
+    *,
+    chunk: int | None = None,
+    on_progress: Callable[[int], None] | None = None,
+    engine: Engine | None = None,
+) -> SimulationResult:
+    """Monte Carlo of the configured estimators (spec §6.1), vectorised over the runs of a task.
+
+    Measurements: T̂_ni − nτ̄ = τ_0 + x_n + ‖p_n − S_i‖/c + ε_ni (eq 4.2.2, η = 0, exact c). Run r uses
+    only ``trial_rng(seed, r)`` and the per-run errors are reduced in run order, so results depend on
+    neither the chunk size (default :func:`runs_per_task`) nor where ``engine`` runs the tasks (default:
+    in this process).
+    """
+    tasks = simulation_tasks(cfg, runs, chunk=chunk)
+    parts = run_tasks(
+        task_function(cfg, seed),
+        tasks,
+        engine or Engine(),
+        sizes=[len(t) for t in tasks],
+        progress=on_progress,
+        identity={"command": "satellite_tracking.simulate", "config": repr(cfg), "runs": runs, "seed": seed,
+                  "runs_per_task": len(tasks[0])},
+    )  # fmt: skip
+    return combine_runs(cfg, parts)
 
 
 # --- Table 4.3 -------------------------------------------------------------------------------------------
@@ -650,15 +738,21 @@ __all__ = [
     "analytic_curve",
     "c_ft_per_ns",
     "check_track",
+    "clock_factor",
+    "combine_runs",
     "constellation_params",
     "default_rsat_km",
     "example",
     "fit_orbit_radius",
     "geometry_params",
     "rms_curves",
+    "runs_per_task",
     "simulate",
+    "simulate_runs",
+    "simulation_tasks",
     "table_4_1",
     "table_4_2_printed",
     "table_4_3_printed",
+    "task_function",
     "time_to_exceed",
 ]

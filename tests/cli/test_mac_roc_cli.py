@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from tests.cli.helpers import run, table
+from tests.cli.helpers import engine_outputs, run, table
 
 
 def _f(col):
@@ -217,6 +217,24 @@ def test_gaussian_exponent_densities_bandwidth_report(capsys, tmp_path):
         (("exponent", "--N", "1:1e3:0"), "--N"),
         (("densities", "--figure", "3.3"), "mac-roc bounds"),
         (("bandwidth", "--code", "+2-"), "--code"),
+        (("montecarlo", "--workers", "0", "--trials", "1000"), "--workers"),
+        (("montecarlo", "--importance", "--workers", "-1", "--trials", "1000"), "--workers"),
+        (("bounds", "--montecarlo", "1000", "--workers", "0"), "--workers"),
+        (("bounds", "--theta", "0.5", "--checkpoint", "ckpt"), "--checkpoint"),
+        (
+            (
+                "montecarlo",
+                "--ell",
+                "8",
+                "--theta",
+                "0.5",
+                "--trials",
+                "1000",
+                "--scheduler",
+                "tcp://127.0.0.1:1",
+            ),
+            "--scheduler",
+        ),
     ],
 )
 def test_bad_input_is_one_line_exit_2_no_file(capsys, tmp_path, args, needle):
@@ -329,3 +347,60 @@ def test_exponent_has_no_cancellation():
     for n in (1e14, 1e20, 1e300):
         assert exp_of_gaussian_exponent(4.0, n, 1e-5) <= 4.0
     assert exp_of_gaussian_exponent(1e-14, 1e5, 1e-5) <= 1e-14
+
+
+# --- the Monte Carlo engine (issue 9): --workers, --scheduler, --checkpoint ------------------------------
+
+ENGINE_CASES = {
+    "plain": ("montecarlo", "--ell", "6,8", "--theta", "0.3,0.5", "--trials", "2e5", "--seed", "4"),
+    "importance": ("montecarlo", "--importance", "--ell", "8", "--theta", "0.5,0.7", "--trials", "1.5e5"),
+    "psk": ("montecarlo", "--density", "psk", "--code", "mseq31", "--theta", "0.5", "--trials", "7e4"),
+    "bounds": ("bounds", "--density", "C2", "--ell", "6,8", "--theta", "0.3,0.5", "--montecarlo", "1.5e5"),
+}
+
+
+def _tasks(tmp_path, capsys, *args: str) -> int:
+    """Number of tasks a run is split into (the task files of a fresh checkpoint)."""
+    ckpt = tmp_path / "count"
+    rc, _, err = run(
+        capsys, *args, "--workers", "1", "--checkpoint", str(ckpt), "-o", str(tmp_path / "n.csv"), "-q"
+    )
+    assert rc == 0, err
+    return len(list(ckpt.glob("task-*.pkl")))
+
+
+@pytest.mark.parametrize("case", list(ENGINE_CASES))
+def test_monte_carlo_byte_identical_for_1_2_workers_and_dask(
+    capsys, tmp_path, dask_address, many_tasks, case
+):
+    args = ("mac-roc", *ENGINE_CASES[case])
+    outs = engine_outputs(capsys, tmp_path, dask_address, *args)
+    assert outs["w1"] == outs["w2"] == outs["dask"]
+    text = outs["w1"].decode()
+    assert "workers" not in text and "scheduler" not in text and "checkpoint" not in text
+    assert _tasks(tmp_path, capsys, *args) >= 2
+
+
+@pytest.mark.parametrize("case", ["plain", "importance"])
+def test_monte_carlo_checkpoint_resumes_to_the_uninterrupted_result(capsys, tmp_path, many_tasks, case):
+    args = ("mac-roc", *ENGINE_CASES[case])
+    ckpt = tmp_path / "ckpt"
+    whole, first, resumed = (tmp_path / f"{n}.csv" for n in ("whole", "first", "resumed"))
+    rc, _, err = run(capsys, *args, "--workers", "1", "-o", str(whole), "-q")
+    assert rc == 0, err
+    rc, _, err = run(capsys, *args, "--workers", "1", "--checkpoint", str(ckpt), "-o", str(first), "-q")
+    assert rc == 0, err
+    files = sorted(ckpt.glob("task-*.pkl"))
+    assert len(files) >= 2
+    for f in files[1::2]:  # an interrupted run: every other task is missing
+        f.unlink()
+    rc, _, err = run(capsys, *args, "--workers", "2", "--checkpoint", str(ckpt), "-o", str(resumed), "-q")
+    assert rc == 0, err
+    assert resumed.read_bytes() == first.read_bytes() == whole.read_bytes()
+    assert len(list(ckpt.glob("task-*.pkl"))) == len(files)
+    rc, out, err = run(capsys, *args, "--seed", "5", "--checkpoint", str(ckpt), "-o", str(tmp_path / "x.csv"))
+    assert rc == 2 and out == "" and not (tmp_path / "x.csv").exists()
+    assert err.count("\n") == 1 and "--checkpoint" in err and "seed" in err and "Traceback" not in err
+    # the same directory for another command is refused too
+    rc, _, err = run(capsys, "mac-roc", *ENGINE_CASES["bounds"], "--checkpoint", str(ckpt), "-q")
+    assert rc == 2 and err.count("\n") == 1 and "another command" in err

@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from tests.cli.helpers import run, table
+from tests.cli.helpers import engine_outputs, run, table
 
 
 def test_table_4_3_both_conventions(capsys, tmp_path):
@@ -84,6 +84,9 @@ def test_simulate_small_run_and_seed_reproducibility(capsys, tmp_path):
     assert t.column("rms_none_ft")[25] == ""
 
 
+TINY_SIM = ("--runs", "2", "--epochs", "4", "--outage-start", "2", "--outage-length", "1")
+
+
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
@@ -117,6 +120,9 @@ def test_simulate_small_run_and_seed_reproducibility(capsys, tmp_path):
         (("constellation", "--aircraft", "45,120,-6000"), "--aircraft"),
         (("constellation", "--aircraft", "-45,-60"), "--aircraft"),
         (("constellation", "--outage-sats", "1,2,3,3"), "--outage-sats"),
+        (("simulate", "--workers", "0"), "--workers"),
+        (("simulate", "--scheduler", " "), "--scheduler"),
+        (("simulate", *TINY_SIM, "-q", "--scheduler", "tcp://127.0.0.1:1"), "--scheduler"),  # unreachable
     ],
 )
 def test_bad_input_one_line_exit_2(capsys, args, needle):
@@ -178,3 +184,60 @@ def test_user_file_duplicates_and_labels(capsys, tmp_path):
     f.write_text("satellite,latitude_deg,longitude_deg\nA,30,100\nB,40,120\nA,35,110\nD,50,140\n")
     rc, _, err = run(capsys, "track-sat", "constellation", "--sats", str(f))
     assert rc == 2 and "distinct" in err
+
+
+# --- the Monte Carlo engine (issue 9): --workers, --scheduler, --checkpoint ------------------------------
+
+SIM = ("track-sat", "simulate", "--epochs", "20", "--outage-start", "10", "--outage-length", "5")
+
+
+def _tasks(tmp_path, capsys, *args: str) -> int:
+    """Number of tasks a run is split into (the task files of a fresh checkpoint)."""
+    ckpt = tmp_path / "count"
+    rc, _, err = run(
+        capsys, *args, "--workers", "1", "--checkpoint", str(ckpt), "-o", str(tmp_path / "n.csv"), "-q"
+    )
+    assert rc == 0, err
+    return len(list(ckpt.glob("task-*.pkl")))
+
+
+@pytest.mark.parametrize(
+    "extra",
+    [
+        ("--runs", "300", "--seed", "3"),
+        ("--runs", "500", "--seed", "4", "--rho", "0.9", "--sigma0", "20", "--gain", "steady",
+         "--velocity-enu", "100,50,0", "--estimators", "report,kf2", "--reinit-after-outage", "--example", "II"),
+        # a rho < 1 clock over 250 updates: LAPACK's Cholesky factor depends on the BLAS thread count
+        # (Dask workers run single-threaded), so it is computed once and shipped with the tasks
+        ("--runs", "500", "--epochs", "250", "--outage-start", "200", "--outage-length", "20", "--rho", "0.9",
+         "--estimators", "report,kf2"),
+    ],
+    ids=["default", "rho-steady-moving", "rho-long"],
+)  # fmt: skip
+def test_simulate_byte_identical_for_1_2_workers_and_dask(capsys, tmp_path, dask_address, many_tasks, extra):
+    outs = engine_outputs(capsys, tmp_path, dask_address, *SIM, *extra)
+    assert outs["w1"] == outs["w2"] == outs["dask"]
+    text = outs["w1"].decode()
+    assert "workers" not in text and "scheduler" not in text and "checkpoint" not in text
+    assert _tasks(tmp_path, capsys, *SIM, *extra) >= 2
+
+
+def test_simulate_checkpoint_resumes_to_the_uninterrupted_result(capsys, tmp_path, many_tasks):
+    ckpt = tmp_path / "ckpt"
+    whole, first, resumed = (tmp_path / f"{n}.csv" for n in ("whole", "first", "resumed"))
+    sim = (*SIM, "--runs", "300")
+    rc, _, err = run(capsys, *sim, "--workers", "1", "-o", str(whole), "-q")
+    assert rc == 0, err
+    rc, _, err = run(capsys, *sim, "--workers", "1", "--checkpoint", str(ckpt), "-o", str(first), "-q")
+    assert rc == 0, err
+    files = sorted(ckpt.glob("task-*.pkl"))
+    assert len(files) >= 2
+    for f in files[::2]:  # an interrupted run: every other task is missing
+        f.unlink()
+    rc, _, err = run(capsys, *sim, "--workers", "2", "--checkpoint", str(ckpt), "-o", str(resumed), "-q")
+    assert rc == 0, err
+    assert resumed.read_bytes() == first.read_bytes() == whole.read_bytes()
+    assert len(list(ckpt.glob("task-*.pkl"))) == len(files)
+    rc, out, err = run(capsys, *sim, "--seed", "99", "--workers", "1", "--checkpoint", str(ckpt), "-q")
+    assert rc == 2 and out == ""
+    assert err.count("\n") == 1 and "--checkpoint" in err and "seed" in err and "Traceback" not in err
