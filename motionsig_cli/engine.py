@@ -11,6 +11,10 @@ next to a manifest naming the command and its parameters. A rerun with the same 
 the finished tasks and runs only the others, so an interrupted sweep resumes to the result of an
 uninterrupted one. A directory made by another command or parameter set is refused.
 
+A local pool starts only when the work left after the first task (timed in this process) exceeds
+:data:`POOL_MIN_SECONDS`: a pool costs about a second to start, so small runs stay in-process. Where
+a task runs never changes what it computes.
+
 Workers ignore SIGINT: Ctrl-C reaches the main process only, which cancels the pending tasks,
 stops the workers and re-raises :class:`KeyboardInterrupt` (the command layer turns it into one
 line and exit code 130; no output file is written before all tasks are done).
@@ -28,6 +32,7 @@ import pickle
 import signal
 import socket
 import tempfile
+import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
@@ -37,6 +42,7 @@ from typing import Any, TypeVar
 R = TypeVar("R")
 
 MIN_TASK_SECONDS = 0.1  # a task shorter than this costs more in scheduling than it computes
+POOL_MIN_SECONDS = 3.0  # remaining serial work below which a process pool (≈ 1.3 s to start) does not pay
 MANIFEST = "manifest.json"
 CHECKPOINT_VERSION = 1
 DASK_EXTRA = "pip install 'motionsig_cli[dask]'  (installs dask and distributed)"
@@ -96,6 +102,16 @@ def trials_per_task(seconds_per_trial: float, *, at_most: int = 1_000_000) -> in
     if not (seconds_per_trial > 0 and math.isfinite(seconds_per_trial)):
         return at_most
     return int(min(at_most, max(1, math.ceil(min_task_seconds() / seconds_per_trial))))
+
+
+def pool_min_seconds() -> float:
+    """:data:`POOL_MIN_SECONDS`, or ``$MOTIONSIG_POOL_MIN_SECONDS`` (tests set 0 to force the pool)."""
+    text = os.environ.get("MOTIONSIG_POOL_MIN_SECONDS")
+    try:
+        value = float(text) if text else POOL_MIN_SECONDS
+    except ValueError:
+        return POOL_MIN_SECONDS
+    return value if value >= 0 and math.isfinite(value) else POOL_MIN_SECONDS
 
 
 def min_task_seconds() -> float:
@@ -228,7 +244,15 @@ def run_tasks(
 
     if engine.scheduler is not None:
         _run_dask(fn, tasks, pending, engine, finish)
-    elif engine.workers == 1 or len(pending) <= 1:
+        return results
+    if engine.workers > 1 and len(pending) > 1 and pool_min_seconds() > 0:
+        # time the first task here: a small run finishes in this process before a pool could start
+        t0 = time.perf_counter()
+        first = pending.pop(0)
+        finish(first, fn(tasks[first]))
+        if (time.perf_counter() - t0) * len(pending) < pool_min_seconds():
+            engine = Engine(1)
+    if engine.workers == 1 or len(pending) <= 1:
         for i in pending:
             finish(i, fn(tasks[i]))
     else:

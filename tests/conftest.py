@@ -25,5 +25,6 @@ def dask_address():
 
 @pytest.fixture
 def many_tasks(monkeypatch):
-    """Chunk Monte Carlo runs into tiny tasks, so that 2 workers really share the work."""
+    """Chunk Monte Carlo runs into tiny tasks and always start the pool, so that 2 workers really share the work."""
     monkeypatch.setenv("MOTIONSIG_MIN_TASK_SECONDS", "1e-9")
+    monkeypatch.setenv("MOTIONSIG_POOL_MIN_SECONDS", "0")  # and use the pool even for a tiny run

@@ -37,7 +37,7 @@ def test_chunks_are_worth_a_tenth_of_a_second(monkeypatch):
     assert trials_per_task(0.03) == 1
 
 
-def test_results_are_in_task_order_whatever_the_workers():
+def test_results_are_in_task_order_whatever_the_workers(many_tasks):
     tasks = tasks_of(23, 3)
     fn = functools.partial(_draws, 2.0)
     one = np.concatenate(run_tasks(fn, tasks, Engine(1)))
@@ -140,3 +140,22 @@ def test_min_task_seconds_env_is_validated(monkeypatch):
     assert eng.min_task_seconds() == eng.MIN_TASK_SECONDS
     monkeypatch.setenv("MOTIONSIG_MIN_TASK_SECONDS", "-1")
     assert eng.min_task_seconds() == eng.MIN_TASK_SECONDS
+
+
+def test_a_small_run_stays_in_process_and_a_large_one_starts_the_pool(monkeypatch):
+    """The first task is timed here; the pool starts only when the rest would take ≥ POOL_MIN_SECONDS."""
+    import os
+
+    tasks = tasks_of(6, 1)
+    monkeypatch.delenv("MOTIONSIG_POOL_MIN_SECONDS", raising=False)
+    pids = run_tasks(_pid, tasks, Engine(2))
+    assert set(pids) == {os.getpid()}
+    monkeypatch.setenv("MOTIONSIG_POOL_MIN_SECONDS", "0")
+    pids = run_tasks(_pid, tasks, Engine(2))
+    assert os.getpid() not in pids  # 0: no first task timed here, every task in the pool
+
+
+def _pid(_: range) -> int:
+    import os
+
+    return os.getpid()

@@ -18,7 +18,7 @@ import numpy as np
 
 from motionsig_cli.detection.lmp import LMPConfig, LMPResult, candidate_grid, lmp_detect
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft
-from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
+from motionsig_cli.engine import MIN_TASK_SECONDS, Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.models.vehicle import Vehicle1D, simulate_1d
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.signals.signature import ZdotMethod, replica_bank
@@ -208,23 +208,32 @@ def mc_task(spec: MCSpec, task: tuple[float, range]) -> TrialOutcomes:
     return TrialOutcomes(ok.reshape(shape), ok_mode.reshape(shape), lam.reshape(shape))
 
 
-def seconds_per_trial(spec: MCSpec) -> float:
-    """Cost model of one trial at one R (all f_r), for the chunking (measured on a 2-core machine: the
-    bank ≈ 0.07 µs per filter-step of a batched trial, the FFT path ≈ 2 µs per sample)."""
+def task_cost(spec: MCSpec) -> tuple[float, float]:
+    """Cost model [s] of a task at one R: (fixed, per trial over all f_r), measured on a 2-core machine.
+
+    The bank's fixed part is its Riccati recursion (2C + 1 filters, ≈ 0.37 s at N = 1600), the per-trial
+    part the innovations (≈ 1.2e-8 s per filter-step); the FFT path's fixed part is the simulation and
+    whitening loops over N (≈ 2e-5 s per sample), its per-trial part ≈ 8e-7 s per sample and f_r.
+    """
     n, F = spec.n_samples, len(spec.fr_list)
     if spec.method == "fft":
-        return F * n * 2e-6
+        return n * 2e-5, F * n * 8e-7
     C = len(candidate_grid(spec.chips.shape[0], spec.chips.shape[1], spec.m_rho, spec.cfg))
-    return F * n * (2 * C + 1) * 7e-8
+    return n * 2.3e-4, F * n * (2 * C + 1) * 1.2e-8
 
 
 def mc_tasks(
     spec: MCSpec, R_list: Sequence[float], trials: int, *, chunk: int | None = None
 ) -> list[tuple[float, range]]:
-    """The tasks of a run: for every R, the trials in chunks worth ≥ 0.1 s (at most 200 records in memory)."""
+    """The tasks of a run: for every R, the trials in chunks worth ≥ 0.1 s and ≥ 4× the task's fixed cost
+    (so chunking adds at most 25 %), with at most 200 records in memory."""
     if trials < 1:
         raise ValueError("the number of trials must be >= 1")
-    per = chunk or min(max(1, 200 // len(spec.fr_list)), trials_per_task(seconds_per_trial(spec)))
+    fixed, per_trial = task_cost(spec)
+    floor = max(MIN_TASK_SECONDS, 4 * fixed)  # seconds a task is worth at least
+    per = chunk or min(
+        max(1, 200 // len(spec.fr_list)), trials_per_task(per_trial * MIN_TASK_SECONDS / floor)
+    )
     return [(float(R), r) for R in R_list for r in tasks_of(trials, per)]
 
 

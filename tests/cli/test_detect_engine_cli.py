@@ -57,11 +57,16 @@ def test_the_runs_above_really_are_split_into_tasks(many_tasks):
     assert len(_tasks(dict(fr_list=(0.01, 0.1), horizons_s=(5.0, 10.0), seed=1), [1e-2, 1e-3], 6)) == 12
 
 
-def test_default_chunks_are_worth_a_tenth_of_a_second(monkeypatch):
-    """Bank: 2C+1 = 187 filters × 1600 steps × 7e-8 s ≈ 21 ms per trial and f_r → 5 trials per task (3 f_r: 2)."""
+def test_default_chunks_are_worth_four_times_their_fixed_cost(monkeypatch):
+    """Bank: the Riccati recursion (≈ 0.37 s) is paid per task, a trial costs ≈ 3.6 ms → tasks of 200 records;
+    FFT: fixed 32 ms, 1.28 ms per trial → 4 · 0.032 / 0.00128 = 100 trials."""
     monkeypatch.delenv("MOTIONSIG_MIN_TASK_SECONDS", raising=False)
-    tasks = _tasks(dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1), [1e-3], 50)
-    assert [len(t[1]) for t in tasks] == [5] * 10
+    tasks = _tasks(dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1), [1e-3], 450)
+    assert [len(t[1]) for t in tasks] == [200, 200, 50]
+    tasks = _tasks(dict(fr_list=(0.01, 0.1, 1.0), horizons_s=(80.0,), seed=1), [1e-3], 100)
+    assert [len(t[1]) for t in tasks] == [66, 34]
+    fft = _tasks(dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1, method="fft"), [1e-3], 300)
+    assert [len(t[1]) for t in fft] == [100, 100, 100]
 
 
 def test_checkpoint_resume_is_identical_and_foreign_checkpoints_are_refused(capsys, tmp_path, many_tasks):
@@ -117,7 +122,7 @@ def test_ctrl_c_stops_cleanly_and_the_checkpoint_resumes_to_the_same_result(tmp_
     """SIGINT to the whole process group (what a terminal's Ctrl-C does) while 2 workers run."""
     args = ["detect", "--montecarlo", "--trials", "12", "--fr-list", "0.01", "--R-list", "1e-2,1e-3",
             "--horizons", "10,20", "--workers", "2"]  # fmt: skip
-    env = {**os.environ, "MOTIONSIG_MIN_TASK_SECONDS": "1e-9"}
+    env = {**os.environ, "MOTIONSIG_MIN_TASK_SECONDS": "1e-9", "MOTIONSIG_POOL_MIN_SECONDS": "0"}
     ck = tmp_path / "ck"
     exe = [sys.executable, "-m", "motionsig_cli"]
     proc = subprocess.Popen(
