@@ -36,6 +36,10 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig encode gold --poly1 45 --poly2 75 --all | $(BIN)/motionsig encode correlations - --view values
 	@echo '== Monte Carlo (Fig 4, 10 trials per cell; make reproduce runs 50)'
 	$(BIN)/motionsig detect --montecarlo --trials 10 --fr-list 0.01 --plot $(OUT)/fig4.png -o $(OUT)/fig4.csv
+	@echo '== The FFT fast path (Q_a = 0): one steady-state filter and FFT cross-correlations instead of 187 filters; Fig 4 grid, 200 trials per cell'
+	$(BIN)/motionsig detect --montecarlo --method fft --trials 200 --fr-list 0.01 --horizons 5,10,20,40 | grep -v '^#'
+	@echo '== Threshold calibration (the seed gives no false-alarm rate): P_FA = 0.01 from 2000 null trials per cell, P_D at it, ROC curves'
+	$(BIN)/motionsig detect --calibrate --method fft --pfa 0.01 --trials 200 --R-list 1,10 --horizons 5,10,20 --plot $(OUT)/roc.png | grep -v '^#'
 	@echo '== Seed 000 Fig 7 setting: a planar vehicle seen by a radar (range, bearing); LMP bank of 187 unscented filters'
 	$(BIN)/motionsig simulate --example 2d --mode 3 --tau-chips 7 --duration 30 --plot $(OUT)/radar.png | $(BIN)/motionsig detect --horizons 10,30
 	@echo '== ATC-10 Table 2.1: jammer ERP that mislocates 10 % of the airborne aircraft, ours beside the printed values'
@@ -53,7 +57,7 @@ demo: $(RUN_STAMP)
 	@echo '== ATC-10 Fig 3.3: ROC bounds under multiple-access noise (uniform density) with the exact ROC; the printed numbers of §3 beside ours'
 	$(BIN)/motionsig mac-roc bounds --figure 3.3 --exact --theta 0.02:0.98:0.02 --plot $(OUT)/fig3_3.png -o $(OUT)/fig3_3.csv
 	$(BIN)/motionsig mac-roc report
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png radar.png fig2_16.png fig3_3.png fig4_3.png slrt.png maneuver.png maneuver_compare.png"
+	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png roc.png radar.png fig2_16.png fig3_3.png fig4_3.png slrt.png maneuver.png maneuver_compare.png"
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
@@ -81,12 +85,17 @@ serve: $(DEV_STAMP) $(MATHJAX)
 $(MATHJAX): scripts/fetch_mathjax.sh
 	bash scripts/fetch_mathjax.sh $@
 
-## bench: side-by-side timing of the LMP filter banks and the IMM against FilterPy (not part of the tests)
+## bench: side-by-side timing of the LMP filter banks, the FFT path and the IMM against FilterPy, and of the
+## Monte Carlo engine (1 worker, 2 workers, Dask); results in benchmarks/results/, copied with a figure to
+## docs/performance/ and the Performance page (not part of the tests; ~10 minutes on 2 cores)
 bench: $(DEV_STAMP)
-	$(BIN)/python -m pip install -q -e '.[bench]'
+	$(BIN)/python -m pip install -q -e '.[bench,dask]'
 	$(BIN)/python benchmarks/bench_kf_bank.py
 	$(BIN)/python benchmarks/bench_ukf_bank.py
 	$(BIN)/python benchmarks/bench_imm.py
+	$(BIN)/python benchmarks/bench_fft.py
+	$(BIN)/python benchmarks/bench_engine.py
+	$(BIN)/python scripts/bench_report.py
 
 ## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), seed 002 (results/seed002/), ATC-10 §2 (results/atc10_jamming/), §3 (results/atc10_mac/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)

@@ -769,7 +769,7 @@ def _calibrate(
         panels: dict[str, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
         for R in Rs:
             for f, fr in enumerate(frs):
-                name = f"ANR {anr_db(R, vehicle.a_sig)[2]:.1f} (R={R:g})" + (
+                name = f"ANR {anr_db(R, vehicle.a_sig)[2]:.1f} seed dB (R={R:g})" + (
                     f", f_r={fr:g}" if len(frs) > 1 else ""
                 )
                 panels[name] = {
