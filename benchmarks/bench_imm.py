@@ -18,20 +18,17 @@ Kalman filters (``imm_models(1.0)``: CV, CA q = 0.001, CA q = 0.0144) with ``H_P
    filter, maneuver detection, state correction; best of 3) on the same 500 runs. FilterPy has no
    equivalent, so it gets no ratio.
 
-Writes ``benchmarks/results/bench_imm.csv`` and prints a summary.
+Writes ``benchmarks/results/bench_imm.csv`` (layout: ``benchlib.COLUMNS``) and prints a summary.
 """
 
 from __future__ import annotations
 
-import csv
-import os
-import platform
 import resource
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
+from benchlib import write_results
 
 from motionsig_cli.experiments.maneuver import (
     FIRST_SCAN,
@@ -128,51 +125,46 @@ def main() -> int:
     t_glr = min(glr_once() for _ in range(REPEATS))
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
-    rows = [
-        (
-            "motionsig batched IMM",
-            t_ours,
-            1e6 * t_ours / run_scans,
-            run_scans,
-            f"measured, whole workload, best of {REPEATS}",
-        ),
-        (
-            "FilterPy IMMEstimator",
-            t_fp,
-            1e6 * fp_per_scan,
-            run_scans,
-            f"extrapolated from {SLICE_RUNS} runs x {n_scans} scans ({t_slice:.2f} s, best of {REPEATS})",
-        ),
-        (
-            "motionsig GLR tracker",
-            t_glr,
-            1e6 * t_glr / run_scans,
-            run_scans,
-            f"measured, whole workload, best of {REPEATS}; no FilterPy equivalent",
-        ),
-    ]
     ratio = t_fp / t_ours
-    import filterpy
-
-    out = Path(__file__).parent / "results"
-    out.mkdir(exist_ok=True)
-    with open(out / "bench_imm.csv", "w", newline="") as fh:
-        fh.write(
-            f"# workload: {RUNS} runs x {n_scans} scans (scans {FIRST_SCAN}..{sc.scans}), sigma={SIGMA:g}, "
-            f"3-model IMM, literal scenario (seed 002 Monte Carlo)\n"
-        )
-        fh.write(
-            f"# machine: {platform.machine()} {platform.processor() or ''} cores={os.cpu_count()} python={platform.python_version()} numpy={np.__version__} filterpy={filterpy.__version__}\n"
-        )
-        fh.write(
-            f"# correctness: max rel diff vs FilterPy combined estimate {rel:.2e}, model probabilities {dmu:.2e} (abs); peak RSS {peak_mb:.0f} MB\n"
-        )
-        w = csv.writer(fh, lineterminator="\n")
-        w.writerow(["implementation", "seconds", "us_per_run_scan", "run_scans", "how"])
-        w.writerows(rows)
-        w.writerow(["ratio FilterPy/motionsig IMM", ratio, "", "", ""])
-    for name, sec, us, _, how in rows:
-        print(f"{name:24s} {sec:10.2f} s  {us:9.4f} µs/run-scan  ({how})")
+    rows = [
+        {
+            "case": "motionsig batched IMM",
+            "seconds": t_ours,
+            "units": run_scans,
+            "unit": "run-scan",
+            "us_per_unit": 1e6 * t_ours / run_scans,
+            "ratio_vs_filterpy": ratio,
+            "how": f"measured, whole workload, best of {REPEATS}",
+        },
+        {
+            "case": "FilterPy IMMEstimator",
+            "seconds": t_fp,
+            "units": run_scans,
+            "unit": "run-scan",
+            "us_per_unit": 1e6 * fp_per_scan,
+            "ratio_vs_filterpy": 1.0,
+            "how": f"extrapolated from {SLICE_RUNS} runs x {n_scans} scans ({t_slice:.2f} s, best of {REPEATS})",
+        },
+        {
+            "case": "motionsig GLR tracker",
+            "seconds": t_glr,
+            "units": run_scans,
+            "unit": "run-scan",
+            "us_per_unit": 1e6 * t_glr / run_scans,
+            "how": f"measured, whole workload, best of {REPEATS}; no FilterPy equivalent",
+        },
+    ]
+    write_results(
+        "bench_imm",
+        [
+            f"workload: {RUNS} runs x {n_scans} scans (scans {FIRST_SCAN}..{sc.scans}), sigma={SIGMA:g}, "
+            "3-model IMM, literal scenario (seed 002 Monte Carlo)",
+            f"correctness: max rel diff vs FilterPy combined estimate {rel:.2e}, model probabilities {dmu:.2e} (abs); peak RSS {peak_mb:.0f} MB",
+        ],
+        rows,
+    )
+    for r in rows:
+        print(f"{r['case']:24s} {r['seconds']:10.2f} s  {r['us_per_unit']:9.4f} µs/run-scan  ({r['how']})")
     print(f"speed-up (IMM): {ratio:.0f}x   peak RSS {peak_mb:.0f} MB")
     return 0
 

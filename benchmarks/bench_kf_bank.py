@@ -9,20 +9,18 @@ Workload (issue 3, seed 000 Fig 4): 50 trials × 4 R values × 187 filters (1 H0
    and is extrapolated linearly in filter-steps: it has no way to share the Riccati recursion
    across trials, so every trial costs it the same. Both run in this process, side by side.
 
-Writes ``benchmarks/results/bench_kf_bank.csv`` and prints a summary.
+Writes ``benchmarks/results/bench_kf_bank.csv`` (layout: ``benchlib.COLUMNS``) and prints a summary.
 """
 
 from __future__ import annotations
 
-import csv
-import platform
 import resource
 import sys
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
+from benchlib import write_results
 
 from motionsig_cli.detection.lmp import LMPConfig, candidate_grid, lmp_detect
 from motionsig_cli.experiments.lmp1d import simulate_trials
@@ -126,37 +124,37 @@ def main() -> int:
     fp_per_step = t_slice / (slice_rows.shape[0] * N)
     t_fp = fp_per_step * filter_steps
 
-    rows = [
-        (
-            "motionsig batched bank",
-            t_ours,
-            1e6 * t_ours / filter_steps,
-            filter_steps,
-            "measured, whole workload",
-        ),
-        (
-            "FilterPy KalmanFilter",
-            t_fp,
-            1e6 * fp_per_step,
-            filter_steps,
-            f"extrapolated from {slice_rows.shape[0]} filters x {N} steps ({t_slice:.2f} s)",
-        ),
-    ]
     ratio = t_fp / t_ours
-    out = Path(__file__).parent / "results"
-    out.mkdir(exist_ok=True)
-    with open(out / "bench_kf_bank.csv", "w", newline="") as fh:
-        fh.write(f"# workload: {TRIALS} trials x {len(RS)} R x 187 filters x {N} steps (seed 000 Fig 4)\n")
-        fh.write(
-            f"# machine: {platform.machine()} {platform.processor() or ''} cores={__import__('os').cpu_count()} python={platform.python_version()} numpy={np.__version__}\n"
-        )
-        fh.write(f"# correctness: max rel diff vs FilterPy {rel:.2e}; peak RSS {peak_mb:.0f} MB\n")
-        w = csv.writer(fh, lineterminator="\n")
-        w.writerow(["implementation", "seconds", "us_per_filter_step", "filter_steps", "how"])
-        w.writerows(rows)
-        w.writerow(["ratio FilterPy/motionsig", ratio, "", "", ""])
-    for name, sec, us, _, how in rows:
-        print(f"{name:26s} {sec:10.2f} s  {us:8.4f} µs/filter-step  ({how})")
+    rows = [
+        {
+            "case": "motionsig batched bank",
+            "seconds": t_ours,
+            "units": filter_steps,
+            "unit": "filter-step",
+            "us_per_unit": 1e6 * t_ours / filter_steps,
+            "ratio_vs_filterpy": ratio,
+            "how": f"measured, whole workload, best of {REPEATS}",
+        },
+        {
+            "case": "FilterPy KalmanFilter",
+            "seconds": t_fp,
+            "units": filter_steps,
+            "unit": "filter-step",
+            "us_per_unit": 1e6 * fp_per_step,
+            "ratio_vs_filterpy": 1.0,
+            "how": f"extrapolated from {slice_rows.shape[0]} filters x {N} steps ({t_slice:.2f} s, best of {REPEATS})",
+        },
+    ]
+    write_results(
+        "bench_kf_bank",
+        [
+            f"workload: {TRIALS} trials x {len(RS)} R x 187 filters x {N} steps (seed 000 Fig 4)",
+            f"correctness: max rel diff vs FilterPy {rel:.2e}; peak RSS {peak_mb:.0f} MB",
+        ],
+        rows,
+    )
+    for r in rows:
+        print(f"{r['case']:26s} {r['seconds']:10.2f} s  {r['us_per_unit']:8.4f} µs/filter-step  ({r['how']})")
     print(f"speed-up: {ratio:.0f}x   peak RSS {peak_mb:.0f} MB   target: >= 500x and < 10 s")
     return 0
 

@@ -20,22 +20,19 @@ candidates × {cos, sin} H1 filters with 10 states) × 1600 steps (T = 0.05 s, 8
    ratio conservative.
    Both run in this process, side by side.
 
-Writes ``benchmarks/results/bench_ukf_bank.csv`` and prints a summary.
+Writes ``benchmarks/results/bench_ukf_bank.csv`` (layout: ``benchlib.COLUMNS``) and prints a summary.
 """
 
 from __future__ import annotations
 
-import csv
 import math
-import os
-import platform
 import resource
 import sys
 import time
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
+from benchlib import write_results
 
 from motionsig_cli.detection.lmp import RadarLMPConfig, candidate_grid, lmp_detect_radar, radar_measurement
 from motionsig_cli.experiments.lmp2d import simulate_trials_2d
@@ -199,43 +196,37 @@ def main() -> int:
     fp_per_step = t_slice / (SLICE_FILTERS * SLICE_STEPS)
     t_fp = fp_per_step * filter_steps
 
-    rows = [
-        (
-            "motionsig sigma-point bank",
-            t_ours,
-            1e6 * t_ours / filter_steps,
-            filter_steps,
-            f"measured, whole workload, best of {REPEATS_OURS}",
-        ),
-        (
-            "FilterPy UnscentedKalmanFilter",
-            t_fp,
-            1e6 * fp_per_step,
-            filter_steps,
-            f"extrapolated from {SLICE_FILTERS} filters x {SLICE_STEPS} steps ({t_slice:.2f} s, best of {REPEATS})",
-        ),
-    ]
     ratio = t_fp / t_ours
-    import filterpy
-
-    out = Path(__file__).parent / "results"
-    out.mkdir(exist_ok=True)
-    with open(out / "bench_ukf_bank.csv", "w", newline="") as fh:
-        fh.write(
-            f"# workload: {TRIALS} trials x {len(PAIRS)} ANR pairs x 187 filters x {N} steps (seed 000 Fig 7)\n"
-        )
-        fh.write(
-            f"# machine: {platform.machine()} {platform.processor() or ''} cores={os.cpu_count()} python={platform.python_version()} numpy={np.__version__} filterpy={filterpy.__version__}\n"
-        )
-        fh.write(
-            f"# correctness: max rel diff vs FilterPy J {rel_J:.2e}, -log-likelihood {rel_nll:.2e}; peak RSS {peak_mb:.0f} MB\n"
-        )
-        w = csv.writer(fh, lineterminator="\n")
-        w.writerow(["implementation", "seconds", "us_per_filter_step", "filter_steps", "how"])
-        w.writerows(rows)
-        w.writerow(["ratio FilterPy/motionsig", ratio, "", "", ""])
-    for name, sec, us, _, how in rows:
-        print(f"{name:30s} {sec:10.2f} s  {us:9.4f} µs/filter-step  ({how})")
+    rows = [
+        {
+            "case": "motionsig sigma-point bank",
+            "seconds": t_ours,
+            "units": filter_steps,
+            "unit": "filter-step",
+            "us_per_unit": 1e6 * t_ours / filter_steps,
+            "ratio_vs_filterpy": ratio,
+            "how": f"measured, whole workload, best of {REPEATS_OURS}",
+        },
+        {
+            "case": "FilterPy UnscentedKalmanFilter",
+            "seconds": t_fp,
+            "units": filter_steps,
+            "unit": "filter-step",
+            "us_per_unit": 1e6 * fp_per_step,
+            "ratio_vs_filterpy": 1.0,
+            "how": f"extrapolated from {SLICE_FILTERS} filters x {SLICE_STEPS} steps ({t_slice:.2f} s, best of {REPEATS})",
+        },
+    ]
+    write_results(
+        "bench_ukf_bank",
+        [
+            f"workload: {TRIALS} trials x {len(PAIRS)} ANR pairs x 187 filters x {N} steps (seed 000 Fig 7)",
+            f"correctness: max rel diff vs FilterPy J {rel_J:.2e}, -log-likelihood {rel_nll:.2e}; peak RSS {peak_mb:.0f} MB",
+        ],
+        rows,
+    )
+    for r in rows:
+        print(f"{r['case']:30s} {r['seconds']:10.2f} s  {r['us_per_unit']:9.4f} µs/filter-step  ({r['how']})")
     print(f"speed-up: {ratio:.0f}x   peak RSS {peak_mb:.0f} MB   target: >= 300x")
     return 0
 

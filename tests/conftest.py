@@ -9,14 +9,19 @@ import pytest
 def dask_address():
     """Address of a 2-worker Dask LocalCluster on 127.0.0.1 (skips when the dask extra is missing)."""
     distributed = pytest.importorskip("distributed")
-    cluster = distributed.LocalCluster(
-        n_workers=2,
-        threads_per_worker=1,
-        processes=True,
-        host="127.0.0.1",
-        dashboard_address=":0",  # a free port: 8787 may be taken
-        silence_logs=logging.CRITICAL,  # task errors reach the user as one line, not as worker logs
-    )
+    import dask
+
+    from motionsig_cli.engine import TRIM_KEY
+
+    with dask.config.set({TRIM_KEY: None}):  # as the engine's own LocalCluster (see engine.TRIM_KEY)
+        cluster = distributed.LocalCluster(
+            n_workers=2,
+            threads_per_worker=1,
+            processes=True,
+            host="127.0.0.1",
+            dashboard_address=":0",  # a free port: 8787 may be taken
+            silence_logs=logging.CRITICAL,  # task errors reach the user as one line, not as worker logs
+        )
     try:
         yield cluster.scheduler_address
     finally:

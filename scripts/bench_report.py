@@ -1,0 +1,275 @@
+"""The Performance page from the benchmark results (the last step of ``make bench``).
+
+    python scripts/bench_report.py
+
+1. Copies every ``benchmarks/results/*.csv`` to ``docs/performance/`` (committed, so the docs build
+   offline without running the benchmarks); copies there that no longer exist in results are removed.
+2. Draws ``docs/performance/performance.svg`` (matplotlib, Agg): µs per filter-step on a log axis for
+   FilterPy's KF and UKF, our KF and UKF banks and the FFT path; wall time of the Monte Carlo engine
+   with 1 worker, 2 workers and a Dask LocalCluster.
+3. Rewrites the block between ``<!-- bench:begin -->`` and ``<!-- bench:end -->`` of
+   ``docs/performance.md``: the figure, the machine and versions, one table per benchmark and the
+   agreement of the FFT path.
+
+Reads only the copies in ``docs/performance/`` after step 1, so ``--no-copy`` redraws the page from
+the committed files.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import sys
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from benchlib import read_results  # noqa: E402
+
+RESULTS = ROOT / "benchmarks" / "results"
+OUT = ROOT / "docs" / "performance"
+PAGE = ROOT / "docs" / "performance.md"
+FIGURE = "performance.svg"
+BEGIN, END = "<!-- bench:begin -->", "<!-- bench:end -->"
+ENV_KEYS = ("machine", "cores", "python", "numpy", "scipy", "filterpy", "dask", "distributed")
+TITLES = {
+    "bench_kf_bank": "Kalman filter bank (seed 000 Fig 4)",
+    "bench_ukf_bank": "Sigma-point (UKF) bank, radar (seed 000 Fig 7)",
+    "bench_fft": "FFT fast path of the 1-D LMP detector (Fig 4 workload, Q_a = 0)",
+    "bench_imm": "IMM and GLR tracker (seed 002 Monte Carlo)",
+    "bench_engine": "Monte Carlo engine: 1 worker, 2 workers, Dask",
+}
+ORDER = ["bench_kf_bank", "bench_ukf_bank", "bench_fft", "bench_imm", "bench_engine"]
+
+Results = dict[str, tuple[list[str], list[dict[str, str]]]]
+
+
+def copy_results() -> list[str]:
+    OUT.mkdir(parents=True, exist_ok=True)
+    names = sorted(p.name for p in RESULTS.glob("*.csv"))
+    for name in names:
+        shutil.copyfile(RESULTS / name, OUT / name)
+    for stale in OUT.glob("*.csv"):
+        if stale.name not in names:
+            stale.unlink()
+    return names
+
+
+def load() -> Results:
+    return {p.stem: read_results(p) for p in sorted(OUT.glob("*.csv"))}
+
+
+def _num(text: str | None) -> float | None:
+    try:
+        return float(text) if text not in (None, "") else None
+    except ValueError:
+        return None
+
+
+def _row(res: Results, name: str, prefix: str) -> dict[str, str] | None:
+    for row in res.get(name, ([], []))[1]:
+        if row.get("case", "").startswith(prefix):
+            return row
+    return None
+
+
+def draw(res: Results) -> None:
+    """The two-panel figure; a bar whose result file is missing is left out."""
+    plt.rcParams.update({"svg.hashsalt": "motionsig-bench", "font.size": 9})
+    bars = [  # (label, file, case prefix, FilterPy?)
+        ("FilterPy UKF", "bench_ukf_bank", "FilterPy", True),
+        ("motionsig UKF bank", "bench_ukf_bank", "motionsig", False),
+        ("FilterPy KF", "bench_kf_bank", "FilterPy", True),
+        ("motionsig KF bank", "bench_kf_bank", "motionsig", False),
+        ("FilterPy KF, Q_a = 0 (FFT run)", "bench_fft", "FilterPy", True),
+        ("motionsig KF bank, Q_a = 0 (FFT run)", "bench_fft", "motionsig batched bank", False),
+        ("motionsig FFT path (bank equiv.)", "bench_fft", "motionsig FFT path", False),
+    ]
+    engine = [
+        ("1 worker", "1 worker (in process)"),
+        ("1 worker,\n1 task per R", "1 worker, one task per R"),
+        ("2 workers\n(process pool)", "2 workers (process pool)"),
+        ("Dask, 2 workers\n(start-up incl.)", "Dask LocalCluster, 2 workers"),
+        ("Dask, 2 workers\n(warm)", "Dask LocalCluster, 2 workers, warm"),
+    ]
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11.5, 4.8), gridspec_kw={"width_ratios": [1.4, 1]})
+    labels, values, colors, notes = [], [], [], []
+    for label, name, prefix, is_fp in bars:
+        row = _row(res, name, prefix)
+        us = _num(row.get("us_per_unit")) if row else None
+        if us is None or row is None:
+            continue
+        labels.append(label)
+        values.append(us)
+        colors.append("#9e9e9e" if is_fp else "#3f51b5")
+        ratio = _num(row.get("ratio_vs_filterpy"))
+        notes.append(f"{us:.3g} µs" + ("" if is_fp or ratio is None else f"  ({ratio:,.0f}× FilterPy)"))
+    y = range(len(labels))
+    ax1.barh(list(y), values, color=colors)
+    ax1.set_xscale("log")
+    ax1.set_yticks(list(y), labels)
+    ax1.invert_yaxis()
+    ax1.set_xlabel("µs per filter-step (log scale; lower is faster)")
+    ax1.set_title("Time per filter-step, same workload")
+    if values:
+        ax1.set_xlim(min(values) / 3, max(values) * 80)
+    for i, (v, note) in enumerate(zip(values, notes, strict=True)):
+        ax1.text(v * 1.15, i, note, va="center", fontsize=8)
+    ax1.grid(axis="x", which="major", alpha=0.3)
+
+    e_labels, e_vals, e_notes = [], [], []
+    for label, case in engine:
+        row = next((r for r in res.get("bench_engine", ([], []))[1] if r.get("case") == case), None)
+        sec = _num(row.get("seconds")) if row else None
+        if sec is None or row is None:
+            continue
+        e_labels.append(label)
+        e_vals.append(sec)
+        sp = _num(row.get("speedup"))
+        e_notes.append(f"{sec:.1f} s" + ("" if sp is None else f"\n{sp:.2f}×"))
+    x = range(len(e_labels))
+    ax2.bar(list(x), e_vals, color=["#3f51b5", "#9fa8da", "#5c6bc0", "#ef6c00", "#ffa726"][: len(e_vals)])
+    ax2.set_xticks(list(x), e_labels, fontsize=7, rotation=25, ha="right")
+    ax2.set_ylabel("wall time [s] (speed-up vs 1 worker)")
+    ax2.set_title("Monte Carlo engine (Fig 4, bank)")
+    if e_vals:
+        ax2.set_ylim(0, max(e_vals) * 1.3)
+    for i, (v, note) in enumerate(zip(e_vals, e_notes, strict=True)):
+        ax2.text(i, v, note, ha="center", va="bottom", fontsize=8)
+    ax2.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(OUT / FIGURE, format="svg", metadata={"Date": None})
+    plt.close(fig)
+
+
+def _fmt(text: str | None, kind: str = "g") -> str:
+    v = _num(text)
+    if v is None:
+        return text or ""
+    if kind == "s":
+        return f"{v:,.3f}" if v < 10 else f"{v:,.1f}"
+    if kind == "us":
+        return f"{v:.4g}"
+    if kind == "x":
+        return f"{v:,.0f}×" if v >= 10 else f"{v:.2f}×"
+    if kind == "pct":
+        return f"{v:.2f} %"
+    return f"{v:g}"
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def table(rows: list[dict[str, str]]) -> list[str]:
+    cols = [  # (header, key, format)
+        ("Case", "case", "t"),
+        ("Wall time [s]", "seconds", "s"),
+        ("µs per unit", "us_per_unit", "us"),
+        ("Unit", "unit", "t"),
+        ("× FilterPy", "ratio_vs_filterpy", "x"),
+        ("Speed-up", "speedup", "x"),
+        ("Agreement", "agreement_pct", "pct"),
+        ("How", "how", "t"),
+    ]
+    used = [c for c in cols if any(r.get(c[1]) for r in rows)]
+    out = ["| " + " | ".join(h for h, _, _ in used) + " |", "|" + "---|" * len(used)]
+    for r in rows:
+        cells = [_cell(r.get(k, "") if f == "t" else _fmt(r.get(k), f)) for _, k, f in used]
+        out.append("| " + " | ".join(cells) + " |")
+    return out
+
+
+def _pc(text: str) -> str:
+    v = _num(text)
+    return text if v is None else f"{v:.2f}"
+
+
+def agreement_table(rows: list[dict[str, str]]) -> list[str]:
+    out = [
+        "| R | trial × horizon pairs | Q_a = 0 bank right | FFT argmax = that bank's | "
+        "default bank (Q_a = 1) right | FFT argmax = that bank's | % correct: FFT / bank Q_a = 0 / bank Q_a = 1 |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        out.append(
+            f"| {r['R']} | {r['pairs']} | {r['bank_qa0_right']} | {r['agree_qa0']} ({_fmt(r['agree_qa0_pct'], 'pct')}) "
+            f"| {r['bank_qa1_right']} | {r['agree_qa1']} ({_fmt(r['agree_qa1_pct'], 'pct')}) "
+            f"| {_pc(r['fft_correct_pct'])} / {_pc(r['bank_qa0_correct_pct'])} / {_pc(r['bank_qa1_correct_pct'])} |"
+        )
+    return out
+
+
+def markdown(res: Results) -> str:
+    lines = [
+        BEGIN,
+        "<!-- generated by scripts/bench_report.py from docs/performance/*.csv; edits here are overwritten -->",
+        "",
+        f"![µs per filter-step of every implementation (log scale) and Monte Carlo engine wall times]"
+        f"(performance/{FIGURE})",
+        "",
+        "### Machine and versions",
+        "",
+    ]
+    envs: dict[tuple[str, ...], list[str]] = {}
+    for name in res:
+        rows = res[name][1]
+        if rows and all(k in rows[0] for k in ENV_KEYS):
+            envs.setdefault(tuple(rows[0][k] for k in ENV_KEYS), []).append(name)
+    lines += ["| Results | " + " | ".join(ENV_KEYS) + " |", "|---|" + "---|" * len(ENV_KEYS)]
+    for env, names in envs.items():
+        lines.append("| " + ", ".join(f"`{n}`" for n in names) + " | " + " | ".join(map(_cell, env)) + " |")
+    lines.append("")
+    for name in [*ORDER, *sorted(set(res) - set(ORDER))]:
+        if name not in res or name == "bench_fft_agreement":
+            continue
+        comments, rows = res[name]
+        lines += [f"### {TITLES.get(name, name)}", ""]
+        lines += [f"- {_cell(c)}" for c in comments if not c.startswith("machine:")]
+        lines += [f"- Data: [{name}.csv](performance/{name}.csv)", ""]
+        lines += [*table(rows), ""]
+        if name == "bench_fft" and "bench_fft_agreement" in res:
+            lines += [
+                "Argmax agreement of the FFT path, per R, over trials × horizons "
+                "([bench_fft_agreement.csv](performance/bench_fft_agreement.csv)):",
+                "",
+                *agreement_table(res["bench_fft_agreement"][1]),
+                "",
+            ]
+    lines.append(END)
+    return "\n".join(lines)
+
+
+def write_page(block: str) -> None:
+    text = PAGE.read_text()
+    if BEGIN not in text or END not in text:
+        raise SystemExit(f"{PAGE}: the markers {BEGIN} and {END} are missing")
+    head, rest = text.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    PAGE.write_text(head + block + tail)
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--no-copy", action="store_true", help="use the CSVs already in docs/performance/")
+    args = ap.parse_args()
+    if not args.no_copy:
+        names = copy_results()
+        print(f"copied {len(names)} result files to {OUT.relative_to(ROOT)}/")
+    res = load()
+    if not res:
+        print("no results: run `make bench` first", file=sys.stderr)
+        return 1
+    draw(res)
+    write_page(markdown(res))
+    print(f"wrote {(OUT / FIGURE).relative_to(ROOT)} and the results block of {PAGE.relative_to(ROOT)}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
