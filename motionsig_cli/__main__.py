@@ -1,5 +1,5 @@
 """``python -m motionsig_cli`` runs the command-line tool."""
 
-from motionsig_cli.cli.app import main
+from motionsig_cli.cli.entry import main
 
 raise SystemExit(main())

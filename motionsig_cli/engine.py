@@ -23,6 +23,7 @@ line and exit code 130; no output file is written before all tasks are done).
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import logging
 import math
@@ -146,9 +147,19 @@ def _json_default(obj: Any) -> Any:
 class Checkpoint:
     """Finished task results of one run, kept in a directory (see the module docstring)."""
 
-    def __init__(self, directory: Path, identity: Mapping[str, Any], n_tasks: int) -> None:
+    def __init__(self, directory: Path, identity: Mapping[str, Any], tasks: Sequence[Any]) -> None:
+        from motionsig_cli import __version__
+
         self.dir = directory
-        want = {"version": CHECKPOINT_VERSION, "tasks": n_tasks, **_canonical(identity)}
+        self.keys = [repr(t) for t in tasks]  # a task's description, stored beside its result
+        digest = hashlib.sha256("\n".join(self.keys).encode()).hexdigest()
+        want = {
+            "version": CHECKPOINT_VERSION,
+            "motionsig": __version__,
+            "tasks": len(tasks),
+            "task_list_sha256": digest,  # the chunk boundaries: another chunking must not mix in
+            **_canonical(identity),
+        }
         manifest = directory / MANIFEST
         if directory.exists() and not directory.is_dir():
             raise EngineError("--checkpoint", f"{directory} exists and is not a directory")
@@ -157,13 +168,18 @@ class Checkpoint:
                 have = json.loads(manifest.read_text())
             except (OSError, ValueError) as exc:
                 raise EngineError("--checkpoint", f"{manifest}: unreadable manifest ({exc})") from None
-            if have != want:
-                diff = sorted(k for k in set(have) | set(want) if have.get(k) != want.get(k))
-                what = "another command" if have.get("command") != want.get("command") else "other parameters"
+            if have.get("command") != want.get("command"):
                 raise EngineError(
                     "--checkpoint",
-                    f"{directory} holds a checkpoint of {what} ({', '.join(diff)} differ: "
-                    f"{have.get('command')!r}); use a new directory",
+                    f"{directory} holds a checkpoint of another command ({have.get('command')!r}); "
+                    "use a new directory",
+                )
+            if have != want:
+                diff = sorted(k for k in set(have) | set(want) if have.get(k) != want.get(k))
+                raise EngineError(
+                    "--checkpoint",
+                    f"{directory} holds a checkpoint of other parameters ({', '.join(diff)} "
+                    f"{'differs' if len(diff) == 1 else 'differ'}); use a new directory",
                 )
         else:
             if directory.is_dir() and any(directory.iterdir()):
@@ -180,17 +196,19 @@ class Checkpoint:
         return self.dir / f"task-{i:07d}.pkl"
 
     def load(self, i: int) -> tuple[bool, Any]:
+        """Task i's result, if a file holds it under task i's own description (else it is recomputed)."""
         path = self._path(i)
         if not path.exists():
             return False, None
         try:
             with path.open("rb") as fh:
-                return True, pickle.load(fh)
-        except Exception:  # a damaged file: recompute the task
+                key, result = pickle.load(fh)
+        except Exception:  # a damaged or foreign file: recompute the task
             return False, None
+        return (True, result) if key == self.keys[i] else (False, None)
 
     def save(self, i: int, result: Any) -> None:
-        _atomic_write(self._path(i), pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL))
+        _atomic_write(self._path(i), pickle.dumps((self.keys[i], result), protocol=pickle.HIGHEST_PROTOCOL))
 
 
 def _atomic_write(path: Path, data: bytes) -> None:
@@ -233,7 +251,7 @@ def run_tasks(
     if engine.checkpoint is not None:
         if identity is None:
             raise ValueError("a checkpoint needs the run's identity")
-        ckpt = Checkpoint(engine.checkpoint, identity, n)
+        ckpt = Checkpoint(engine.checkpoint, identity, tasks)
         for i in range(n):
             done[i], results[i] = ckpt.load(i)
             if done[i] and progress is not None:
@@ -270,6 +288,29 @@ def _ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
+@contextlib.contextmanager
+def _children_ignore_sigint() -> Iterator[None]:
+    """Block SIGINT in this thread while child processes (and threads that spawn them) are created.
+
+    A blocked signal mask is inherited across fork and exec, so the children never see the terminal's
+    Ctrl-C, not even during their start-up (imports take ~1 s; a worker initializer would come too late).
+    This thread gets the signal when the block ends: a Ctrl-C in the meantime is deferred, not lost.
+    """
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        yield
+        return
+    # multiprocessing's resource tracker, started with the first child, *unblocks* SIGINT in the thread
+    # that starts it (CPython resource_tracker.py): start it now, before the block
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
 def _run_pool(
     fn: Callable[[Any], Any],
     tasks: Sequence[Any],
@@ -285,10 +326,11 @@ def _run_pool(
     try:
         futures: dict[Future[Any], int] = {}
         queue = iter(pending)
-        for i in queue:  # keep at most 2 tasks per worker in flight (bounded memory, early checkpoints)
-            futures[pool.submit(fn, tasks[i])] = i
-            if len(futures) >= 2 * workers:
-                break
+        with _children_ignore_sigint():  # the pool spawns its processes on these first submits
+            for i in queue:  # keep at most 2 tasks per worker in flight (bounded memory, early checkpoints)
+                futures[pool.submit(fn, tasks[i])] = i
+                if len(futures) >= 2 * workers:
+                    break
         while futures:
             finished, _ = wait(futures, return_when=FIRST_COMPLETED)
             for fut in sorted(finished, key=futures.__getitem__):
@@ -310,6 +352,8 @@ def _run_pool(
             for p in procs:
                 with contextlib.suppress(Exception):
                     p.join(timeout=5)
+            with contextlib.suppress(Exception):  # let the manager thread see the dead pool and exit now
+                pool.shutdown(wait=True, cancel_futures=True)
 
 
 def split_address(address: str) -> tuple[str, int]:
@@ -317,8 +361,11 @@ def split_address(address: str) -> tuple[str, int]:
     rest = address.strip()
     if "://" in rest:
         proto, rest = rest.split("://", 1)
-        if proto not in ("tcp", "tls"):
-            raise EngineError("--scheduler", f"{address!r}: only tcp:// or tls:// addresses (or 'local')")
+        if proto != "tcp":
+            raise EngineError(
+                "--scheduler",
+                f"{address!r}: only tcp:// addresses (or 'local'); TLS clusters are not supported",
+            )
     host, sep, port = rest.rpartition(":")
     if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
         raise EngineError(
@@ -337,37 +384,58 @@ def dask_client(engine: Engine) -> Iterator[Any]:
     if engine.scheduler == "local":
         import dask
 
-        with dask.config.set({TRIM_KEY: None}):  # see TRIM_KEY
-            cluster = LocalCluster(
-                n_workers=engine.workers,
-                threads_per_worker=1,
-                processes=True,
-                host="127.0.0.1",
-                dashboard_address=":0",  # a free port: 8787 may be taken
-                silence_logs=logging.CRITICAL,  # task errors reach the user as one line, not as worker logs
-            )
+        cluster = None
         try:
+            # the cluster's event-loop thread and worker processes start with SIGINT blocked (see
+            # _children_ignore_sigint); a Ctrl-C during start-up is raised here once it is up
+            with dask.config.set({TRIM_KEY: None}), _children_ignore_sigint():  # see TRIM_KEY
+                cluster = LocalCluster(
+                    n_workers=engine.workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    host="127.0.0.1",
+                    dashboard_address=":0",  # a free port: 8787 may be taken
+                    silence_logs=logging.CRITICAL,  # task errors reach the user as one line, not as worker logs
+                )
             with Client(cluster) as client:
                 yield client
         finally:
-            cluster.close()
+            if cluster is not None:
+                cluster.close()
         return
     assert engine.scheduler is not None
     host, port = split_address(engine.scheduler)
-    try:  # fail fast: a plain TCP connect first (Client would retry until its timeout)
-        socket.create_connection((host, port), timeout=engine.connect_timeout).close()
-    except OSError as exc:
-        raise EngineError(
-            "--scheduler", f"cannot reach the Dask scheduler at {engine.scheduler} ({exc.strerror or exc})"
-        ) from None
+    _probe_scheduler(engine.scheduler, host, port, engine.connect_timeout)
     try:
         client = Client(engine.scheduler, timeout=engine.connect_timeout)
-    except (OSError, TimeoutError) as exc:
-        raise EngineError("--scheduler", f"no Dask scheduler answers at {engine.scheduler} ({exc})") from None
+    except Exception as exc:  # whatever answered there is not a Dask scheduler we can use
+        raise EngineError(
+            "--scheduler", f"no Dask scheduler answers at {engine.scheduler} ({type(exc).__name__}: {exc})"
+        ) from None
     try:
         yield client
     finally:
         client.close()
+
+
+def _probe_scheduler(address: str, host: str, port: int, timeout: float) -> None:
+    """Fail fast: a TCP connect, then the scheduler's handshake, which it sends unasked at once. A closed
+    port, a silent server or one that waits for a request (HTTP) fails here within ``timeout``; the Dask
+    client itself would wait for much longer."""
+    try:
+        with socket.create_connection((host, port), timeout=timeout) as sock:
+            sock.settimeout(timeout)
+            if not sock.recv(1):
+                raise OSError("the connection was closed")
+    except TimeoutError:
+        raise EngineError(
+            "--scheduler",
+            f"{address} accepts connections but sends no Dask handshake (not a Dask scheduler?)",
+        ) from None
+    except OSError as exc:
+        raise EngineError(
+            "--scheduler", f"cannot reach the Dask scheduler at {address} ({exc.strerror or exc})"
+        ) from None
 
 
 def _run_dask(

@@ -159,3 +159,45 @@ def _pid(_: range) -> int:
     import os
 
     return os.getpid()
+
+
+def test_a_checkpoint_of_other_chunk_boundaries_is_refused(tmp_path):
+    """Same identity, same number of tasks, other boundaries: mixing them would drop or double trials."""
+    fn = functools.partial(_draws, 1.0)
+    ident = {"command": "a"}
+    run_tasks(fn, [range(0, 5), range(5, 10)], Engine(1, None, tmp_path), identity=ident)
+    with pytest.raises(EngineError, match="task_list_sha256"):
+        run_tasks(fn, [range(0, 9), range(9, 10)], Engine(1, None, tmp_path), identity=ident)
+
+
+def test_a_task_file_copied_from_another_task_is_recomputed(tmp_path):
+    fn = functools.partial(_draws, 1.0)
+    tasks = tasks_of(9, 3)
+    ident = {"command": "a"}
+    full = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    (tmp_path / "task-0000001.pkl").write_bytes((tmp_path / "task-0000000.pkl").read_bytes())
+    CALLS.clear()
+    again = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    assert CALLS == [3]
+    assert np.concatenate(again).tobytes() == np.concatenate(full).tobytes()
+
+
+def test_a_silent_server_is_not_taken_for_a_scheduler():
+    """A port that accepts connections but sends no Dask handshake (an HTTP server waits for a request)."""
+    pytest.importorskip("distributed")
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(4)
+    address = f"tcp://127.0.0.1:{srv.getsockname()[1]}"
+    try:
+        t0 = time.perf_counter()
+        with pytest.raises(EngineError, match="no Dask handshake"):
+            run_tasks(functools.partial(_draws, 1.0), tasks_of(4, 2), Engine(1, address, connect_timeout=0.5))
+        assert time.perf_counter() - t0 < 3
+    finally:
+        srv.close()
+
+
+def test_tls_addresses_are_refused():
+    with pytest.raises(EngineError, match="TLS"):
+        split_address("tls://10.0.0.1:8786")

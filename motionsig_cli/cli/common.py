@@ -7,6 +7,7 @@ import contextlib
 import math
 import sys
 from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures.process import BrokenProcessPool
 from enum import StrEnum
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
@@ -260,6 +261,18 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
             yield advance
     except EngineError as exc:
         raise typer.BadParameter(str(exc), param_hint=exc.option) from None
+    except BrokenProcessPool:
+        hint = (
+            f"; rerun with --checkpoint {engine.checkpoint} to resume"
+            if engine.checkpoint is not None
+            else ""
+        )
+        typer.echo(
+            f"motionsig: error: a worker process died (killed, or out of memory?) after {finished[0]}/{total} "
+            f"trials{hint}",
+            err=True,
+        )
+        raise typer.Exit(1) from None
     except KeyboardInterrupt:
         hint = (
             f"; rerun with --checkpoint {engine.checkpoint} to resume"

@@ -364,7 +364,12 @@ def calibrate(
     identity: dict[str, Any] | None = None,
     on_chunk: Callable[[int], None] | None = None,
 ) -> Calibration:
-    """Null distribution of λ*, the threshold for ``pfa`` and P_D at it, per (f_r, R, horizon)."""
+    """Null distribution of λ*, the threshold for ``pfa`` and P_D at it, per (f_r, R, horizon).
+
+    The result does not depend on the engine. The chunking (fixed by the parameters) batches the
+    filters' floating-point work, so another chunk size may move the thresholds' last bits; the
+    counts are exact integers either way.
+    """
     if not 0 < pfa < 1:
         raise ValueError(f"the false-alarm probability must lie in (0, 1), got {pfa:g}")
     if null_trials < 1 or trials < 1:

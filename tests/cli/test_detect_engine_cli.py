@@ -118,10 +118,14 @@ def test_unreachable_scheduler_fails_fast_with_its_address(capsys, tmp_path):
     assert not (tmp_path / "x.csv").exists()
 
 
-def test_ctrl_c_stops_cleanly_and_the_checkpoint_resumes_to_the_same_result(tmp_path):
-    """SIGINT to the whole process group (what a terminal's Ctrl-C does) while 2 workers run."""
+@pytest.mark.parametrize(
+    "engine", [("--workers", "2"), ("--scheduler", "local", "--workers", "2")], ids=["pool", "dask"]
+)
+def test_ctrl_c_stops_cleanly_and_the_checkpoint_resumes_to_the_same_result(tmp_path, engine):
+    """SIGINT to the whole process group (what a terminal's Ctrl-C does) while 2 workers run: the workers
+    (pool processes, or a LocalCluster's nanny workers) must not print tracebacks of their own."""
     args = ["detect", "--montecarlo", "--trials", "12", "--fr-list", "0.01", "--R-list", "1e-2,1e-3",
-            "--horizons", "10,20", "--workers", "2"]  # fmt: skip
+            "--horizons", "10,20", *engine]  # fmt: skip
     env = {**os.environ, "MOTIONSIG_MIN_TASK_SECONDS": "1e-9", "MOTIONSIG_POOL_MIN_SECONDS": "0"}
     ck = tmp_path / "ck"
     exe = [sys.executable, "-m", "motionsig_cli"]
@@ -220,3 +224,29 @@ def test_calibration_plot_and_columns(capsys, tmp_path):
     assert float(row["pfa_in_sample"]) <= 0.1 and 0 <= float(row["pd"]) <= 1
     rc, _, err = run(capsys, *CAL, "--pfa", "1.5")
     assert rc == 2 and "--pfa" in err
+
+
+@pytest.mark.parametrize(
+    ("args", "option", "word"),
+    [
+        ((*MC_1D[:-2], "--horizons", "0.02"), "--horizons", "one sample"),
+        (("detect", "--calibrate", "--method", "fft", "--pfa", "1e-9"), "--pfa", "null trials"),
+        (
+            ("detect", "--calibrate", "--method", "fft", "--null-trials", "3000000"),
+            "--null-trials",
+            "at most",
+        ),
+        (("detect", "--montecarlo", "--trials", "60000000", "--R-list", "1,2"), "--trials", "at most"),
+    ],
+)
+def test_runaway_or_degenerate_sizes_are_refused_at_once(capsys, args, option, word):
+    t0 = time.perf_counter()
+    rc, out, err = run(capsys, *args)
+    assert rc == 2 and out == "" and option in err and word in err and err.count("\n") == 1
+    assert time.perf_counter() - t0 < 5
+
+
+def test_fewer_null_trials_than_one_over_pfa_is_warned(capsys):
+    rc, _, err = run(capsys, "detect", "--calibrate", "--method", "fft", "--trials", "2", "--null-trials", "5",
+                     "--pfa", "0.01", "--R-list", "1", "--horizons", "2")  # fmt: skip
+    assert rc == 0 and "warning" in err and "largest null maximum" in err
