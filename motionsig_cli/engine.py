@@ -266,7 +266,8 @@ def run_tasks(
             progress(sizes[i])
 
     if engine.scheduler is not None:
-        _run_dask(fn, tasks, pending, engine, finish)
+        if pending:  # a fully restored checkpoint needs no cluster
+            _run_dask(fn, tasks, pending, engine, finish)
         return results
     if engine.workers > 1 and len(pending) > 1 and pool_min_seconds() > 0:
         # time the first task here: a small run finishes in this process before a pool could start
