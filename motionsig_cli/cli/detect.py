@@ -518,6 +518,27 @@ def detect(
     )
 
 
+def _grid_options(
+    fr_list: str, R_list: str, horizons: str | None, T: float
+) -> tuple[list[float], list[float], list[float]]:
+    """--fr-list, --R-list and --horizons of the 1-D Monte Carlo views, checked (horizons: every 10 s
+    to 80 s by default, each at least one sample)."""
+    frs = checked("--fr-list", float_list, fr_list, what="frequency")
+    Rs = checked("--R-list", float_list, R_list, what="variance")
+    if min(Rs) <= 0:
+        raise typer.BadParameter("measurement variances must be > 0", param_hint="--R-list")
+    if min(frs) < 0:
+        raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
+    hs = (
+        parse_horizons(None, 80.0, T)
+        if horizons is None
+        else checked("--horizons", float_list, horizons, what="horizon")
+    )
+    if min(hs) <= 0 or round(min(hs) / T) < 1:
+        raise typer.BadParameter(f"horizons must be >= {T:g} seconds (one sample)", param_hint="--horizons")
+    return frs, Rs, hs
+
+
 def _montecarlo(
     c_r: float,
     Q0: str,
@@ -543,26 +564,12 @@ def _montecarlo(
     method: Method = Method.bank,
     engine: Engine | None = None,
 ) -> None:
-    frs = checked("--fr-list", float_list, fr_list, what="frequency")
-    Rs = checked("--R-list", float_list, R_list, what="variance")
-    if min(Rs) <= 0:
-        raise typer.BadParameter("measurement variances must be > 0", param_hint="--R-list")
-    if min(frs) < 0:
-        raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
     vehicle = Vehicle1D()
     f_c, m_rho = 1.0, 20
+    frs, Rs, hs = _grid_options(fr_list, R_list, horizons, vehicle.T)
     cfg = _lmp_config(
         c_r, Q0 or Q0_DEFAULT, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot
     )
-    hs = (
-        parse_horizons(horizons, 80.0, vehicle.T)
-        if horizons is None
-        else checked("--horizons", float_list, horizons, what="horizon")
-    )
-    if min(hs) <= 0 or round(min(hs) / vehicle.T) < 1:
-        raise typer.BadParameter(
-            f"horizons must be >= {vehicle.T:g} seconds (one sample)", param_hint="--horizons"
-        )
     if trials * len(Rs) > MAX_MC_TRIALS:
         raise typer.BadParameter(
             f"{trials} trials x {len(Rs)} R: at most {MAX_MC_TRIALS:.0e} records per run",
@@ -709,26 +716,14 @@ def _calibrate(
     quiet: bool,
 ) -> None:
     """``detect --calibrate``: threshold of max Λ for a false-alarm probability, and P_D at it."""
-    frs = checked("--fr-list", float_list, fr_list, what="frequency")
-    Rs = checked("--R-list", float_list, R_list, what="variance")
-    if min(Rs) <= 0:
-        raise typer.BadParameter("measurement variances must be > 0", param_hint="--R-list")
-    if min(frs) < 0:
-        raise typer.BadParameter("frequencies must be >= 0", param_hint="--fr-list")
     vehicle = Vehicle1D()
     f_c, m_rho = 1.0, 20
+    frs, Rs, hs = _grid_options(fr_list, R_list, horizons, vehicle.T)
     cfg = _lmp_config(
         c_r, Q0 or Q0_DEFAULT, Qa, P0, Ar_, tau_grid, fc_grid, f_c, include_logdet, weights, center, zdot
     )
     if method is Method.fft:
         checked("--method", check_fft_config, cfg)
-    hs = (
-        parse_horizons(horizons, 80.0, vehicle.T)
-        if horizons is None
-        else checked("--horizons", float_list, horizons, what="horizon")
-    )
-    if min(hs) <= 0 or round(min(hs) / vehicle.T) < 1:
-        raise typer.BadParameter(f"horizons must be >= {vehicle.T:g} seconds", param_hint="--horizons")
     chips = to_bipolar(table1_codes("corrected")).astype(float)
     spec = MCSpec(vehicle, chips, m_rho, f_c, cfg, tuple(frs), tuple(hs), seed, True, method.value)
     identity = dict(
