@@ -102,12 +102,22 @@ def tasks_of(n_trials: int, per_task: int) -> list[range]:
     return [range(s, min(n_trials, s + per_task)) for s in range(0, n_trials, per_task)]
 
 
-def trials_per_task(seconds_per_trial: float, *, at_most: int = 1_000_000) -> int:
-    """Trials per task so that a task is worth ≥ :data:`MIN_TASK_SECONDS` (from a cost model, never
-    from a clock: the chunking must not depend on the machine, or the output would)."""
+def trials_per_task(
+    seconds_per_trial: float, *, fixed_seconds: float = 0.0, amortise: float = 4.0, at_most: int = 1_000_000
+) -> int:
+    """Trials per task, from a cost model (never from a clock: the chunking must not depend on the
+    machine, or the output would).
+
+    A task is worth ≥ :data:`MIN_TASK_SECONDS` and ≥ ``amortise`` × ``fixed_seconds``, its own fixed
+    cost (a Riccati recursion, a Python loop over scans), so that chunking adds at most 1/``amortise``.
+    Both scale with ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests set it tiny: one trial per task).
+    """
     if not (seconds_per_trial > 0 and math.isfinite(seconds_per_trial)):
         return at_most
-    return int(min(at_most, max(1, math.ceil(min_task_seconds() / seconds_per_trial))))
+    worth = max(MIN_TASK_SECONDS, amortise * fixed_seconds) * (min_task_seconds() / MIN_TASK_SECONDS)
+    return int(
+        min(at_most, max(1, math.ceil(worth / seconds_per_trial * (1 - 1e-12))))
+    )  # no +1 from rounding
 
 
 def pool_min_seconds() -> float:

@@ -30,11 +30,11 @@ from motionsig_cli.cli.common import (
     WorkersOpt,
     check_outputs,
     checked,
+    engine_session,
     float_list,
     make_engine,
     note,
     progress,
-    run_monte_carlo,
     save_figure,
 )
 from motionsig_cli.cli.io import Table, emit, make_meta
@@ -773,17 +773,8 @@ def _mc_identity(
 
 def _run_specs(specs: list, engine: Engine, identity: dict[str, object], label: str, quiet: bool) -> list:
     """Run Monte Carlo specs as one list of tasks on the engine, with a progress bar in trials."""
-    tasks, sizes, per = exp.plan_tasks(specs)
-    results = run_monte_carlo(
-        functools.partial(exp.run_spec_task, tuple(specs)),
-        tasks,
-        engine,
-        sizes=sizes,
-        identity={**identity, "blocks_per_task": per},
-        label=label,
-        quiet=quiet,
-    )
-    return exp.combine_specs(specs, tasks, results)
+    with engine_session(engine, sum(spec.trials for spec in specs), label, quiet) as advance:
+        return exp.run_specs(specs, engine, advance, identity)
 
 
 @app.command()

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import math
 from enum import StrEnum
-from functools import partial
 from pathlib import Path
 from typing import Annotated
 
@@ -30,11 +29,11 @@ from motionsig_cli.cli.common import (
     WorkersOpt,
     check_outputs,
     checked,
+    engine_session,
     float_list,
     make_engine,
     note,
     positive,
-    run_monte_carlo,
     save_figure,
 )
 from motionsig_cli.cli.io import Table, emit, make_meta
@@ -202,20 +201,9 @@ def slrt(
         )
     log_a, log_b = wald_thresholds(alpha, beta)
     job = exp.SlrtJob(tuple(sc for _, sc in cases), runs, seed, names, lkf_mean.value)
-    tasks = job.tasks()
-    partials = run_monte_carlo(
-        partial(exp.score_task, job),
-        tasks,
-        engine,
-        sizes=[len(r) for _, r in tasks],
-        identity={"command": "slrt", **job.identity()},
-        label="slrt",
-        quiet=quiet,
-    )
-    results = [
-        (label, sc, scores)
-        for (label, sc), scores in zip(cases, exp.collect(job, tasks, partials), strict=True)
-    ]
+    with engine_session(engine, runs * len(cases), "slrt", quiet) as advance:
+        scored = exp.monte_carlo(job, engine, progress=advance)
+    results = [(label, sc, scores) for (label, sc), scores in zip(cases, scored, strict=True)]
     for label, _, scores in results:
         for m, v in scores.items():
             if np.any(np.isnan(v) | (v == np.inf)):

@@ -18,7 +18,7 @@ import numpy as np
 
 from motionsig_cli.detection.lmp import LMPConfig, LMPResult, candidate_grid, lmp_detect
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft
-from motionsig_cli.engine import MIN_TASK_SECONDS, Engine, run_tasks, tasks_of, trials_per_task
+from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.models.vehicle import Vehicle1D, simulate_1d
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.signals.signature import ZdotMethod, replica_bank
@@ -230,10 +230,7 @@ def mc_tasks(
     if trials < 1:
         raise ValueError("the number of trials must be >= 1")
     fixed, per_trial = task_cost(spec)
-    floor = max(MIN_TASK_SECONDS, 4 * fixed)  # seconds a task is worth at least
-    per = chunk or min(
-        max(1, 200 // len(spec.fr_list)), trials_per_task(per_trial * MIN_TASK_SECONDS / floor)
-    )
+    per = chunk or min(max(1, 200 // len(spec.fr_list)), trials_per_task(per_trial, fixed_seconds=fixed))
     return [(float(R), r) for R in R_list for r in tasks_of(trials, per)]
 
 

@@ -381,16 +381,19 @@ def run_specs(
     specs: Sequence[PlainRun | ImportanceRun],
     engine: Engine | None = None,
     progress: Callable[[int], None] | None = None,
+    identity: dict[str, Any] | None = None,
 ) -> list[Any]:
-    """Run several Monte Carlo specs as one list of tasks on ``engine`` (default: in this process)."""
+    """Run several Monte Carlo specs as one list of tasks on ``engine`` (default: in this process);
+    ``identity`` names the run in a checkpoint's manifest (the blocks per task are added)."""
     tasks, sizes, per = plan_tasks(specs)
+    ident = identity or {"command": "mac_roc.run_specs", "specs": [repr(s) for s in specs]}
     results = run_tasks(
         functools.partial(run_spec_task, tuple(specs)),
         tasks,
         engine or Engine(),
         sizes=sizes,
         progress=progress,
-        identity={"command": "mac_roc.run_specs", "specs": [repr(s) for s in specs], "blocks_per_task": per},
+        identity={**ident, "blocks_per_task": per},
     )
     return combine_specs(specs, tasks, results)
 

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from motionsig_cli.detection.glr import CHI2_2_999, GLRConfig, InputModel, input_tracker
-from motionsig_cli.engine import MIN_TASK_SECONDS, Engine, run_tasks, tasks_of, trials_per_task
+from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.models.motion import (
     H_POS4,
@@ -315,7 +315,7 @@ class MCJob:
             return self.chunk
         fixed = cost(self.sc.scans, 0, self.methods, 1)
         per_run = cost(self.sc.scans, 1, self.methods, 1) - fixed
-        return trials_per_task(per_run * MIN_TASK_SECONDS / max(MIN_TASK_SECONDS, 4.0 * fixed), at_most=250)
+        return trials_per_task(per_run, fixed_seconds=fixed, at_most=250)
 
     def tasks(self) -> list[tuple[int, range]]:
         """(σ index, runs) in σ order, runs in increasing order within a σ."""

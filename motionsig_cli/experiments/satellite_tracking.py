@@ -566,6 +566,8 @@ def runs_per_task(cfg: SimulationConfig) -> int:
     if _uses_cholesky(cfg):
         per_run += CHOLESKY_FLOP_SECONDS * float(E - 1) ** 2
     fixed = E * (UPDATE_OVERHEAD_SECONDS + TRACKER_OVERHEAD_SECONDS * trackers)
+    # the floor does not scale with $MOTIONSIG_MIN_TASK_SECONDS: every task ships the clock's Cholesky
+    # factor (up to ~200 MB), so one-run tasks in tests would cost minutes
     floor = math.ceil(AMORTISE * fixed / per_run)
     memory = max(1, MAX_TASK_VALUES // (E * (cfg.constellation.K + 2)))
     return int(max(1, min(MAX_TASK_RUNS, memory, max(floor, trials_per_task(per_run)))))

@@ -21,7 +21,7 @@ import numpy as np
 
 from motionsig_cli.detection.sprt import Decisions, first_crossing, wald_thresholds
 from motionsig_cli.detection.track_existence import METHODS, ScanData, TrackExistenceModel, run_methods
-from motionsig_cli.engine import MIN_TASK_SECONDS, Engine, run_tasks, tasks_of, trials_per_task
+from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
 from motionsig_cli.models.radar import MeasurementModel, cv_model, wrap_angle
 from motionsig_cli.rng import trial_rng
 
@@ -240,7 +240,7 @@ class SlrtJob:
         extra. Both scale with ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests set it tiny: one run per task)."""
         fixed = max(cost(sc, 0)[0] for sc in self.cases)
         per_run = max(cost(sc, 1)[0] - cost(sc, 0)[0] for sc in self.cases)
-        return trials_per_task(per_run * MIN_TASK_SECONDS / max(MIN_TASK_SECONDS, 4.0 * fixed))
+        return trials_per_task(per_run, fixed_seconds=fixed)
 
     def tasks(self) -> list[tuple[int, range]]:
         """(case, runs) in case order, runs in increasing order within a case."""

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from motionsig_cli.detection.lmp import LMPConfig
-from motionsig_cli.experiments.lmp1d import MCSpec, mc_task, mc_tasks, threshold_for
+from motionsig_cli.experiments.lmp1d import MCSpec, mc_task, mc_tasks, task_cost, threshold_for
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
@@ -58,15 +58,26 @@ def test_the_runs_above_really_are_split_into_tasks(many_tasks):
 
 
 def test_default_chunks_are_worth_four_times_their_fixed_cost(monkeypatch):
-    """Bank: the Riccati recursion (≈ 0.37 s) is paid per task, a trial costs ≈ 3.6 ms → tasks of 200 records;
-    FFT: fixed 32 ms, 1.28 ms per trial → 4 · 0.032 / 0.00128 = 100 trials."""
+    """A task is the smallest number of trials worth ≥ 4× its fixed cost (the bank's Riccati recursion, the FFT
+    path's simulation loop) and ≥ 0.1 s, capped at 200 records in memory; the last task takes the rest."""
     monkeypatch.delenv("MOTIONSIG_MIN_TASK_SECONDS", raising=False)
-    tasks = _tasks(dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1), [1e-3], 450)
-    assert [len(t[1]) for t in tasks] == [200, 200, 50]
-    tasks = _tasks(dict(fr_list=(0.01, 0.1, 1.0), horizons_s=(80.0,), seed=1), [1e-3], 100)
-    assert [len(t[1]) for t in tasks] == [66, 34]
-    fft = _tasks(dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1, method="fft"), [1e-3], 300)
-    assert [len(t[1]) for t in fft] == [100, 100, 100]
+    for kwargs, trials in [
+        (dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1), 450),
+        (dict(fr_list=(0.01, 0.1, 1.0), horizons_s=(80.0,), seed=1), 100),
+        (dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1, method="fft"), 300),
+        (dict(fr_list=(0.01,), horizons_s=(5.0,), seed=1, method="fft"), 300),
+    ]:
+        spec = MCSpec(Vehicle1D(), np.ones((3, 31)), 20, 1.0, LMPConfig(), **kwargs)
+        fixed, per_trial = task_cost(spec)
+        sizes = [len(t[1]) for t in mc_tasks(spec, [1e-3], trials)]
+        per = sizes[0]
+        assert sum(sizes) == trials and all(n == per for n in sizes[:-1])
+        cap = 200 // len(spec.fr_list)
+        worth = max(0.1, 4 * fixed)
+        assert per == cap or (
+            per * per_trial >= worth * (1 - 1e-9) and (per - 1) * per_trial < worth * (1 - 1e-9)
+        )
+        assert per <= cap
 
 
 def test_checkpoint_resume_is_identical_and_foreign_checkpoints_are_refused(capsys, tmp_path, many_tasks):

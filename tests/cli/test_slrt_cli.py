@@ -103,7 +103,10 @@ def test_chunking_depends_on_the_parameters_only(monkeypatch):
     per_task = job.runs_per_task()
     assert 1 < per_task < 200
     seconds = exp.cost(sc, per_task)[0] - exp.cost(sc, 0)[0]
-    assert seconds >= 0.1 and seconds >= 4 * exp.cost(sc, 0)[0]  # >= 0.1 s and >= 4x the batch overhead
+    worth = max(0.1, 4 * exp.cost(sc, 0)[0]) * (
+        1 - 1e-9
+    )  # >= 0.1 s and >= 4x the batch overhead (to rounding)
+    assert seconds >= worth
     tasks = job.tasks()
     assert [c for c, _ in tasks] == sorted(c for c, _ in tasks)
     for case in (0, 1):
