@@ -137,6 +137,18 @@ def periodic_replicas(
     return np.fft.ifft(np.fft.fft(h_w)[None, :] * np.fft.fft(gamma * p, axis=1), axis=1)
 
 
+def _checked_inputs(y: np.ndarray, horizons: Sequence[int], cfg: LMPConfig) -> tuple[np.ndarray, np.ndarray]:
+    """Records (B, N) and horizons of the FFT and projection paths, checked as :func:`lmp_detect` does."""
+    check_fft_config(cfg)
+    y = np.atleast_2d(np.asarray(y, dtype=float))
+    if not np.all(np.isfinite(y)):
+        raise ValueError("measurements contain NaN or inf")
+    hz = np.asarray(horizons, dtype=int)
+    if hz.size == 0 or hz.min() < 1 or hz.max() > y.shape[1]:
+        raise ValueError(f"horizons must lie in 1..{y.shape[1]} samples (the record length)")
+    return y, hz
+
+
 def lmp_detect_fft(
     y: np.ndarray,
     chips: np.ndarray,
@@ -150,14 +162,8 @@ def lmp_detect_fft(
     Same inputs and result layout as :func:`motionsig_cli.detection.lmp.lmp_detect`; J_cos and
     J_sin are J_{H0} − ½ b²/(1/P0 + A) of (★).
     """
-    check_fft_config(cfg)
-    y = np.atleast_2d(np.asarray(y, dtype=float))
+    y, hz = _checked_inputs(y, horizons, cfg)
     B, N = y.shape
-    if not np.all(np.isfinite(y)):
-        raise ValueError("measurements contain NaN or inf")
-    hz = np.asarray(horizons, dtype=int)
-    if hz.size == 0 or hz.min() < 1 or hz.max() > N:
-        raise ValueError(f"horizons must lie in 1..{N} samples (the record length)")
     chips = np.asarray(chips, dtype=float)
     M, n_rho = chips.shape
     P = n_rho * m_rho
@@ -220,10 +226,8 @@ def lmp_detect_projection(
     Equal to the filter bank with Q_a = 0 up to rounding: the check of (★) and the oracle that
     separates the FFT path's steady-state approximation from the identity itself.
     """
-    check_fft_config(cfg)
-    y = np.atleast_2d(np.asarray(y, dtype=float))
+    y, hz = _checked_inputs(y, horizons, cfg)
     B, N = y.shape
-    hz = np.asarray(horizons, dtype=int)
     chips = np.asarray(chips, dtype=float)
     cands: Candidates = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
     C = len(cands)
