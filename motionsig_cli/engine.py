@@ -38,7 +38,9 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, Protocol, TypeVar, runtime_checkable
+
+from motionsig_cli.config import ConfigError
 
 R = TypeVar("R")
 
@@ -62,12 +64,20 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-class EngineError(ValueError):
-    """Bad engine input; ``option`` names the command-line option to blame."""
+class EngineError(ConfigError):
+    """Bad engine input: ``field`` names the :class:`Engine` field to blame (``workers``, ``scheduler``,
+    ``checkpoint``); the message says what is wrong with its value."""
 
-    def __init__(self, option: str, message: str) -> None:
-        super().__init__(message)
-        self.option = option
+    def __init__(self, field: str, message: str) -> None:
+        ValueError.__init__(self, f"{field}: {message}")
+        self.field = field
+        self.value = None
+        self.reason = message
+
+    @property
+    def detail(self) -> str:
+        """The message without the field's name."""
+        return self.reason
 
 
 @dataclass(frozen=True, slots=True)
@@ -90,9 +100,9 @@ class Engine:
 
     def __post_init__(self) -> None:
         if isinstance(self.workers, bool) or int(self.workers) != self.workers or self.workers < 1:
-            raise EngineError("--workers", f"must be an integer >= 1, got {self.workers}")
+            raise EngineError("workers", f"must be an integer >= 1, got {self.workers}")
         if self.scheduler is not None and not self.scheduler.strip():
-            raise EngineError("--scheduler", "is empty; give an address like tcp://10.0.0.5:8786 or 'local'")
+            raise EngineError("scheduler", "is empty; give an address like tcp://10.0.0.5:8786 or 'local'")
 
 
 def tasks_of(n_trials: int, per_task: int) -> list[range]:
@@ -172,34 +182,34 @@ class Checkpoint:
         }
         manifest = directory / MANIFEST
         if directory.exists() and not directory.is_dir():
-            raise EngineError("--checkpoint", f"{directory} exists and is not a directory")
+            raise EngineError("checkpoint", f"{directory} exists and is not a directory")
         if manifest.exists():
             try:
                 have = json.loads(manifest.read_text())
             except (OSError, ValueError) as exc:
-                raise EngineError("--checkpoint", f"{manifest}: unreadable manifest ({exc})") from None
+                raise EngineError("checkpoint", f"{manifest}: unreadable manifest ({exc})") from None
             if have.get("command") != want.get("command"):
                 raise EngineError(
-                    "--checkpoint",
+                    "checkpoint",
                     f"{directory} holds a checkpoint of another command ({have.get('command')!r}); "
                     "use a new directory",
                 )
             if have != want:
                 diff = sorted(k for k in set(have) | set(want) if have.get(k) != want.get(k))
                 raise EngineError(
-                    "--checkpoint",
+                    "checkpoint",
                     f"{directory} holds a checkpoint of other parameters ({', '.join(diff)} "
                     f"{'differs' if len(diff) == 1 else 'differ'}); use a new directory",
                 )
         else:
             if directory.is_dir() and any(directory.iterdir()):
-                raise EngineError("--checkpoint", f"{directory} is not empty and holds no {MANIFEST}")
+                raise EngineError("checkpoint", f"{directory} is not empty and holds no {MANIFEST}")
             try:
                 directory.mkdir(parents=True, exist_ok=True)
                 _atomic_write(manifest, json.dumps(want, sort_keys=True, indent=1).encode())
             except OSError as exc:
                 raise EngineError(
-                    "--checkpoint", f"{directory}: cannot write ({exc.strerror or exc})"
+                    "checkpoint", f"{directory}: cannot write ({exc.strerror or exc})"
                 ) from None
 
     def _path(self, i: int) -> Path:
@@ -294,6 +304,64 @@ def run_tasks(
     return results
 
 
+@runtime_checkable
+class MonteCarloJob(Protocol[R]):
+    """A Monte Carlo run, as the engine sees it: the one protocol every command's experiment implements.
+
+    A job is a frozen, picklable dataclass of everything its results depend on. ``name`` (a class
+    attribute) and :meth:`identity` go into a checkpoint's manifest; :meth:`tasks` lists the chunks of
+    trials from the job's cost model (never from the worker count or a clock); :meth:`run_task` computes
+    one chunk (it runs in a worker, so it may touch nothing but the job and the task);
+    :meth:`reduce` joins the chunks' results, in task order, into the job's result. :func:`run_job`
+    runs any job.
+    """
+
+    name: str
+
+    def tasks(self) -> Sequence[Any]:
+        """The chunks of trials, in the order their results are reduced."""
+        ...
+
+    def task_size(self, task: Any) -> int:
+        """Trials in ``task`` (progress counts trials)."""
+        ...
+
+    def run_task(self, task: Any) -> Any:
+        """One chunk's result (deterministic: trial t draws only from its own seed child)."""
+        ...
+
+    def reduce(self, tasks: Sequence[Any], results: Sequence[Any]) -> R:
+        """The job's result from every task's result, given in task order."""
+        ...
+
+    def identity(self) -> dict[str, Any]:
+        """Everything the results depend on (JSON values), for a checkpoint's manifest."""
+        ...
+
+
+def run_job(
+    job: MonteCarloJob[R], engine: Engine | None = None, *, progress: Callable[[int], None] | None = None
+) -> R:
+    """Run ``job`` on ``engine`` (default: in this process): :meth:`~MonteCarloJob.run_task` over its
+    tasks with :func:`run_tasks`, then :meth:`~MonteCarloJob.reduce`. ``progress`` is called with the
+    number of trials of each finished task."""
+    tasks = list(job.tasks())
+    results = run_tasks(
+        job.run_task,
+        tasks,
+        Engine() if engine is None else engine,
+        sizes=[job.task_size(t) for t in tasks],
+        progress=progress,
+        identity={"command": job.name, **job.identity()},
+    )
+    return job.reduce(tasks, results)
+
+
+def job_trials(job: MonteCarloJob[Any]) -> int:
+    """The job's total number of trials (for a progress bar)."""
+    return int(sum(job.task_size(t) for t in job.tasks()))
+
+
 def _ignore_sigint() -> None:
     """Worker initializer: Ctrl-C is the main process's business."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -374,13 +442,13 @@ def split_address(address: str) -> tuple[str, int]:
         proto, rest = rest.split("://", 1)
         if proto != "tcp":
             raise EngineError(
-                "--scheduler",
+                "scheduler",
                 f"{address!r}: only tcp:// addresses (or 'local'); TLS clusters are not supported",
             )
     host, sep, port = rest.rpartition(":")
     if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
         raise EngineError(
-            "--scheduler", f"{address!r} is not an address like tcp://10.0.0.5:8786 (or 'local')"
+            "scheduler", f"{address!r} is not an address like tcp://10.0.0.5:8786 (or 'local')"
         )
     return host.strip("[]"), int(port)
 
@@ -391,7 +459,7 @@ def dask_client(engine: Engine) -> Iterator[Any]:
     try:
         from distributed import Client, LocalCluster
     except ImportError:
-        raise EngineError("--scheduler", f"needs Dask, which is not installed: {DASK_EXTRA}") from None
+        raise EngineError("scheduler", f"needs Dask, which is not installed: {DASK_EXTRA}") from None
     if engine.scheduler == "local":
         import dask
 
@@ -421,7 +489,7 @@ def dask_client(engine: Engine) -> Iterator[Any]:
         client = Client(engine.scheduler, timeout=engine.connect_timeout)
     except Exception as exc:  # whatever answered there is not a Dask scheduler we can use
         raise EngineError(
-            "--scheduler", f"no Dask scheduler answers at {engine.scheduler} ({type(exc).__name__}: {exc})"
+            "scheduler", f"no Dask scheduler answers at {engine.scheduler} ({type(exc).__name__}: {exc})"
         ) from None
     try:
         yield client
@@ -440,12 +508,12 @@ def _probe_scheduler(address: str, host: str, port: int, timeout: float) -> None
                 raise OSError("the connection was closed")
     except TimeoutError:
         raise EngineError(
-            "--scheduler",
+            "scheduler",
             f"{address} accepts connections but sends no Dask handshake (not a Dask scheduler?)",
         ) from None
     except OSError as exc:
         raise EngineError(
-            "--scheduler", f"cannot reach the Dask scheduler at {address} ({exc.strerror or exc})"
+            "scheduler", f"cannot reach the Dask scheduler at {address} ({exc.strerror or exc})"
         ) from None
 
 

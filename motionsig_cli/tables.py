@@ -31,12 +31,11 @@ from typing import Any
 import numpy as np
 
 from motionsig_cli import __version__
+from motionsig_cli.errors import InputError  # re-exported: the table readers raise it
+
+__all__ = ["FORMATS", "InputError", "Table", "make_meta", "read_table", "render"]
 
 FORMATS = ("csv", "json")
-
-
-class InputError(Exception):
-    """Bad input data (a file, a line, a column): reported as one line, exit code 2."""
 
 
 @dataclass(frozen=True)

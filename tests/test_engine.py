@@ -73,7 +73,7 @@ def test_checkpoint_of_other_parameters_is_refused(tmp_path):
     run_tasks(fn, tasks_of(4, 2), Engine(1, None, tmp_path), identity={"command": "a", "seed": 1})
     with pytest.raises(EngineError, match=r"other parameters.*seed") as exc:
         run_tasks(fn, tasks_of(4, 2), Engine(1, None, tmp_path), identity={"command": "a", "seed": 2})
-    assert exc.value.option == "--checkpoint"
+    assert exc.value.field == "checkpoint"
     with pytest.raises(EngineError, match="another command"):
         run_tasks(fn, tasks_of(4, 2), Engine(1, None, tmp_path), identity={"command": "b", "seed": 1})
 
@@ -93,7 +93,7 @@ def test_a_non_empty_directory_without_manifest_is_refused(tmp_path):
 def test_bad_worker_counts(workers):
     with pytest.raises(EngineError) as exc:
         Engine(workers)
-    assert exc.value.option == "--workers"
+    assert exc.value.field == "workers"
 
 
 @pytest.mark.parametrize("address", ["nohost", "tcp://host", "http://a:1", "a:0", "a:99999", "   "])
@@ -101,7 +101,7 @@ def test_bad_scheduler_addresses(address):
     with pytest.raises(EngineError) as exc:
         Engine(1, address)
         split_address(address)
-    assert exc.value.option == "--scheduler"
+    assert exc.value.field == "scheduler"
 
 
 def _closed_port() -> int:

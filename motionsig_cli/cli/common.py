@@ -1,25 +1,37 @@
-"""Options and behaviour shared by every command: output format and file, plots, quiet, debug,
-seed, option-level error mapping and progress bars on stderr."""
+"""Options and behaviour shared by every command: the option groups (output, plot, quiet/debug, seed,
+workers/scheduler/checkpoint) declared once, the :func:`command` decorator that adds them to a command
+and maps the core's :class:`~motionsig_cli.config.ConfigError` to the option that set the field, and
+progress bars on stderr.
+
+Nothing heavy is imported here at module level (no rich, no engine, no numpy): ``motionsig --help`` and
+a small command start in a fraction of a second.
+"""
 
 from __future__ import annotations
 
 import contextlib
+import functools
+import inspect
 import math
 import sys
-from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures.process import BrokenProcessPool
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
-from typing import Annotated, Any, TypeVar
+from typing import TYPE_CHECKING, Annotated, Any, TypeVar
 
-import numpy as np
 import typer
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
 from motionsig_cli.cli.io import InputError, atomic_path, check_output_path
-from motionsig_cli.engine import Engine, EngineError, default_workers, run_tasks
-from motionsig_cli.rng import DEFAULT_SEED
+from motionsig_cli.config import ConfigError
+
+if TYPE_CHECKING:
+    from rich.console import Console
+    from rich.progress import Progress
+
+    from motionsig_cli.engine import Engine, MonteCarloJob
+
+DEFAULT_SEED = 2008  # motionsig_cli.rng.DEFAULT_SEED (a test checks they agree; rng imports numpy)
 
 T = TypeVar("T")
 
@@ -144,6 +156,8 @@ def save_figure(fig: Any, path: Path) -> None:
 
 def stderr_console() -> Console:
     """Console on stderr for progress and summaries (never stdout, which carries data)."""
+    from rich.console import Console
+
     return Console(stderr=True)
 
 
@@ -155,8 +169,11 @@ def note(message: str, quiet: bool) -> None:
 
 @contextlib.contextmanager
 def progress(quiet: bool) -> Iterator[Progress]:
-    """Rich progress bar on stderr, shown only when both stdout and stderr are terminals."""
-    show = not quiet and sys.stdout.isatty() and sys.stderr.isatty()
+    """Rich progress bar on stderr, shown whenever stderr is a terminal (stdout may be a pipe or a file:
+    the bar never touches it) and ``quiet`` is off."""
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    show = not quiet and sys.stderr.isatty()
     bar = Progress(
         TextColumn("{task.description}"),
         BarColumn(),
@@ -178,7 +195,7 @@ def float_list(text: str, *, what: str = "value") -> list[float]:
         raise ValueError(f"expected a comma-separated list of numbers ({what}); got {text!r}") from None
     if not out:
         raise ValueError(f"no {what} in {text!r}")
-    if not all(np.isfinite(out)):
+    if not all(math.isfinite(v) for v in out):
         raise ValueError(f"{what} must be finite; got {text!r}")
     return out
 
@@ -212,6 +229,8 @@ CheckpointOpt = Annotated[
 
 def make_engine(workers: int | None, scheduler: str | None, checkpoint: Path | None) -> Engine:
     """The engine of ``--workers/--scheduler/--checkpoint`` (a bad value is a one-line usage error)."""
+    from motionsig_cli.engine import Engine, EngineError, default_workers
+
     cores = default_workers()
     if workers is not None and workers > 4 * cores and (scheduler is None or scheduler == "local"):
         raise typer.BadParameter(
@@ -222,7 +241,7 @@ def make_engine(workers: int | None, scheduler: str | None, checkpoint: Path | N
     try:
         return Engine(cores if workers is None else workers, scheduler, checkpoint)
     except EngineError as exc:
-        raise typer.BadParameter(str(exc), param_hint=exc.option) from None
+        raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field)) from None
 
 
 def run_monte_carlo(
@@ -237,6 +256,8 @@ def run_monte_carlo(
 ) -> list[T]:
     """Run the tasks on ``engine`` with a progress bar counting finished trials across workers (see
     :func:`engine_session` for errors and Ctrl-C)."""
+    from motionsig_cli.engine import run_tasks
+
     with engine_session(engine, int(sum(sizes)), label, quiet) as advance:
         return run_tasks(fn, tasks, engine, sizes=sizes, progress=advance, identity=identity)
 
@@ -249,6 +270,10 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
     option; Ctrl-C is one line and exit code 130 (no output is written: commands write after the
     block), with a hint to resume when a checkpoint is kept.
     """
+    from concurrent.futures.process import BrokenProcessPool
+
+    from motionsig_cli.engine import EngineError
+
     finished = [0]
     try:
         with progress(quiet) as bar:
@@ -260,7 +285,7 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
 
             yield advance
     except EngineError as exc:
-        raise typer.BadParameter(str(exc), param_hint=exc.option) from None
+        raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field)) from None
     except BrokenProcessPool:
         hint = (
             f"; rerun with --checkpoint {engine.checkpoint} to resume"
@@ -268,7 +293,7 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
             else ""
         )
         typer.echo(
-            f"motionsig: error: a worker process died (killed, or out of memory?) after {finished[0]}/{total} "
+            f"{command_path()}: error: a worker process died (killed, or out of memory?) after {finished[0]}/{total} "
             f"trials{hint}",
             err=True,
         )
@@ -279,5 +304,172 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
             if engine.checkpoint is not None
             else " (--checkpoint DIR keeps finished chunks)"
         )
-        typer.echo(f"motionsig: interrupted after {finished[0]}/{total} trials{hint}", err=True)
+        typer.echo(f"{command_path()}: interrupted after {finished[0]}/{total} trials{hint}", err=True)
         raise typer.Exit(130) from None
+
+
+@contextlib.contextmanager
+def progress_bar(label: str, total: int, quiet: bool) -> Iterator[Callable[[int], None]]:
+    """A progress callback (``advance(n)``) for a long single computation, drawn on stderr when it is a
+    terminal (see :func:`progress`)."""
+    with progress(quiet) as bar:
+        task = bar.add_task(label, total=total)
+        yield lambda n: bar.advance(task, n)
+
+
+# ------------------------------------------------------------------------------ option groups
+@dataclass(frozen=True)
+class Output:
+    """The output options every command shares: ``--format``, ``--out``, ``--plot``, ``--quiet``,
+    ``--debug`` (``plot`` is None for a command without a figure)."""
+
+    fmt: OutputFormat = OutputFormat.csv
+    out: Path | None = None
+    plot: Path | None = None
+    quiet: bool = False
+    debug: bool = False
+
+    def check(self, **figures: Path | None) -> None:
+        """Validate ``--out``, ``--plot`` and further figure options (``plot_scan=path`` → ``--plot-scan``)
+        before any work is done."""
+        check_outputs(
+            self.out, self.plot, extra={"--" + k.replace("_", "-"): v for k, v in figures.items()}
+        )
+
+    def emit(self, table: Any) -> None:
+        """Write the table to ``--out`` (atomically) or stdout, in ``--format``."""
+        from motionsig_cli.cli.io import emit
+
+        emit(table, self.fmt.value, self.out)
+
+    def figure(self, fig: Any, path: Path | None = None) -> None:
+        """Save ``fig`` to ``path`` (default ``--plot``)."""
+        target = self.plot if path is None else path
+        if target is not None:
+            save_figure(fig, target)
+
+    def note(self, message: str) -> None:
+        """A one-line summary on stderr (not with ``--quiet``)."""
+        note(message, self.quiet)
+
+
+@dataclass(frozen=True)
+class Parallel:
+    """Where a Monte Carlo runs: ``--workers``, ``--scheduler``, ``--checkpoint``."""
+
+    workers: int | None = None
+    scheduler: str | None = None
+    checkpoint: Path | None = None
+
+    def engine(self) -> Engine:
+        """The engine (a bad value is a one-line usage error naming the option)."""
+        return make_engine(self.workers, self.scheduler, self.checkpoint)
+
+
+def run_job(job: MonteCarloJob[T], engine: Engine, label: str, quiet: bool) -> T:
+    """Run a Monte Carlo job on ``engine`` with a progress bar of finished trials (errors and Ctrl-C as in
+    :func:`engine_session`)."""
+    from motionsig_cli.engine import job_trials
+    from motionsig_cli.engine import run_job as engine_run_job
+
+    with engine_session(engine, job_trials(job), label, quiet) as advance:
+        return engine_run_job(job, engine, progress=advance)
+
+
+_OUTPUT_PARAMS = {
+    "fmt": (FormatOpt, OutputFormat.csv),
+    "out": (OutOpt, None),
+    "plot": (PlotOpt, None),
+    "quiet": (QuietOpt, False),
+    "debug": (DebugOpt, False),
+}
+_PARALLEL_PARAMS = {
+    "workers": (WorkersOpt, None),
+    "scheduler": (SchedulerOpt, None),
+    "checkpoint": (CheckpointOpt, None),
+}
+
+# Field names of the core's configurations whose option is not ``--`` + the name with ``-`` for ``_``.
+OPTION_NAMES: dict[str, str] = {}
+
+_current: list[str] = ["motionsig"]
+
+
+def command_path() -> str:
+    """``motionsig <command>`` of the command running now (``motionsig`` before one has started): every
+    error line starts with it."""
+    return _current[0]
+
+
+def set_command_path(path: str) -> None:
+    """Record the running command (the application does it before parsing a command's options)."""
+    _current[0] = path
+
+
+def option_name(field: str, options: Mapping[str, str] | None = None) -> str:
+    """The option that sets a configuration field: ``options`` (the command's own names), then
+    :data:`OPTION_NAMES`, then ``--`` + the field name with ``-`` for ``_``."""
+    if options and field in options:
+        return options[field]
+    return OPTION_NAMES.get(field, "--" + field.replace("_", "-"))
+
+
+def command(
+    *, output: bool = True, plot: bool = True, parallel: bool = False, options: Mapping[str, str] | None = None
+) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """Declare a command: add the shared option groups and turn the core's :class:`ConfigError` into a
+    one-line usage error naming the option.
+
+    The command function takes ``output: Output`` (with ``output=True``) and ``parallel: Parallel``
+    (with ``parallel=True``) in place of the groups' options, which are declared here once and appended
+    to its own options. ``options`` maps a configuration field to the command's option where the default
+    rule (``sigma_r`` → ``--sigma-r``) does not name it.
+    """
+
+    def decorate(fn: Callable[..., Any]) -> Callable[..., Any]:
+        sig = inspect.signature(fn, eval_str=True)
+        own = [p for n, p in sig.parameters.items() if n not in ("output", "parallel")]
+        added: dict[str, tuple[Any, Any]] = {}
+        if parallel:
+            added |= _PARALLEL_PARAMS
+        if output:
+            added |= {k: v for k, v in _OUTPUT_PARAMS.items() if plot or k != "plot"}
+        params = own + [
+            inspect.Parameter(name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=ann)
+            for name, (ann, default) in added.items()
+        ]
+        params = [p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in params]
+
+        @functools.wraps(fn)
+        def wrapper(**kwargs: Any) -> Any:
+            extra: dict[str, Any] = {}
+            if output:
+                extra["output"] = Output(**{k: kwargs.pop(k) for k in list(kwargs) if k in _OUTPUT_PARAMS})
+            if parallel:
+                extra["parallel"] = Parallel(
+                    **{k: kwargs.pop(k) for k in list(kwargs) if k in _PARALLEL_PARAMS}
+                )
+            try:
+                return fn(**kwargs, **extra)
+            except ConfigError as exc:
+                raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field, options)) from None
+
+        wrapper.__signature__ = sig.replace(parameters=params)  # type: ignore[attr-defined]
+        wrapper.__annotations__ = {p.name: p.annotation for p in params}
+        return wrapper
+
+    return decorate
+
+
+def config_errors(options: Mapping[str, str] | None = None) -> contextlib.AbstractContextManager[None]:
+    """A ``with`` block in which a :class:`ConfigError` becomes a usage error naming the option (for code
+    outside a :func:`command`, such as a group callback)."""
+
+    @contextlib.contextmanager
+    def block() -> Iterator[None]:
+        try:
+            yield
+        except ConfigError as exc:
+            raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field, options)) from None
+
+    return block()

@@ -12,8 +12,23 @@ import sys
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-from motionsig_cli.tables import InputError, Table, make_meta, read_table, render
+from motionsig_cli.errors import InputError
+
+if TYPE_CHECKING:
+    from motionsig_cli.tables import Table, make_meta, read_table, render
+
+_FROM_TABLES = ("Table", "make_meta", "read_table", "render")
+
+
+def __getattr__(name: str) -> Any:
+    """The table format (:mod:`motionsig_cli.tables`, which needs NumPy) is imported on first use."""
+    if name in _FROM_TABLES:
+        from motionsig_cli import tables
+
+        return getattr(tables, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [
     "InputError",
@@ -23,6 +38,7 @@ __all__ = [
     "emit",
     "make_meta",
     "read_table",
+    "render",
     "write_text",
 ]
 
@@ -81,4 +97,6 @@ def write_text(text: str, out: Path | None) -> None:
 
 def emit(table: Table, fmt: str, out: Path | None) -> None:
     """Render and write a table (stdout or atomic file)."""
+    from motionsig_cli.tables import render
+
     write_text(render(table, fmt), out)
