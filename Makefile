@@ -10,7 +10,7 @@ DEV_STAMP := $(VENV)/.stamp-dev-$(HASH)
 MATHJAX   := docs/javascripts/mathjax/tex-svg.js
 OUT    ?= out
 
-.PHONY: demo test lint pytest docs browser-check serve clean bench reproduce
+.PHONY: demo demo-compare test lint pytest docs browser-check serve clean bench reproduce
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "motionsig needs Python >= 3.11"'
@@ -59,6 +59,11 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig mac-roc report
 	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png roc.png radar.png fig2_16.png fig3_3.png fig4_3.png slrt.png maneuver.png maneuver_compare.png"
 
+## demo-compare: every make demo output of this tree against those of commit REV (default HEAD)
+REV ?= HEAD
+demo-compare: $(RUN_STAMP)
+	$(BIN)/python scripts/demo_outputs.py against $(REV)
+
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
 test: $(DEV_STAMP) $(MATHJAX)
 	$(BIN)/ruff check .
@@ -86,7 +91,7 @@ $(MATHJAX): scripts/fetch_mathjax.sh
 	bash scripts/fetch_mathjax.sh $@
 
 ## bench: side-by-side timing of the LMP filter banks, the FFT path and the IMM against FilterPy, and of the
-## Monte Carlo engine (1 worker, 2 workers, Dask); results in benchmarks/results/, copied with a figure to
+## Monte Carlo engine (1 worker, 2 workers, Dask) and the start-up of the command line; results in benchmarks/results/, copied with a figure to
 ## docs/performance/ and the Performance page (not part of the tests; ~10 minutes on 2 cores)
 bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench,dask]'
@@ -95,6 +100,7 @@ bench: $(DEV_STAMP)
 	$(BIN)/python benchmarks/bench_imm.py
 	$(BIN)/python benchmarks/bench_fft.py
 	$(BIN)/python benchmarks/bench_engine.py
+	$(BIN)/python benchmarks/bench_startup.py
 	$(BIN)/python scripts/bench_report.py
 
 ## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), seed 002 (results/seed002/), ATC-10 §2 (results/atc10_jamming/), §3 (results/atc10_mac/) and §4 (results/atc10_tracking/)

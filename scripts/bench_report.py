@@ -43,8 +43,9 @@ TITLES = {
     "bench_fft": "FFT fast path of the 1-D LMP detector (Fig 4 workload, Q_a = 0)",
     "bench_imm": "IMM and GLR tracker (seed 002 Monte Carlo)",
     "bench_engine": "Monte Carlo engine: 1 worker, 2 workers, Dask",
+    "bench_startup": "Start-up of the command line",
 }
-ORDER = ["bench_kf_bank", "bench_ukf_bank", "bench_fft", "bench_imm", "bench_engine"]
+ORDER = ["bench_kf_bank", "bench_ukf_bank", "bench_fft", "bench_imm", "bench_engine", "bench_startup"]
 
 Results = dict[str, tuple[list[str], list[dict[str, str]]]]
 

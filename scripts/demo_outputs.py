@@ -6,6 +6,9 @@ and stores standard output and every table the line writes (``-o FILE``) under `
 
     python scripts/demo_outputs.py record DIR [--root CHECKOUT]
     python scripts/demo_outputs.py compare BEFORE AFTER
+    python scripts/demo_outputs.py against REV      # record REV (a git worktree) and this tree, compare
+
+``make demo-compare REV=<commit>`` runs the last form.
 
 ``compare`` diffs the two records line by line: CSV bodies and metadata must match exactly, except
 the metadata keys listed in ``REWORDED`` (free-text provenance notes whose wording may change: their
@@ -22,6 +25,7 @@ import re
 import shlex
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -94,7 +98,9 @@ def _normalise(text: str) -> list[str]:
 
 
 def compare(before: Path, after: Path) -> int:
-    names = sorted({p.name for p in before.iterdir() if p.is_file()} | {p.name for p in after.iterdir() if p.is_file()})
+    names = sorted(
+        {p.name for p in before.iterdir() if p.is_file()} | {p.name for p in after.iterdir() if p.is_file()}
+    )
     bad = 0
     for name in names:
         a, b = before / name, after / name
@@ -113,6 +119,20 @@ def compare(before: Path, after: Path) -> int:
     return 1 if bad else 0
 
 
+def against(rev: str) -> int:
+    """Record ``rev`` (checked out in a temporary git worktree) and this tree, then compare."""
+    with tempfile.TemporaryDirectory(prefix="demo-outputs-") as tmp:
+        base = Path(tmp) / "base"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", str(base), rev], check=True,
+                       capture_output=True)  # fmt: skip
+        try:
+            record(Path(tmp) / "before", base)
+            record(Path(tmp) / "after", ROOT)
+            return compare(Path(tmp) / "before", Path(tmp) / "after")
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(base)], check=False)
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="what", required=True)
@@ -122,10 +142,14 @@ def main() -> int:
     c = sub.add_parser("compare")
     c.add_argument("before", type=Path)
     c.add_argument("after", type=Path)
+    a = sub.add_parser("against")
+    a.add_argument("rev")
     args = p.parse_args()
     if args.what == "record":
         record(args.dir.resolve(), args.root.resolve())
         return 0
+    if args.what == "against":
+        return against(args.rev)
     return compare(args.before, args.after)
 
 

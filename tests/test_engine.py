@@ -201,3 +201,47 @@ def test_a_silent_server_is_not_taken_for_a_scheduler():
 def test_tls_addresses_are_refused():
     with pytest.raises(EngineError, match="TLS"):
         split_address("tls://10.0.0.1:8786")
+
+
+# ------------------------------------------------------------------ the Monte Carlo job protocol
+from dataclasses import dataclass as _dataclass  # noqa: E402
+
+from motionsig_cli.engine import MonteCarloJob, job_trials, run_job  # noqa: E402
+
+
+@_dataclass(frozen=True)
+class _SquaresJob:
+    """Sum of t² over trials 0..n−1, chunked 3 trials a task."""
+
+    n: int
+    name: str = "squares"
+
+    def tasks(self) -> list[range]:
+        return tasks_of(self.n, 3)
+
+    def task_size(self, task: range) -> int:
+        return len(task)
+
+    def run_task(self, task: range) -> int:
+        return sum(t * t for t in task)
+
+    def reduce(self, tasks, results) -> int:
+        return sum(results)
+
+    def identity(self) -> dict:
+        return {"n": self.n}
+
+
+def test_run_job_runs_any_job_of_the_protocol(tmp_path):
+    job = _SquaresJob(10)
+    assert isinstance(job, MonteCarloJob)
+    assert job_trials(job) == 10
+    seen = []
+    assert run_job(job, progress=seen.append) == sum(t * t for t in range(10))
+    assert seen == [3, 3, 3, 1]
+    # the job's name and identity make the checkpoint's manifest
+    assert run_job(job, Engine(1, checkpoint=tmp_path / "ck")) == 285
+    manifest = (tmp_path / "ck" / "manifest.json").read_text()
+    assert '"command": "squares"' in manifest and '"n": 10' in manifest
+    with pytest.raises(EngineError, match="other parameters"):
+        run_job(_SquaresJob(11), Engine(1, checkpoint=tmp_path / "ck"))
