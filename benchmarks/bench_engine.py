@@ -1,12 +1,12 @@
 """The Monte Carlo engine: one worker, a local process pool of 2 and a Dask LocalCluster of 2.
 
-Workload: the Fig-4 Monte Carlo (``monte_carlo(..., method="bank")``: simulation and detection with
+Workload: the Fig-4 Monte Carlo (``LmpJob(..., method="bank")``: simulation and detection with
 the 187-filter bank, default ``LMPConfig``), TRIALS trials × 2 R values (1e-1, 1e-3), f_r = 0.01,
 horizons 10..80 s (1600 steps), the default seed. The tasks (chunks of at most 200 trials, worth
-≥ 4× their fixed Riccati cost by the cost model of ``lmp1d.task_cost``) are the same whatever the
+≥ 4× their fixed Riccati cost by the cost model of ``LmpJob.cost``) are the same whatever the
 engine, so the cells must be identical.
 
-Timed (wall clock around ``monte_carlo``, best of 3 each):
+Timed (wall clock around ``engine.run_job``, best of 3 each):
 
 * ``Engine(1)``: every task in this process.
 * ``Engine(1)`` with ``chunk=25``: small tasks, for reference: every task pays for its own Riccati
@@ -33,8 +33,8 @@ import time
 from benchlib import cores, write_results
 
 from motionsig_cli.detection.lmp import LMPConfig
-from motionsig_cli.engine import Engine
-from motionsig_cli.experiments.lmp1d import MCCell, MCSpec, mc_tasks, monte_carlo
+from motionsig_cli.engine import Engine, run_job
+from motionsig_cli.experiments.lmp1d import LmpJob, MCCell
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.rng import DEFAULT_SEED
 from motionsig_cli.signals.correlation import to_bipolar
@@ -48,11 +48,15 @@ CHIPS = to_bipolar(corrected_codes()).astype(float)
 
 def run(engine: Engine, chunk: int | None = None) -> tuple[float, list[MCCell]]:
     t0 = time.perf_counter()
-    cells = monte_carlo(
-        Vehicle1D(f_r=FR), CHIPS, M_RHO, 1.0, LMPConfig(), [FR], RS, HORIZONS_S, TRIALS, DEFAULT_SEED,
-        method="bank", engine=engine, chunk=chunk,
-    )  # fmt: skip
+    cells = run_job(job(chunk), engine).cells
     return time.perf_counter() - t0, cells
+
+
+def job(chunk: int | None = None) -> LmpJob:
+    return LmpJob(
+        LMPConfig(), (FR,), RS, HORIZONS_S, TRIALS, DEFAULT_SEED, method="bank", vehicle=Vehicle1D(f_r=FR),
+        chips=CHIPS, m_rho=M_RHO, f_c=1.0, chunk=chunk,
+    )  # fmt: skip
 
 
 def best(engine: Engine, chunk: int | None = None) -> tuple[float, list[MCCell]]:
@@ -70,8 +74,7 @@ def best(engine: Engine, chunk: int | None = None) -> tuple[float, list[MCCell]]
 def main() -> int:
     from distributed import LocalCluster
 
-    spec = MCSpec(Vehicle1D(f_r=FR), CHIPS, M_RHO, 1.0, LMPConfig(), (FR,), HORIZONS_S, DEFAULT_SEED)
-    n_tasks = len(mc_tasks(spec, RS, TRIALS))
+    n_tasks = len(job().tasks())
     filter_steps = TRIALS * len(RS) * 187 * round(max(HORIZONS_S) / Vehicle1D().T)
 
     t1, cells1 = best(Engine(1))
@@ -109,7 +112,7 @@ def main() -> int:
             "unit": "filter-step",
             "us_per_unit": 1e6 * t / filter_steps,
             "speedup": t1 / t,
-            "how": f"{how}; wall time of monte_carlo, best of {REPEATS}; speedup: vs 1 worker",
+            "how": f"{how}; wall time of run_job, best of {REPEATS}; speedup: vs 1 worker",
         }
 
     rows = [

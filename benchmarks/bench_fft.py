@@ -1,6 +1,6 @@
 """The FFT fast path of the 1-D LMP detector vs the filter bank vs FilterPy, on the Fig-4 detection workload.
 
-Workload (seed 000 Fig 4, as ``bench_kf_bank.py``): 50 trials × 4 R values (1e-1, 1e-2, 1e-3, 1e-5),
+Workload (Fig 4 of the mode-signature paper, as ``bench_kf_bank.py``): 50 trials × 4 R values (1e-1, 1e-2, 1e-3, 1e-5),
 f_r = 0.01, 1600 steps (T = 0.05 s, 80 s), horizons 10, 20, …, 80 s. The bank runs 187 filters
 (1 H0 + 93 candidates × {cos, sin}) = 59.84 M filter-steps; the FFT path
 (``lmp_detect_fft``) runs one steady-state H0 filter per R and FFT cross-correlations. It needs a
@@ -152,7 +152,7 @@ def main() -> int:
     pct1 = 100 * tot["qa1"][1] / tot["qa1"][0]
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
-    workload = f"{TRIALS} trials x {len(RS)} R x 187 filters x {N} steps, horizons 10..80 s (seed 000 Fig 4), Q_a = 0"
+    workload = f"{TRIALS} trials x {len(RS)} R x 187 filters x {N} steps, horizons 10..80 s (Fig 4 of the mode-signature paper), Q_a = 0"
     rows = [
         {
             "case": "FilterPy KalmanFilter (Q_a = 0)",

@@ -1,6 +1,7 @@
-"""The maneuvering-target IMM (seed 002), batched over Monte Carlo runs, vs FilterPy's IMMEstimator.
+"""The maneuvering-target IMM (Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK Modulated JRC
+System*), batched over Monte Carlo runs, vs FilterPy's IMMEstimator.
 
-Workload (seed 002 Monte Carlo, default scenario): 500 runs × 448 filtered scans (scans 3..450, two-point
+Workload (the paper's Monte Carlo, default scenario): 500 runs × 448 filtered scans (scans 3..450, two-point
 initialisation at scan 2) at σ = 100 m, ``ManeuverScenario("literal")``, T = 1 s, measurements from
 ``measurements(sc, 100.0, range(500), DEFAULT_SEED)`` = 224 000 run-scans. The IMM mixes three 6-state
 Kalman filters (``imm_models(1.0)``: CV, CA q = 0.001, CA q = 0.0144) with ``H_POS6`` and R = σ² I.
@@ -158,7 +159,7 @@ def main() -> int:
         "bench_imm",
         [
             f"workload: {RUNS} runs x {n_scans} scans (scans {FIRST_SCAN}..{sc.scans}), sigma={SIGMA:g}, "
-            "3-model IMM, literal scenario (seed 002 Monte Carlo)",
+            "3-model IMM, literal scenario (the paper's Monte Carlo)",
             f"correctness: max rel diff vs FilterPy combined estimate {rel:.2e}, model probabilities {dmu:.2e} (abs); peak RSS {peak_mb:.0f} MB",
         ],
         rows,

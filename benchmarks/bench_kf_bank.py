@@ -1,6 +1,7 @@
 """`make bench`: motionsig's batched LMP filter bank vs FilterPy running the identical bank.
 
-Workload (issue 3, seed 000 Fig 4): 50 trials × 4 R values × 187 filters (1 H0 + 93 candidates ×
+Workload (Fig 4 of the mode-signature paper, *LMP mode detection with Gold-code signatures*, IEEE CDC
+2008): 50 trials × 4 R values × 187 filters (1 H0 + 93 candidates ×
 {cos, sin}) × 1600 steps (T = 0.05 s, 80 s) = 59.84 M filter-steps.
 
 1. Correctness gate: for a handful of filters and one record, FilterPy's cumulative
@@ -148,7 +149,7 @@ def main() -> int:
     write_results(
         "bench_kf_bank",
         [
-            f"workload: {TRIALS} trials x {len(RS)} R x 187 filters x {N} steps (seed 000 Fig 4)",
+            f"workload: {TRIALS} trials x {len(RS)} R x 187 filters x {N} steps (Fig 4 of the mode-signature paper)",
             f"correctness: max rel diff vs FilterPy {rel:.2e}; peak RSS {peak_mb:.0f} MB",
         ],
         rows,

@@ -92,7 +92,12 @@ def positive(field: str, value: float, *, unit: str = "") -> float:
 
 def integer(field: str, value: Any, lo: int | None = None, hi: int | None = None) -> int:
     """An integer (not a bool) in [lo, hi]."""
-    if isinstance(value, bool) or not isinstance(value, int | float) or value != int(value):
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float)
+        or (isinstance(value, float) and not math.isfinite(value))
+        or value != int(value)
+    ):
         raise ConfigError(field, value, "is not an integer")
     n = int(value)
     if (lo is not None and n < lo) or (hi is not None and n > hi):

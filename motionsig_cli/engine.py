@@ -447,9 +447,7 @@ def split_address(address: str) -> tuple[str, int]:
             )
     host, sep, port = rest.rpartition(":")
     if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
-        raise EngineError(
-            "scheduler", f"{address!r} is not an address like tcp://10.0.0.5:8786 (or 'local')"
-        )
+        raise EngineError("scheduler", f"{address!r} is not an address like tcp://10.0.0.5:8786 (or 'local')")
     return host.strip("[]"), int(port)
 
 

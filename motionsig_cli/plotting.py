@@ -1,4 +1,9 @@
-"""Figure builders (the only module that imports matplotlib). Each returns a ``Figure``; no pyplot."""
+"""Figure builders (the only module that imports matplotlib). Each returns a ``Figure``; no pyplot.
+
+"The mode-signature paper" is *LMP mode detection with Gold-code signatures* (IEEE CDC 2008); "the SLRT
+slides" are Govaers, *Evaluation of Distributed Detection Methods for Agile Targets* (Fraunhofer FKIE);
+"the maneuver paper" is Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK Modulated JRC System*.
+"""
 
 from __future__ import annotations
 
@@ -9,7 +14,7 @@ from motionsig_cli.signals.signature import Signature
 
 
 def signature_figure(sig: Signature, *, title: str = "", theta: float = 0.0, f_c: float = 1.0) -> Figure:
-    """Chips p_k[τ], carrier cos(2π f_c t_k + θ) and signature z_k (seed 000 eqs 1–3), stacked."""
+    """Chips p_k[τ], carrier cos(2π f_c t_k + θ) and signature z_k (eqs 1–3 of the mode-signature paper), stacked."""
     fig = Figure(figsize=(8, 5.5), layout="constrained")
     axes = fig.subplots(3, 1, sharex=True)
     axes[0].step(sig.t, sig.p, where="post", color="C0")
@@ -49,7 +54,7 @@ def correlation_figure(lags: np.ndarray, values: np.ndarray, labels: list[str], 
 def response_figure(
     t: np.ndarray, x: np.ndarray, r: np.ndarray, r_total: np.ndarray, y: np.ndarray
 ) -> Figure:
-    """Fig 2 of seed 000: the 1-D closed loop following the combined reference r + a_sig z."""
+    """Fig 2 of the mode-signature paper: the 1-D closed loop following the combined reference r + a_sig z."""
     fig = Figure(figsize=(8, 4), layout="constrained")
     ax = fig.add_subplot()
     ax.plot(t, r, color="0.6", lw=1, ls="--", label="nominal reference $r_k$")
@@ -66,7 +71,7 @@ def response_figure(
 def statistic_figure(
     panels: list[tuple[str, np.ndarray, tuple[int, int] | None]], n_modes: int, tau_chips: np.ndarray
 ) -> Figure:
-    """Fig 3 of seed 000: the LMP statistic Λ(i, τ) of single runs, one curve per mode, truth marked.
+    """Fig 3 of the mode-signature paper: the LMP statistic Λ(i, τ) of single runs, one curve per mode, truth marked.
 
     Args:
         panels: (title, Λ of shape (n_modes, n_tau), true (mode, tau_index) or None) per panel.
@@ -91,7 +96,7 @@ def statistic_figure(
 def montecarlo_figure(
     horizons: np.ndarray, curves: dict[float, dict[str, tuple[np.ndarray, np.ndarray]]], title: str = ""
 ) -> Figure:
-    """Figs 4–6 of seed 000: % correct (i, τ) vs horizon, one line per ANR, one panel per f_r.
+    """Figs 4–6 of the mode-signature paper: % correct (i, τ) vs horizon, one line per ANR, one panel per f_r.
 
     Args:
         curves: f_r → {ANR label → (pct, se)}.
@@ -106,7 +111,7 @@ def montecarlo_figure(
         ax.set_ylim(-3, 103)
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("% correct (i, τ)")
-    axes[0].legend(title="ANR (seed label)", fontsize="small")
+    axes[0].legend(title="ANR (paper's label)", fontsize="small")
     if title:
         fig.suptitle(title)
     return fig
@@ -204,7 +209,7 @@ def rms_error_figure(
 
 def slrt_figure(panels: list[tuple[str, np.ndarray, dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]]],
                 thresholds: tuple[float, float] | None = None) -> Figure:  # fmt: skip
-    """Seed 001's figures: mean log LR against scan, one panel per case, methods overlaid, with the 5–95 %
+    """The figures of the SLRT slides: mean log LR against scan, one panel per case, methods overlaid, with the 5–95 %
     band over runs. ``panels`` = (title, scans, {method: (mean, q05, q95)})."""
     n = len(panels)
     cols = min(n, 2)
@@ -255,7 +260,7 @@ def slrt_scan_figure(sensors: np.ndarray, clutter_xy: list[np.ndarray], target_x
 
 
 def radar_trajectory_figure(t: np.ndarray, x: np.ndarray, r: np.ndarray, y: np.ndarray) -> Figure:
-    """The 2-D radar example (seed 000 §IV.B): the planar path, the reference, and the range/bearing
+    """The 2-D radar example (the mode-signature paper, §IV.B): the planar path, the reference, and the range/bearing
     measurements mapped back to the plane; right, range and bearing against time.
 
     Args:
@@ -291,7 +296,7 @@ def maneuver_figure(
     model_names: tuple[str, ...] = (),
     events: tuple[int, ...] = (),
 ) -> Figure:
-    """Seed 002 Figs 2–4 and the IMM model probabilities, 2×2.
+    """Figs 2–4 of the maneuver paper and the IMM model probabilities, 2×2.
 
     Args:
         truth: (N, 4) true [x, ẋ, y, ẏ] at scans 1..N.
@@ -362,7 +367,7 @@ def maneuver_comparison_figure(
     *,
     events: tuple[int, ...] = (),
 ) -> Figure:
-    """Beyond seed 002: RMS position error per method against scan (top, one panel per σ) and the fraction
+    """Beyond the maneuver paper: RMS position error per method against scan (top, one panel per σ) and the fraction
     of runs declaring a maneuver at each scan (bottom, GLR and MLR)."""
     sigmas = sorted({s for s, _ in rms})
     fig = Figure(figsize=(6.2 * len(sigmas), 7.4), layout="constrained")

@@ -125,7 +125,7 @@ for q in (0.05, 0.24, 0.6561, 0.95):
 print(f"closed form vs numeric max: largest difference {worst_max:.1e}")
 print(f"exact P_D − P_DL over the grid: smallest {worst_gap:.2e} (must be ≥ 0)")
 print(
-    f"spec §8.2: P_DL(0.9, 10, 0.1) = {float(p_dl(0.9, 10, 0.1)):.10f}, nu* = {float(chernoff_nu(0.6561, 0.1)):.8f}"
+    f"check values: P_DL(0.9, 10, 0.1) = {float(p_dl(0.9, 10, 0.1)):.10f}, nu* = {float(chernoff_nu(0.6561, 0.1)):.8f}"
 )
 assert worst_max < 1e-9 and worst_gap >= -1e-15
 
@@ -197,7 +197,7 @@ for x in (-16.0, -18.0, -20.0, -22.0):
     direct = 0.5 * 0.1 * 0.88 * Y_direct**9 * X_direct
     logged = float(log_bound("nadl", x, d10, S)) / LN10
     print(f"x = {x:+.0f} dB: p_f = {pf:.3e}, direct {direct:.6e}, log domain 10^{logged:.6f}")
-print("spec §8.2 at x = -16 dB: log10 = -222.276255")
+print("independent reference at x = -16 dB: log10 = -222.276255")
 
 # %% [markdown]
 # ## 5. Figures 2.1–2.16
@@ -230,7 +230,7 @@ for ax, (name, pre) in zip(axes, exp.FIGURES.items(), strict=True):
 fig
 
 # %% [markdown]
-# What the text says about these curves, checked (spec §5): lower $t$ makes the jammer's job harder;
+# What the report's text says about these curves, checked: lower $t$ makes the jammer's job harder;
 # $\bar N_{FL}$ is less sensitive to $t$ and degrades at far lower power than $\bar N_{ADL}$; and each
 # decade of $K$ costs the jammer "about 10 dB".
 

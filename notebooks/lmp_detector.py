@@ -1,10 +1,11 @@
 # %% [markdown]
 # # The LMP detector from Kalman innovations
 #
-# Seed 000 (§III–IV) derives a *locally most powerful* (LMP) test for which mode signature
+# The mode-signature paper (*LMP mode detection with Gold-code signatures*, IEEE CDC 2008; §III–IV)
+# derives a *locally most powerful* (LMP) test for which mode signature
 # $z^{i,\tau}$, and which code phase $\tau$, is hidden in a vehicle's motion. It then shows that the
 # test statistic can be evaluated with a bank of Kalman filters. This page retraces the derivation,
-# eqs (7)–(52), with the misprints corrected (they are listed in the spec's cleaned equations), and
+# eqs (7)–(52), with the misprints corrected (the Errata page lists them), and
 # checks each step numerically with `motionsig_cli`. The Monte Carlo figures at the end are
 # computed by the package at reduced size while the site builds; `make reproduce` produces the
 # full-size versions (50 trials per cell).
@@ -17,10 +18,11 @@ from matplotlib.figure import Figure
 from scipy.integrate import quad
 
 from motionsig_cli.detection.lmp import LMPConfig, lmp_detect
+from motionsig_cli.engine import run_job
 from motionsig_cli.experiments.lmp1d import (
     SEED_ANR_LABELS,
+    LmpJob,
     anr_db,
-    monte_carlo,
     signature_batch,
     simulate_trials,
 )
@@ -111,7 +113,7 @@ assert math.isclose(fd2, eq23, rel_tol=1e-4)
 # ## 3. Maximum-likelihood amplitude and the concentrated cost, eqs (30)–(42)
 #
 # Under $H_{1,\cos}$, $y = a z_{\cos} + n$. Write $L$ for the **negative** log-likelihood (a cost).
-# The seed calls it a log-likelihood and writes $\min_a$ of it with the wrong sign. Minimising
+# The paper calls it a log-likelihood and writes $\min_a$ of it with the wrong sign. Minimising
 # over $a$ gives
 #
 # $$ \hat a_{\cos} = \frac{y^\top P^{-1} z_{\cos}}{z_{\cos}^\top P^{-1} z_{\cos}}, \qquad
@@ -147,7 +149,7 @@ assert math.isclose(z_cos @ z_cos, N / 2, rel_tol=1e-12) and abs(z_cos @ z_sin) 
 #
 # $$ L_{KF}(Y^k|H) = \tfrac12 \sum_j \nu_j^\top S_j^{-1} \nu_j + \tfrac12 \sum_j \log\det(2\pi S_j). $$
 #
-# The seed keeps only the quadratic term, $J$. Suppose the amplitude is a constant state
+# The paper keeps only the quadratic term, $J$. Suppose the amplitude is a constant state
 # ($Q_a = 0$) with a diffuse prior ($P_0 \to \infty$). Then the filter's $2J$ is the concentrated
 # batch cost of eq (35): the filter estimates $\hat a$ recursively. The package's bank checks this
 # on the static model $y_k = a z_k + v_k$, written with the state $[a,\; a z_k]$ so that the bank's
@@ -179,7 +181,7 @@ assert math.isclose(rows[-1][1], 2 * L1, rel_tol=1e-6)
 
 # %% [markdown]
 # The vehicle closes a loop around its reference, so the signature acts through the controller.
-# The seed's filters therefore run on the augmented model of eq (44): plant, reference random walk
+# The paper's filters therefore run on the augmented model of eq (44): plant, reference random walk
 # and amplitude. The amplitude enters through a *time-varying* column $B_u K\, t_z(z_k)$ that
 # depends on the replica being tested. The detector is then
 #
@@ -194,8 +196,9 @@ assert math.isclose(rows[-1][1], 2 * L1, rel_tol=1e-6)
 #
 # The example is a point mass under full-state feedback, $x_{k+1} = [[1, T],[0, 1]]x_k + [0, T]^\top u_k + w_k$
 # (eq 53). It tracks $r_k + a_{\mathrm{sig}}[z_k, \dot z_k]$ (eq 54), and its position is measured
-# in noise (eq 55). The seed does not state $T$, $m_\rho$, the gain, the process noise or the prior;
-# the spec's defaults are used (§1.8).
+# in noise (eq 55). The paper does not state $T$, $m_\rho$, the gain, the process noise or the prior;
+# we assume $T = 0.05$ s, $m_\rho = 20$, a pole-placement gain ($\omega_n = 4\pi$ rad/s, $\zeta = 0.7$),
+# white acceleration noise $\sigma_a = 0.01$ m/s² and $x_0 = 0$ (each an option of `simulate`).
 
 # %%
 veh = Vehicle1D(f_r=0.1, R=1e-3)
@@ -252,24 +255,24 @@ for ax in axes[2:]:
 fig
 
 # %% [markdown]
-# The seed says $c_r = 1$ makes detection "difficult" at ANR 48.3 and that $c_r = 100$ fixes it.
-# With the spec's defaults the truth wins clearly in all four panels. Detection at these ANRs is
-# easy here, so the seed's contrast does not appear; see §8 for why.
+# The paper says $c_r = 1$ makes detection "difficult" at ANR 48.3 and that $c_r = 100$ fixes it.
+# With our assumed defaults the truth wins clearly in all four panels. Detection at these ANRs is
+# easy here, so the paper's contrast does not appear; see §8 for why.
 #
 # ## 7. Figs 4–6: % correct versus horizon and ANR
 #
 # Each trial draws $i$, $\tau$ (on the chip grid) and $\theta$ from its own seeded stream,
 # simulates 80 s, and scores all horizons on that one record. A trial is correct when
 # $(\hat\imath, \hat\tau) = (i, \tau)$; chance is $1/93 \approx 1.1\,\%$. The page uses
-# **20 trials per cell** to keep the site build short. `make reproduce` runs the seed's 50.
+# **20 trials per cell** to keep the site build short. `make reproduce` runs the paper's 50.
 
 # %%
 TRIALS = 20
 horizons = [10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0, 80.0]
 R_list = [1e-1, 1e-2, 1e-3, 1e-5]
-cells = monte_carlo(
-    Vehicle1D(), CHIPS, m_rho, 1.0, LMPConfig(), [0.01, 0.1, 1.0], R_list, horizons, TRIALS, 2008
-)
+cells = run_job(
+    LmpJob(LMPConfig(), [0.01, 0.1, 1.0], R_list, horizons, TRIALS, 2008, chips=CHIPS, m_rho=m_rho)
+).cells
 fig = Figure(figsize=(12, 3.6), layout="constrained")
 axes = fig.subplots(1, 3, sharey=True)
 for ax, fr, name in zip(axes, (0.01, 0.1, 1.0), ("Fig 4", "Fig 5", "Fig 6"), strict=True):
@@ -293,7 +296,7 @@ axes[0].legend(title="ANR label", fontsize="small")
 fig
 
 # %% [markdown]
-# Ours next to the seed's claims, at 80 s:
+# Ours next to the paper's claims, at 80 s:
 
 # %%
 print(f"{'f_r':>5} {'ANR label':>9} {'R':>7} {'ANR dB (log10)':>14}  {'% correct':>9} ± SE")
@@ -306,7 +309,7 @@ get = {(c.f_r, c.R, c.horizon_s): c for c in cells}
 assert get[(0.01, 1e-1, 80.0)].pct > get[(1.0, 1e-1, 80.0)].pct  # f_r = f_c = 1 Hz is much worse
 
 # %% [markdown]
-# | seed's claim | ours (20 trials here; 50 in `make reproduce`) |
+# | paper's claim | ours (20 trials here; 50 in `make reproduce`) |
 # |---|---|
 # | improves with the horizon | yes, at every ANR |
 # | improves with ANR | **no**: flat or slightly reversed. The highest-noise cell (label 2.2) scores best with $Q_a = 1$ |
@@ -316,14 +319,14 @@ assert get[(0.01, 1e-1, 80.0)].pct > get[(1.0, 1e-1, 80.0)].pct  # f_r = f_c = 1
 #
 # ## 8. What differs, and why
 #
-# * **Absolute rates cannot be reproduced.** The seed's process-noise matrices (eqs 56–57) are per
+# * **Absolute rates cannot be reproduced.** The paper's process-noise matrices (eqs 56–57) are per
 #   step, tuned for a sample interval it never states. We use $T = 0.05$ s. At every $R$ in the
-#   seed's range the 0.5 m signature is well above the noise, so the ANR barely matters.
-# * **The ANR trend depends on $Q_a$.** With $Q_a = 1$ per step (the spec's reading of the printed
+#   paper's range the 0.5 m signature is well above the noise, so the ANR barely matters.
+# * **The ANR trend depends on $Q_a$.** With $Q_a = 1$ per step (our reading of the printed
 #   "10⁰") the amplitude state is nearly free. At high ANR, a wrong candidate's filter can then
 #   follow the chip flips of the true signature. With $Q_a \le 10^{-2}$ (`--Qa`) every cell of
 #   Fig 4 at ≥ 20 s is 100 % and the trend disappears.
-# * **The seed's statistic is biased under $H_0$.** With no signature, eq (52) should pick every
+# * **The paper's statistic is biased under $H_0$.** With no signature, eq (52) should pick every
 #   candidate equally often. It does not. Its mean under noise differs from candidate to candidate,
 #   and the argmax piles onto mode 3, the unbalanced Gold code with 20 ones, and onto a few code
 #   phases. At an 80 s horizon it picks mode 3 in *every* noise-only trial for $R \le 10^{-3}$.
@@ -333,8 +336,8 @@ assert get[(0.01, 1e-1, 80.0)].pct > get[(1.0, 1e-1, 80.0)].pct  # f_r = f_c = 1
 #   still not uniform: mode 3 becomes under-selected. Standardising by the $H_0$ standard deviation
 #   does not fix this either, and it costs detection power. A likely cause is that the argmax of
 #   correlated statistics is uniform only if the candidates are exchangeable, and the three codes'
-#   phase-shifted replicas are not. The issue's target "argmax uniform under $H_0$" is therefore
-#   **not met**, by the seed's detector or by ours; the counts below show it.
+#   phase-shifted replicas are not. The natural target "argmax uniform under $H_0$" is therefore
+#   **not met**, by the paper's detector or by ours; the counts below show it.
 
 # %%
 from scipy.stats import chisquare
@@ -441,13 +444,13 @@ for j, h in enumerate(hzF):
 #
 # `motionsig detect --method fft` uses this path, on a record or in `--montecarlo`. `make bench`
 # measures its speed and its argmax agreement on the full Fig-4 grid (see the Performance page).
-# With $Q_a = 0$ the statistic is also *better* at short horizons than the seed's $Q_a = 1$. The
+# With $Q_a = 0$ the statistic is also *better* at short horizons than the paper's $Q_a = 1$. The
 # constant-amplitude model is the true one in these simulations, and section 8 showed that a free
 # amplitude state lets wrong candidates follow the chip flips.
 #
-# ## 10. Calibrating the threshold: the false-alarm rate the seed never gives
+# ## 10. Calibrating the threshold: the false-alarm rate the paper never gives
 #
-# The seed reports only % correct. A detector also needs a threshold on $\lambda^* = \max_c \Lambda(c)$,
+# The paper reports only % correct. A detector also needs a threshold on $\lambda^* = \max_c \Lambda(c)$,
 # above which it declares that a signature is present. `detect --calibrate` simulates records with
 # **no** signature (null trials, drawn from their own streams), takes the order statistic of
 # $\lambda^*$ that leaves at most $\lfloor P_{FA} n\rfloor$ null maxima above it, and reports $P_D$ at that
@@ -456,17 +459,19 @@ for j, h in enumerate(hzF):
 # rate on *fresh* null trials (another seed).
 
 # %%
-from motionsig_cli.experiments.lmp1d import MCSpec, calibrate, mc_task, roc_curve
+from motionsig_cli.experiments.lmp1d import CalibrationJob, roc_curve
 
-specC = MCSpec(Vehicle1D(), CHIPS, m_rho, 1.0, cfg0, (0.01,), (5.0, 20.0), 21, True, "fft")
-cal = calibrate(specC, [1.0, 10.0], trials=200, null_trials=600, pfa=0.05)
+cal = run_job(
+    CalibrationJob(cfg0, (0.01,), (1.0, 10.0), (5.0, 20.0), trials=200, null_trials=600, pfa=0.05, seed=21,
+                   method="fft", chips=CHIPS, m_rho=m_rho)
+)  # fmt: skip
 for c in cal.cells:
     print(
         f"R = {c.R:5g} (ANR {anr_db(c.R)[1]:5.1f} dB), {c.horizon_s:4.0f} s: threshold {c.threshold:.4g}, "
         f"P_D = {c.pd:.3f} ± {c.pd_se:.3f}, detected and (i, τ) right {c.detections_correct / c.trials:.3f}"
     )
-fresh = mc_task(MCSpec(Vehicle1D(), CHIPS, m_rho, 1.0, cfg0, (0.01,), (5.0, 20.0), 22, False, "fft"),
-                (10.0, range(600))).lam_max[0]  # fmt: skip
+fresh = LmpJob(cfg0, (0.01,), (10.0,), (5.0, 20.0), 600, 22, False, "fft", chips=CHIPS,
+               m_rho=m_rho).run_task((10.0, range(600))).lam_max[0]  # fmt: skip
 c10 = [c for c in cal.cells if c.R == 10.0]
 p_fresh = [float(np.mean(fresh[:, j] > c.threshold)) for j, c in enumerate(c10)]
 tol = 4 * math.sqrt(0.05 * 0.95 * (2 / 600)) + 1 / 600

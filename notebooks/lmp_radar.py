@@ -1,10 +1,11 @@
 # %% [markdown]
 # # LMP with a sigma-point filter on radar measurements
 #
-# Seed 000 (§IV.B) moves the LMP mode detector from the linear 1-D example to a planar vehicle seen
+# The mode-signature paper (*LMP mode detection with Gold-code signatures*, IEEE CDC 2008; §IV.B) moves
+# the LMP mode detector from the linear 1-D example to a planar vehicle seen
 # by a radar at the origin. The radar measures range and bearing, a nonlinear function of the state,
-# so the seed replaces the Kalman filters of eq (52) by sigma-point (unscented) filters, eqs (59)–(62),
-# and shows one Monte Carlo figure, Fig 7. This page states the model with the spec's fixes and
+# so the paper replaces the Kalman filters of eq (52) by sigma-point (unscented) filters, eqs (59)–(62),
+# and shows one Monte Carlo figure, Fig 7. This page states the model with our corrections and
 # assumptions, derives the scaled unscented transform and the reduction that makes the filter bank
 # cheap, and checks each step numerically with `motionsig_cli`. The page *The LMP detector from Kalman
 # innovations* derives the statistic itself.
@@ -26,8 +27,9 @@ from motionsig_cli.detection.lmp import (
     lmp_detect_radar,
     radar_measurement,
 )
+from motionsig_cli.engine import run_job
 from motionsig_cli.experiments.lmp1d import signature_batch, simulate_trials
-from motionsig_cli.experiments.lmp2d import monte_carlo_2d, simulate_trials_2d
+from motionsig_cli.experiments.lmp2d import RadarLmpJob, simulate_trials_2d
 from motionsig_cli.filters.unscented import (
     SigmaPointParams,
     StructuredTransition,
@@ -57,7 +59,7 @@ from motionsig_cli.signals.signature import replica_bank
 
 CHIPS = to_bipolar(corrected_codes()).astype(float)
 m_rho = 20
-SP = SigmaPointParams()  # α = 1, β = 2, κ = 0 (spec §1.7 [A])
+SP = SigmaPointParams()  # α = 1, β = 2, κ = 0 (assumed: the paper does not give them)
 repairs_seen: list[tuple[int, int]] = []  # (state, innovation) repairs of every bank run on this page
 
 # %% [markdown]
@@ -74,9 +76,9 @@ repairs_seen: list[tuple[int, int]] = []  # (state, innovation) repairs of every
 # $$ y_k = \begin{bmatrix}\kappa_k\\ \chi_k\end{bmatrix} + v_k, \qquad \kappa = \sqrt{x^2 + y^2},\quad
 #    \chi = \operatorname{atan2}(y, x) \in (-\pi, \pi], \qquad v_k \sim \mathcal N\big(0, \operatorname{diag}(R_\kappa, R_\chi)\big). \tag{60}$$
 #
-# The seed prints $\tan^{-1}(y/x)$. That form loses the quadrant, so the spec uses atan2 and wraps
-# every bearing, and every bearing difference, to $(-\pi, \pi]$. The seed is silent on several
-# points; the spec's assumptions [A] are:
+# The paper prints $\tan^{-1}(y/x)$. That form loses the quadrant, so we use atan2 and wrap
+# every bearing, and every bearing difference, to $(-\pi, \pi]$. The paper is silent on several
+# points; we assume:
 #
 # * the same gain $K$ on both axes;
 # * the references move about the start point $(70, -20)$ m:
@@ -137,7 +139,7 @@ assert np.max(np.abs(err)) < 1e-12
 # ## 2. The filter models, eqs (61)–(62)
 #
 # The filters follow eq (44) on each axis: plant, constant-velocity reference random walk, and
-# under $H_1$ the amplitude. The seed gives only the diagonals of $Q$. They have 8 and 10 entries,
+# under $H_1$ the amplitude. The paper gives only the diagonals of $Q$. They have 8 and 10 entries,
 # which fixes the layouts:
 #
 # $$ H_0:\ [x, \dot x, y, \dot y, r_x, \dot r_x, r_y, \dot r_y], \qquad
@@ -409,12 +411,12 @@ for cf, name in ((0, "cos"), (1, "sin")):
 # candidate, 187 filters for 93 candidates. Two steps are now approximate. First, the innovations
 # are only approximately Gaussian. Second, eqs (27)–(42) linked $\Lambda$ to the LMP statistic for
 # a measurement linear in the amplitude. Here the amplitude still enters the state linearly, but
-# the radar does not, so on the radar $\Lambda$ is the seed's extension by analogy, not a derived
+# the radar does not, so on the radar $\Lambda$ is the paper's extension by analogy, not a derived
 # LMP test.
 #
 # On a **linear** model the UT is exact: $\hat y = H\bar x$, $S = HPH^\top + R$ and
 # $P_{xy} = PH^\top$ for any $\alpha, \beta, \kappa$. The sigma-point bank must then reproduce the
-# Kalman bank. This is the issue's cross-check, run on the 1-D example of the previous page, which
+# Kalman bank. This is our cross-check, run on the 1-D example of the previous page, which
 # shares nothing with the Kalman path but the model (`lmp_detect(..., filter="ukf")` against the
 # default Riccati bank).
 
@@ -476,7 +478,7 @@ statistic_figure(panels, 3, np.arange(31))
 # scores all horizons. Trial $t$ uses the same draws at every ANR pair. The settings are
 # $f_r = 0.01$ Hz, the four ANR pairs, and horizons 10, 20, 40, 60 and 80 s. This page runs
 # **8 trials per cell**, once with $c_r = 100$ and once with $c_r = 1$; `make reproduce` runs the
-# seed's 50, for both values of $c_r$. A binomial standard error at 8 trials is up to 18 points,
+# paper's 50, for both values of $c_r$. A binomial standard error at 8 trials is up to 18 points,
 # so only large differences mean anything here.
 
 # %%
@@ -487,9 +489,10 @@ labels = [f"{a:g} / {r:g}" for a, r in SEED_ANR_PAIRS]
 fig7: dict[float, list] = {}
 for c_r in (100.0, 1.0):
     t0 = time.perf_counter()
-    fig7[c_r] = monte_carlo_2d(
-        Vehicle2D(), CHIPS, m_rho, 1.0, RadarLMPConfig(c_r=c_r), [0.01], pairs, horizons, TRIALS, 2008
-    )
+    fig7[c_r] = run_job(
+        RadarLmpJob(RadarLMPConfig(c_r=c_r), [0.01], pairs=pairs, horizons_s=horizons, trials=TRIALS, seed=2008,
+                    chips=CHIPS, m_rho=m_rho)
+    ).cells  # fmt: skip
     print(f"c_r = {c_r:g}: {TRIALS} trials × 4 pairs in {time.perf_counter() - t0:.1f} s")
 
 
@@ -514,7 +517,7 @@ montecarlo_figure(np.array(horizons), fig7_curves(fig7[1.0]), f"Fig 7, $c_r$ = 1
 
 # %% [markdown]
 # In the $c_r = 100$ figure, pair 3's curve lies under pair 4's. The legend gives each pair as
-# angle / range ANR in the seed's labels. The table: % correct $(i, \tau)$ (chance 1.1 %), and in
+# angle / range ANR in the paper's labels. The table: % correct $(i, \tau)$ (chance 1.1 %), and in
 # brackets % correct mode (chance 33 %).
 
 # %%
@@ -531,12 +534,12 @@ for c_r, cells in fig7.items():
         )
 for cells in fig7.values():
     get = {(c.pair, c.horizon_s): c for c in cells}
-    assert get[(4, 80.0)].pct >= 90.0  # good at the best pair (seed)
-    assert get[(4, 80.0)].pct >= get[(1, 80.0)].pct + 30.0  # spec R5
+    assert get[(4, 80.0)].pct >= 90.0  # good at the best pair (the paper's claim)
+    assert get[(4, 80.0)].pct >= get[(1, 80.0)].pct + 30.0  # and well above the worst pair
     repairs_seen.append((sum(c.repairs for c in cells if c.horizon_s == 80.0), 0))
 
 # %% [markdown]
-# The seed claims that Fig 7 is good only at the best pair $(101.3, 129.2)$, "similar to the
+# The paper claims that Fig 7 is good only at the best pair $(101.3, 129.2)$, "similar to the
 # linear case", and that it degrades quickly at $(55.2, 83.2)$. A 10-trial pilot with the same
 # seed (its first 8 trials are the ones above) gave:
 #
@@ -547,14 +550,14 @@ for cells in fig7.values():
 #
 # * **Best pair: reproduced.** About 100 % from 10 s on, with either $c_r$.
 # * **Worst pair: reproduced.** Near chance with either $c_r$.
-# * **Middle pairs with $c_r = 100$: easier than the seed.** Pair 3 $(55.2, 83.2)$ is 100 %, where
-#   the seed shows a quick drop, and pair 2 reaches 100 % by 40 s. The spec reports the same for
-#   the 1-D case: with the default assumptions detection is easier than in the paper.
-# * **$c_r = 1$ follows the seed's shape more closely.** The rate drops sharply below the best
+# * **Middle pairs with $c_r = 100$: easier than the paper.** Pair 3 $(55.2, 83.2)$ is 100 %, where
+#   the paper shows a quick drop, and pair 2 reaches 100 % by 40 s. The 1-D page finds the
+#   same: with the default assumptions detection is easier than in the paper.
+# * **$c_r = 1$ follows the paper's shape more closely.** The rate drops sharply below the best
 #   pair: pair 3 needs 60 s or more to approach 90 %, and pair 2 stays near 50–60 %. The larger
-#   filter covariance ($c_r = 100$) smooths the bearing noise, as the seed says of the 1-D Fig 3.
+#   filter covariance ($c_r = 100$) smooths the bearing noise, as the paper says of the 1-D Fig 3.
 #
-# Absolute rates cannot be targets. They depend on parameters the seed never states: $T$, $m_\rho$,
+# Absolute rates cannot be targets. They depend on parameters the paper never states: $T$, $m_\rho$,
 # $K$, the true process noise, and the sample interval for which the per-step $Q$ of eqs (61)–(62)
 # was tuned. Only the trends are targets: rising with the ANR pair, and the best pair far above
 # the worst.
@@ -569,9 +572,10 @@ for cells in fig7.values():
 
 # %%
 (Rk1, Rc1), (Rk4, Rc4) = anr_pair_variances(1), anr_pair_variances(4)
-swap = monte_carlo_2d(
-    Vehicle2D(), CHIPS, m_rho, 1.0, RadarLMPConfig(), [0.01], [(Rk1, Rc4), (Rk4, Rc1)], [40.0], 4, 2008
-)
+swap = run_job(
+    RadarLmpJob(RadarLMPConfig(), [0.01], pairs=[(Rk1, Rc4), (Rk4, Rc1)], horizons_s=[40.0], trials=4, seed=2008,
+                chips=CHIPS, m_rho=m_rho)
+).cells  # fmt: skip
 for c in swap:
     print(f"R_κ = {c.R_range:.2e} m², R_χ = {c.R_bearing:.0e} rad²: {c.pct:.0f} % correct at 40 s")
 repairs_seen.append((sum(c.repairs for c in swap), 0))
@@ -614,7 +618,7 @@ assert spread[1] > 100 > 10 > spread[4]
 
 # %% [markdown]
 # This explains why Fig 7's axis is the angle ANR, and why the radar example is harder than the
-# linear one at comparable range noise. The seed's "similar to the linear case" holds only at the
+# linear one at comparable range noise. The paper's "similar to the linear case" holds only at the
 # best pair.
 #
 # **Covariance repairs.** The bank counts every state or innovation covariance that fails its

@@ -1,18 +1,18 @@
 # %% [markdown]
 # # Maneuvering targets: GLR, MLR and the IMM
 #
-# Seed 002 (Yao, Teng & Wu, a paper on an EBPSK joint radar–communication system) tracks a target that
-# turns twice, from position measurements. It describes two maneuver detectors that estimate the unknown
+# The paper of Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK Modulated JRC System* (an
+# EBPSK joint radar–communication system), tracks a target that turns twice, from position measurements. It describes two maneuver detectors that estimate the unknown
 # acceleration, the generalised likelihood ratio (GLR) and the marginalised likelihood ratio (MLR), but
 # evaluates only an interacting multiple model (IMM) filter of three Kalman filters (Figs 2–4). This page
 # derives the GLR and MLR statistics from the innovations of one Kalman filter, then the IMM cycle with the
-# spec's corrections of the printed formulas. Each step is checked numerically with `motionsig_cli`. The page
-# then regenerates Figs 2–4 with the model probabilities, and finally does what the seed does not: it runs the
+# printed formulas corrected. Each step is checked numerically with `motionsig_cli`. The page
+# then regenerates Figs 2–4 with the model probabilities, and finally does what the paper does not: it runs the
 # IMM, GLR, MLR and a plain constant-velocity Kalman filter on the same Monte Carlo runs.
 #
 # The radar parameters (10 GHz carrier, EBPSK modulation) do not enter the trackers. The measurements are
-# positions with i.i.d. Gaussian errors of standard deviation σ per axis. The seed leaves the scan period blank;
-# T = 1 s is the spec's assumption. The Monte Carlo figures use 100 runs per σ (the seed: 500) while the site
+# positions with i.i.d. Gaussian errors of standard deviation σ per axis. The paper leaves the scan period blank;
+# T = 1 s is assumed. The Monte Carlo figures use 100 runs per σ (the paper: 500) while the site
 # builds; the commands at the end run any number.
 
 # %%
@@ -80,8 +80,8 @@ SC = {p: mv.ManeuverScenario(preset=p) for p in mv.PRESETS}
 #    G = \begin{bmatrix}T^2/2 & T\end{bmatrix}^{\top\,\oplus 2},\quad v_k \sim \mathcal N(0, \sigma^2 I_2). $$
 #
 # Here $w_k$ is continuous white-noise acceleration of spectral density $\tilde q_0$ (default 1 m²/s³, an
-# assumption; the seed's non-maneuvering model has none). A maneuver is a jump of the input. Over the
-# window of the last $s$ scans the seed tests
+# assumption; the paper's non-maneuvering model has none). A maneuver is a jump of the input. Over the
+# window of the last $s$ scans the paper tests
 #
 # $$ H_0:\ u_j = 0 \ \text{ for all } j \in [k-s, k], \qquad
 #    H_1(u, n):\ u_n = u_{n+1} = \dots = u_{k-1} = u \neq 0 \ \text{ for some onset } n \in [k-s, k-1], \tag{1}$$
@@ -107,12 +107,12 @@ md_table(["turn", "stated", "T for Δv = 450 m/s per axis", "T for a coordinated
 
 # %% [markdown]
 # No single $T$ satisfies both turns under either reading: the two readings need 0.225 s against 6 s,
-# and 0.353 s against 9.4 s. The spec therefore offers two presets, both with $T = 1$ s and exact
+# and 0.353 s against 9.4 s. We therefore offer two presets, both with $T = 1$ s and exact
 # constant-acceleration kinematics over each interval:
 #
 # * **`literal`** (default) keeps the printed accelerations and windows: $v(1) = (0, 450)$ m/s,
 #   $u = (20, 20)$ m/s² on scans [200, 300) and $(3, 3)$ on [305, 330). These are not turns. The target
-#   accelerates to about 3.3 km/s, but the first maneuver stays the sharper one, which is how the seed
+#   accelerates to about 3.3 km/s, but the first maneuver stays the sharper one, which is how the paper
 #   explains Fig 4.
 # * **`turn90`** makes both turns exactly 90° in the same windows: $v(1) = (0, -450)$ m/s,
 #   $u_1 = 4.5\,(1, 1)$ m/s² and $u_2 = -18\,(1, 1)$ m/s². Here the second turn is the sharper one.
@@ -179,7 +179,7 @@ fig
 # $$ \Sigma(n)^{-1} = \sum_{j=n+1}^{k}\Psi_j^\top S_j^{-1}\Psi_j, \qquad e(n) = \sum_{j=n+1}^{k}\Psi_j^\top S_j^{-1}\nu^*_j . $$
 #
 # This quadratic has its maximum at the least-squares input $\hat u(n) = \Sigma(n)e(n)$, which is what the
-# seed states. $\Sigma(n)$ is its error covariance. The maximum is
+# paper states. $\Sigma(n)$ is its error covariance. The maximum is
 #
 # $$ J(\hat u(n), n) = \tfrac12\Delta J(n), \qquad \Delta J(n) = e(n)^\top\Sigma(n)e(n) = \hat u(n)^\top\Sigma(n)^{-1}\hat u(n). $$
 #
@@ -191,9 +191,9 @@ fig
 # $\tfrac12\Delta J$. Under $H_0$, at a fixed onset, $e \sim \mathcal N(0, \Sigma^{-1})$, so
 # $\Delta J \sim \chi^2_2$. The default threshold $\lambda = 13.8$ is its 0.999 quantile.
 #
-# **Correction and continuation** (§III step 4, made concrete by the spec). On a declaration the $H_0$ estimate
+# **Correction and continuation** (§III step 4, made concrete here). On a declaration the $H_0$ estimate
 # carries the bias $M_k(\hat n)\hat u$. The package's `exact` correction adds $(I - K_kH)M_k\hat u$ to the
-# *updated* estimate and $(I - K_kH)M_k\Sigma M_k^\top(\cdot)^\top$ to its covariance. The seed's form
+# *updated* estimate and $(I - K_kH)M_k\Sigma M_k^\top(\cdot)^\top$ to its covariance. The paper's form
 # (`correction="paper"`) corrects the prediction and redoes the update with $z_k$. That form uses $z_k$
 # twice, so its covariance comes out slightly optimistic. The filter then carries the current input in its
 # state, $\xi = [x; u]$, and later onsets are restricted to scans after the declaration. The end of a maneuver
@@ -319,14 +319,14 @@ md_table(["ΔJ at scan 30", "mean (χ²₂: 2)", "variance (χ²₂: 4)", "KS p-
 # $$ J_{\mathrm{MLR}}(n) = \tfrac12 e^\top(\Sigma^{-1} + \Sigma_u^{-1})^{-1}e - \tfrac12\log\det(I + \Sigma_u\Sigma^{-1}). $$
 #
 # The posterior of the input is $\mathcal N\big((\Sigma^{-1}+\Sigma_u^{-1})^{-1}e,\ (\Sigma^{-1}+\Sigma_u^{-1})^{-1}\big)$.
-# The tracker's MLR uses it for the correction. The seed's test is $\max_n J_{\mathrm{MLR}}(n) > 0$.
+# The tracker's MLR uses it for the correction. The paper's test is $\max_n J_{\mathrm{MLR}}(n) > 0$.
 #
 # **Relation to the GLR.** As $\Sigma_u \to \infty$,
 # $J_{\mathrm{MLR}}(n) + \tfrac12\log\det\Sigma_u \to \tfrac12\Delta J(n) + \tfrac12\log\det\Sigma(n)$. A
 # threshold $h$ on the MLR is therefore a GLR with the onset-dependent threshold
 # $\Delta J(n) > 2h + \log\det(\Sigma_u\Sigma(n)^{-1})$. Recent onsets carry little information ($\Sigma(n)$
-# large), so they get a low threshold. This is the seed's "with a special choice of the GLR threshold both
-# tests coincide". It also shows that the MLR does not remove the threshold problem, as the seed claims. It
+# large), so they get a low threshold. This is the paper's "with a special choice of the GLR threshold both
+# tests coincide". It also shows that the MLR does not remove the threshold problem, as the paper claims. It
 # moves the problem into $\Sigma_u$ and $h$.
 #
 # **Check: the closed form against quadrature.** Take the noisy record of §2 at scan 36 and every onset of
@@ -415,9 +415,9 @@ print(f"ρ = {rho:.4f}: P(J_MLR(k−1) > 0 | H0) theory {p_theory:.4f}, measured
 assert abs(p_one - p_theory) < 4 * math.sqrt(p_theory * (1 - p_theory) / B_H0)
 
 # %% [markdown]
-# On the seed's scenario (`literal`, σ = 100 m, 100 runs) the trackers count *false alarms*: declarations
+# On the paper's scenario (`literal`, σ = 100 m, 100 runs) the trackers count *false alarms*: declarations
 # in scans whose last 10 input intervals were all zero, per 1000 such scans (`detection_summary`, response
-# window 10 scans). The table compares the GLR at $\lambda = 13.8$ with the MLR at the seed's $h = 0$ and at
+# window 10 scans). The table compares the GLR at $\lambda = 13.8$ with the MLR at the paper's $h = 0$ and at
 # larger thresholds. It also shows how each detects the first maneuver (onset 200).
 
 # %%
@@ -457,14 +457,14 @@ md_table(["detector", "threshold", "declarations per 1000 scans, scans 50–199"
           "onset 200 detected", "mean delay [scans]"], rows)  # fmt: skip
 
 # %% [markdown]
-# With the seed's $h = 0$ the MLR declares a maneuver in about a third of all non-maneuvering scans, close to
+# With the paper's $h = 0$ the MLR declares a maneuver in about a third of all non-maneuvering scans, close to
 # the one-onset value above. Raising $h$ cuts the rate in straight flight (scans 50–199) by an order of
 # magnitude per unit at first. At $h = 3$ it matches the GLR's 2 per 1000, which in turn matches the per-scan
 # rate 0.0022 of the $H_0$ Monte Carlo of §2(c). At $h \ge 4$ almost nothing is left. The summary's count over
 # all quiet scans levels off at 3–4 per 1000 instead. Those declarations all fall in the scans after the
 # maneuvers (scans 341–450). There they correct an input error that the maneuvers left in the tracker, so no
 # threshold removes them. At the matched threshold the MLR detects the first maneuver as fast
-# as the GLR. §6 uses it next to the seed's $h = 0$.
+# as the GLR. §6 uses it next to the paper's $h = 0$.
 #
 # ## 4. The IMM cycle, with the printed formulas corrected
 #
@@ -475,11 +475,11 @@ md_table(["detector", "threshold", "declarations per 1000 scans, scans 50–199"
 # * Models 2 and 3 are constant acceleration with an acceleration increment through $G_2 = G_3$, with
 #   $Q_2 = 0.001I$ and $Q_3 = 0.0144I$.
 #
-# One cycle, with the spec's corrections of the seed:
+# One cycle, with our corrections of the paper:
 #
 # 1. $\bar c_j = \sum_i p_{ij}\mu_i(k-1)$, the predicted model probabilities.
 # 2. **Mixing probabilities**, from Bayes' rule: $\mu_{i|j} = P(i \text{ at } k-1 \mid j \text{ at } k) = p_{ij}\mu_i(k-1)/\bar c_j$.
-#    The seed prints a spurious $\sum_i$ in the numerator. That makes the numerator $\bar c_j$ and every
+#    The paper prints a spurious $\sum_i$ in the numerator. That makes the numerator $\bar c_j$ and every
 #    weight 1, so eq (9) would *add* the three estimates.
 # 3. Mixing, eqs (9)–(10): $\hat X_{0j} = \sum_i\mu_{i|j}\hat X_i$ and
 #    $P_{0j} = \sum_i\mu_{i|j}[P_i + (\hat X_i - \hat X_{0j})(\cdot)^\top]$.
@@ -489,13 +489,13 @@ md_table(["detector", "threshold", "declarations per 1000 scans, scans 50–199"
 # 6. $\mu_j(k) = \Lambda_j\bar c_j / \sum_l\Lambda_l\bar c_l$.
 # 7. Output, eqs (12)–(13): $\hat X = \sum_j\mu_j\hat X_j$ and
 #    **$P = \sum_j\mu_j(k)[P_j + (\hat X_j - \hat X)(\cdot)^\top]$**, the covariance of the Gaussian mixture.
-#    The seed's eq (13) copies $\mu_{ij}$ and $P_{0j}$ from the mixing step and calls the result "measurement
+#    The paper's eq (13) copies $\mu_{ij}$ and $P_{0j}$ from the mixing step and calls the result "measurement
 #    error variances".
 #
-# The seed's "transition probabilities" $\mu = (0.8, 0.1, 0.1)$ are the *initial model probabilities*
+# The paper's "transition probabilities" $\mu = (0.8, 0.1, 0.1)$ are the *initial model probabilities*
 # $\mu(2)$. The transition matrix is $\Pi$, with 0.95 on the diagonal.
 #
-# **Check: the mixing weights.** For $\mu(k-1) = (0.8, 0.1, 0.1)$ and the seed's Π, the corrected weights
+# **Check: the mixing weights.** For $\mu(k-1) = (0.8, 0.1, 0.1)$ and the paper's Π, the corrected weights
 # form a distribution over $i$ for every $j$. Summed back they give $\sum_j\mu_{i|j}\bar c_j = \mu_i$. The
 # printed formula gives a matrix of ones.
 
@@ -517,8 +517,8 @@ assert np.allclose(mix.sum(axis=0), 1) and np.allclose(mix @ cbar, mu_prev) and 
 # $$ x_{k+1} = x_k + T\dot x_k + \tfrac{T^2}{2}\,\tfrac{a_k + a_{k+1}}{2} = x_k + T\dot x_k + \tfrac{T^2}{2}a_k + \tfrac{T^2}{4}w_k,
 #    \qquad \dot x_{k+1} = \dot x_k + T\,\tfrac{a_k + a_{k+1}}{2} = \dot x_k + Ta_k + \tfrac T2 w_k . $$
 #
-# This gives $\Phi_2$ as printed and the noise gain $(T^2/4, T/2, 1)$ per axis. The seed's $x$ column has it.
-# Its $y$ column has $(T^2/4, T, 1)$, which would give the two axes different process noise. The spec's fix,
+# This gives $\Phi_2$ as printed and the noise gain $(T^2/4, T/2, 1)$ per axis. The paper's $x$ column has it.
+# Its $y$ column has $(T^2/4, T, 1)$, which would give the two axes different process noise. Our fix,
 # `g2="paper-fixed"` (the default), uses $(T^2/4, T/2, 1)$ on both axes. `g2="standard"` is the common
 # discrete white-noise-jerk form, $(T^2/2, T, 1)$. In that form the new acceleration $a_{k+1}$ acts over the
 # whole interval.
@@ -560,7 +560,7 @@ print(
 # %% [markdown]
 # **$P(2|2)$.** The filters start at scan 2 from two-point differencing:
 # $\hat X(2|2) = [z_x(2),\ (z_x(2)-z_x(1))/T,\ z_y(2),\ (z_y(2)-z_y(1))/T,\ 0,\ 0]$. Its error covariance per
-# axis is $\begin{bmatrix}\delta^2 & \delta^2/T\\ \delta^2/T & 2\delta^2/T^2\end{bmatrix}$. The seed prints
+# axis is $\begin{bmatrix}\delta^2 & \delta^2/T\\ \delta^2/T & 2\delta^2/T^2\end{bmatrix}$. The paper prints
 # $\delta_x$ in the $\dot y$ entry; it must be $\delta_y$. The two are equal here (σ is the same on both axes),
 # so the fix changes nothing numerically. Check: the estimator is linear, so its error covariance is
 # $\delta^2AA^\top$, where the columns of $A$ are the estimates from unit measurement errors. `two_point_init`
@@ -579,7 +579,7 @@ p2 = p1 + vel * T_c
 assert np.allclose(x22, [p2[0], vel[0], p2[1], vel[1], 0.0, 0.0], rtol=1e-12)
 
 # %% [markdown]
-# **Checks of the cycle** on the seed's scenario (`literal`, σ = 100 m, 100 runs, the seed's three models):
+# **Checks of the cycle** on the paper's scenario (`literal`, σ = 100 m, 100 runs, the paper's three models):
 #
 # * μ(k) is a probability vector at every scan, and the combined $P(k|k)$ of eq (13) is symmetric positive
 #   semi-definite.
@@ -652,7 +652,7 @@ for k in range(2):
     assert np.allclose(mu_, imm.mu[0, k], atol=1e-12) and dX < 1e-8 and dP < 1e-9
 
 # %% [markdown]
-# **Log-domain likelihoods.** A double underflows below $e^{-745}$. On the seed's scenario at σ = 100 m the
+# **Log-domain likelihoods.** A double underflows below $e^{-745}$. On the paper's scenario at σ = 100 m the
 # smallest $\log\Lambda_j$ is only about −125, so a linear-domain IMM would survive. At σ = 10 m, however, the
 # 20 m/s² onset drives *all three* log-likelihoods below −745 in some scans. A linear-domain step 6 then
 # computes 0/0, and the filter is lost. The package keeps $\log\mu$ finite.
@@ -735,7 +735,7 @@ imm_fig("literal")
 imm_fig("turn90")
 
 # %% [markdown]
-# The spec's reproduction targets R11–R14 (the prototype used 60 runs). R13 is the seed's Fig 4 claim that
+# Our reproduction targets R11–R14 (a pilot used 60 runs). R13 is the paper's Fig 4 claim that
 # the first maneuver is the sharper one. It is evaluated for `literal` only, because in `turn90` the second
 # turn is the sharper one.
 
@@ -776,23 +776,23 @@ md_table(["preset", "σ [m]", "R11: mean σ_x̂, scans 50–199 [m] (target 0.2�
 # * **R12:** the mean error jumps by one to two orders of magnitude at the first maneuver. This is the "major
 #   fluctuation" of Fig 3.
 # * **R13:** in `literal`, the first (20 m/s²) maneuver raises $\sigma_{\hat x}$ more than the second (3 m/s²),
-#   as the seed says of Fig 4.
+#   as the paper says of Fig 4.
 # * **R14:** the CV model loses probability during the maneuver.
 #
 # μ₁ is not dominant even in straight flight: it stays around 0.4. The CA models fit just as well there,
-# because their acceleration estimate is ≈ 0. The figures also show what the seed's curves hide. In
+# because their acceleration estimate is ≈ 0. The figures also show what the paper's curves hide. In
 # `literal` the mean error during the first maneuver is several hundred metres, several times σ. With
 # $\sqrt{Q_3}$ = 0.12 m/s² per scan, the CA models need many scans to build up a 20 m/s² acceleration, so
-# the IMM lags the maneuver. The seed's "less affected by the maneuvering" is therefore relative at best.
+# the IMM lags the maneuver. The paper's "less affected by the maneuvering" is therefore relative at best.
 # §6 puts a number on it.
 #
-# ## 6. Beyond the seed: IMM, GLR, MLR and the CV Kalman filter on the same runs
+# ## 6. Beyond the paper: IMM, GLR, MLR and the CV Kalman filter on the same runs
 #
 # The same 100 runs per σ and preset. The trackers:
 #
 # * the IMM of §4;
 # * the GLR tracker (λ = 13.8, window 10, exact correction, input carried in the state);
-# * the MLR tracker, at the seed's $h = 0$ and at the threshold matched in §3;
+# * the MLR tracker, at the paper's $h = 0$ and at the threshold matched in §3;
 # * the plain CV Kalman filter they start from ($\tilde q_0$ = 1 m²/s³, never corrected).
 #
 # Top: the RMS position error against the scan. Bottom: the fraction of runs that declare a maneuver in
@@ -804,7 +804,7 @@ def comparison(p):
     rms = {(s_, m): est[p][s_][m].rms for s_ in SIGMAS for m in mv.METHODS}
     rate = {(s_, m): res[p][s_][m].detected.mean(0) for s_ in SIGMAS for m in ("glr", "mlr")}
     fig = maneuver_comparison_figure(SCAN, rms, rate, events=tuple(n for n, _ in SC[p].events()))
-    fig.suptitle(f"preset {p}, {RUNS} runs (MLR at the seed's h = 0)")
+    fig.suptitle(f"preset {p}, {RUNS} runs (MLR at the paper's h = 0)")
     return fig
 
 
@@ -864,7 +864,7 @@ md_table(["preset", "σ", "detector"]
          rows)  # fmt: skip
 
 # %% [markdown]
-# The spec's provisional GLR target R15 has two parts. The false-alarm rate in scans 50–199 must be ≤ 2 % of
+# Our provisional GLR target R15 has two parts. The false-alarm rate in scans 50–199 must be ≤ 2 % of
 # scans, and the first maneuver of `literal` must be detected within 5 scans of scan 200 in ≥ 95 % of runs.
 
 # %%
@@ -894,7 +894,7 @@ assert 90 < mlr0_cruise < 120 and glr_rms[sl(380, 450)].mean() > imm_rms[sl(380,
 # %% [markdown]
 # What the comparison shows, on these runs:
 #
-# * **The IMM with the seed's models lags a 20 m/s² onset.** In `literal` at σ = 100 m its RMS error peaks at
+# * **The IMM with the paper's models lags a 20 m/s² onset.** In `literal` at σ = 100 m its RMS error peaks at
 #   about 1 km, ten times σ, 16 scans into the maneuver. Averaged over the maneuver it is about 200 m. It
 #   recovers once models 2 and 3 have built up the acceleration. The tiny $Q_2$, $Q_3$ are the cause; §4
 #   showed that the $G_2$ form is not. The CV Kalman filter never adapts and drifts off by kilometres.
@@ -908,8 +908,8 @@ assert 90 < mlr0_cruise < 120 and glr_rms[sl(380, 450)].mean() > imm_rms[sl(380,
 # * **R15, the provisional GLR target.** In straight flight the GLR raises 2–3 false alarms per 1000 scans,
 #   far inside the 2 % target. The rate matches the $H_0$ Monte Carlo of §2(c). The second part fails: at
 #   σ = 100 m the first maneuver is declared within 5 scans in only about half the runs (9 % at σ = 200 m),
-#   though within 10 scans in almost all. "Within 10 scans" is the calibration the spec asked for.
-# * **The MLR with the seed's h = 0 declares in about a third of the non-maneuvering scans** (§3 explains why).
+#   though within 10 scans in almost all: "within 10 scans" is what this threshold achieves.
+# * **The MLR with the paper's h = 0 declares in about a third of the non-maneuvering scans** (§3 explains why).
 #   It catches every change within about 3 scans, as any detector that fires every third scan would. Each
 #   declaration, however, injects a poorly known input, and the RMS error stays at about σ everywhere: the
 #   tracker has lost the filtering gain. At the matched threshold $h = 3$ its errors and detections are close

@@ -23,6 +23,7 @@ import numpy as np
 from IPython.display import Markdown
 from scipy.spatial.transform import Rotation
 
+from motionsig_cli.engine import run_job
 from motionsig_cli.experiments import satellite_tracking as st
 from motionsig_cli.experiments.satellite_tracking import (
     ConstellationParams,
@@ -483,8 +484,7 @@ for ex in st.EXAMPLES:
 # errors at every update (bands: ±2 standard errors; with 161 updates a few fall outside ±2).
 
 # %%
-cfg = st.SimulationConfig(st.example("I", r_sat_km=R_REPORT), sigma0=50.0)
-res = st.simulate(cfg, 1500, 2024)
+res = run_job(st.TrackSatJob(st.example("I", r_sat_km=R_REPORT), sigma0=50.0, runs=1500, seed=2024))
 z = (res.rms["report"] - res.analytic_report) / res.se["report"]
 print(
     f"1500 runs: report tracker vs recursion, max |z| over 161 updates = {np.nanmax(np.abs(z)):.2f}; "
@@ -511,9 +511,8 @@ rms_error_figure(
 # %%
 rows = []
 for rho in (1.0, 0.9):
-    cfg = st.SimulationConfig(st.example("II", r_sat_km=R_REPORT), sigma0=50.0, rho=rho, estimators=("report", "kf2"),
-                              timeline=Timeline(300, 300, 0))  # fmt: skip
-    r = st.simulate(cfg, 800, 11)
+    r = run_job(st.TrackSatJob(st.example("II", r_sat_km=R_REPORT), sigma0=50.0, rho=rho, estimators=("report", "kf2"),
+                               timeline=Timeline(300, 300, 0), runs=800, seed=11))  # fmt: skip
     for e in ("report", "kf2"):
         rows.append((f"{rho:g}", e, *[f"{r.rms[e][n]:.0f} ± {r.se[e][n]:.0f}" for n in (50, 100, 300)]))
 md_table(["true ρ", "estimator", "n = 50 [ft]", "n = 100", "n = 300"], rows)

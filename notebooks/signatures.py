@@ -2,9 +2,10 @@
 # # Mode signatures and Gold codes
 #
 # A vehicle announces its operating mode $i$ by adding a small, known perturbation to its own
-# position reference (seed 000, §II.A). The perturbation is a Gold-code chip sequence multiplying a
+# position reference (§II.A of the mode-signature paper, *LMP mode detection with Gold-code signatures*,
+# IEEE CDC 2008). The perturbation is a Gold-code chip sequence multiplying a
 # sinusoidal carrier. This page derives the signal model (eqs 1–3), the theory of m-sequences and
-# Gold codes that makes the codes easy to tell apart, and audits the seed's Table I. Every claim is
+# Gold codes that makes the codes easy to tell apart, and audits the paper's Table I. Every claim is
 # followed by a numerical check that calls `motionsig_cli`; the checks run when the site is built,
 # so a false claim fails the build.
 #
@@ -30,7 +31,7 @@ from motionsig_cli.signals.signature import SignatureConfig, mode_signature
 #
 # $$ p^i = [\,b_{i,1}, b_{i,2}, \dots, b_{i,n_\rho}\,], \qquad b_{i,j} \in \{\rho_0, \rho_1\} \tag{1}$$
 #
-# (the seed prints the interval $[\rho_0, \rho_1]$; it is the two-element set). With a code phase
+# (the paper prints the interval $[\rho_0, \rho_1]$; it is the two-element set). With a code phase
 # $\tau$ (in samples) sample $k$ carries chip
 #
 # $$ j(k) = \left\lfloor \frac{k-\tau}{m_\rho} \right\rfloor \bmod n_\rho , \qquad p^i_k[\tau] = b_{i, j(k)} .$$
@@ -39,18 +40,18 @@ from motionsig_cli.signals.signature import SignatureConfig, mode_signature
 #
 # $$ z^i_{\mathrm{sig},k} = p^i_k[\tau]\cos(2\pi f_c t_k + \theta), \tag{2}$$
 #
-# and the received model allows a frequency offset $f_d$ (zero in both of the seed's examples):
+# and the received model allows a frequency offset $f_d$ (zero in both of the paper's examples):
 #
 # $$ a_{\mathrm{sig}}\, z^i_{\mathrm{sig},k} = a_{\mathrm{sig}}\, p^i_k[\tau]\cos(2\pi f_c t_k + 2\pi f_d t_k + \theta). \tag{3}$$
 #
-# The seed prints $2\pi f_{d,k}$; a frequency offset has to multiply time, so we use
+# The paper prints $2\pi f_{d,k}$; a frequency offset has to multiply time, so we use
 # $2\pi f_d t_k$. The detector does not know $\theta$, so it works with two replicas,
 # $z_{\cos,k} = p_k\cos(2\pi f_c t_k)$ and $z_{\sin,k} = p_k\sin(2\pi f_c t_k)$. The angle-sum
 # formula gives
 #
 # $$ z_k = \cos\theta\, z_{\cos,k} - \sin\theta\, z_{\sin,k} \qquad (f_d = 0). $$
 #
-# The seed does not give $T$ or $m_\rho$. The defaults $T = 0.05$ s and $m_\rho = 20$ (one carrier
+# The paper does not give $T$ or $m_\rho$. The defaults $T = 0.05$ s and $m_\rho = 20$ (one carrier
 # cycle per chip at $f_c = 1$ Hz) are assumptions, and both are options
 # (`motionsig encode signature --T … --mrho …`).
 
@@ -83,8 +84,8 @@ fig.suptitle("Mode-1 signature, τ = 30 samples, θ = 0.5 rad (two code periods)
 fig
 
 # %% [markdown]
-# The closed loop of the later examples also needs the time derivative $\dot z$ (spec §1.6). The
-# seed does not say how $\dot z$ is taken. Inside a chip $p$ is constant, so we differentiate
+# The closed loop of the later examples also needs the time derivative $\dot z$ (eq 54). The
+# paper does not say how $\dot z$ is taken. Inside a chip $p$ is constant, so we differentiate
 # the carrier analytically, $\dot z_k = -2\pi f_c\, p_k \sin(2\pi f_c t_k + \theta)$, and ignore the
 # chip edges. A backward difference, `--zdot finite-difference`, would add spikes of up to $2/T$
 # at every chip flip.
@@ -237,7 +238,7 @@ assert [gps.first_chips_octal(c) for c in ca[:10]] == [
 # %% [markdown]
 # ## 4. Table I: three signatures, two of them misprinted
 #
-# The seed's Table I lists three 31-chip signatures ($n_\rho = 31 = 2^5 - 1$, so degree 5) for
+# The paper's Table I lists three 31-chip signatures ($n_\rho = 31 = 2^5 - 1$, so degree 5) for
 # behaviours A, B and C, and calls them Gold codes. Mode 1 is exactly a member of the Gold family
 # of MATLAB's default preferred pair, octal 45/75 ($x^5+x^2+1$, $x^5+x^4+x^3+x^2+1$). Modes 2 and 3
 # are not members of any degree-5 Gold family: their correlations are not three-valued.

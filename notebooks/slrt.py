@@ -1,13 +1,14 @@
 # %% [markdown]
 # # Distributed sequential likelihood ratio
 #
-# Seed 001 (a slide deck) asks whether a tentative track is a real target or clutter, from several radars,
+# Govaers, *Evaluation of Distributed Detection Methods for Agile Targets* (Fraunhofer FKIE, slides) asks
+# whether a tentative track is a real target or clutter, from several radars,
 # with Wald's sequential likelihood-ratio test — and shows how to compute the *centralised* score when every
 # sensor only sends its local estimate, covariance and one scalar. This page derives the recursion, the
 # distributed (DKF) product representation and its normalisation constant, checks each step numerically
 # with `motionsig_cli`, and regenerates the slides' figures for the centralised (CKF), distributed (DKF) and
 # local-mean (LKF) scores. The slides give no measurement model, noise, field of view or scan period: the
-# defaults below are the spec's marked assumptions, all options of `motionsig slrt`.
+# defaults below are our assumptions, all options of `motionsig slrt`.
 
 # %%
 import math

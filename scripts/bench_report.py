@@ -38,10 +38,10 @@ FIGURE = "performance.svg"
 BEGIN, END = "<!-- bench:begin -->", "<!-- bench:end -->"
 ENV_KEYS = ("machine", "cores", "python", "numpy", "scipy", "filterpy", "dask", "distributed")
 TITLES = {
-    "bench_kf_bank": "Kalman filter bank (seed 000 Fig 4)",
-    "bench_ukf_bank": "Sigma-point (UKF) bank, radar (seed 000 Fig 7)",
+    "bench_kf_bank": "Kalman filter bank (Fig 4 of the mode-signature paper)",
+    "bench_ukf_bank": "Sigma-point (UKF) bank, radar (Fig 7 of the mode-signature paper)",
     "bench_fft": "FFT fast path of the 1-D LMP detector (Fig 4 workload, Q_a = 0)",
-    "bench_imm": "IMM and GLR tracker (seed 002 Monte Carlo)",
+    "bench_imm": "IMM and GLR tracker (the Monte Carlo of Yao, Teng & Wu)",
     "bench_engine": "Monte Carlo engine: 1 worker, 2 workers, Dask",
     "bench_startup": "Start-up of the command line",
 }

@@ -1,5 +1,6 @@
-"""`make reproduce`: a 10⁵-scan run of the three track-existence scores (issue 10: everything in the log domain,
-no overflow, no underflow to −inf, no NaN). One run per case, about 5 minutes each; prints the final scores."""
+"""`make reproduce`: a 10⁵-scan run (the longest `SlrtScenario` accepts) of the track-existence scores of every
+fusion method (everything in the log domain: no overflow, no underflow to −inf, no NaN). One run per case, about
+5 minutes each; prints the final scores."""
 
 from __future__ import annotations
 

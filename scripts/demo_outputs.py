@@ -11,7 +11,7 @@ and stores standard output and every table the line writes (``-o FILE``) under `
 ``make demo-compare REV=<commit>`` runs the last form.
 
 ``compare`` diffs the two records line by line: CSV bodies and metadata must match exactly, except
-the metadata keys listed in ``REWORDED`` (free-text provenance notes whose wording may change: their
+the metadata keys listed in ``REWORDED``, at any depth (free-text provenance notes whose wording may change: their
 values are text for people, not parameters) and the version line. Figures are not compared (their
 pixels depend on the matplotlib build); that a figure was written is.
 """
@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import json
 import os
 import re
 import shlex
@@ -40,6 +41,7 @@ REWORDED = (
     "note",
     "notes",
     "provenance",
+    "radar",
 )
 
 
@@ -71,7 +73,10 @@ def record(out_dir: Path, root: Path) -> None:
     env = {**os.environ, "PYTHONPATH": str(root), "PATH": f"{shim}:{os.environ['PATH']}"}
     for i, line in enumerate(demo_lines(ROOT / "Makefile")):
         cmd = line.replace("$(BIN)/motionsig", "motionsig").replace("$(OUT)", str(work))
-        res = subprocess.run(["bash", "-o", "pipefail", "-c", cmd], capture_output=True, text=True, env=env)
+        # run in the checkout: ``python -m`` puts the working directory first on sys.path
+        res = subprocess.run(
+            ["bash", "-o", "pipefail", "-c", cmd], capture_output=True, text=True, env=env, cwd=root
+        )
         name = f"{i:02d}"
         (out_dir / f"{name}.cmd").write_text(line + "\n")
         (out_dir / f"{name}.stdout").write_text(res.stdout)
@@ -86,12 +91,28 @@ def record(out_dir: Path, root: Path) -> None:
         print(f"{name} rc={res.returncode} {line[:100]}", file=sys.stderr)
 
 
+def _blank_reworded(value: object) -> object:
+    """A metadata value with the text of every :data:`REWORDED` key (at any depth) replaced."""
+    if isinstance(value, dict):
+        return {k: "(text)" if k in REWORDED else _blank_reworded(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_blank_reworded(v) for v in value]
+    return value
+
+
 def _normalise(text: str) -> list[str]:
     out = []
     for line in text.splitlines():
-        m = re.match(r"# ([A-Za-z0-9_]+): ", line)
+        m = re.match(r"# ([A-Za-z0-9_]+): (.*)$", line)
         if m and m.group(1) in REWORDED:
             out.append(f"# {m.group(1)}: (text)")
+        elif m and m.group(2).startswith("{"):  # nested metadata (a record's input_meta)
+            try:
+                value = json.loads(m.group(2))
+            except ValueError:
+                out.append(line)
+                continue
+            out.append(f"# {m.group(1)}: {json.dumps(_blank_reworded(value), sort_keys=True)}")
         else:
             out.append(line)
     return out

@@ -4,7 +4,7 @@ Each figure is the CLI a user would run, its CSV beside it with the provenance h
 
 * Figs 3.3–3.6: the bounds of each density with the exact ROC overlaid, and a Monte Carlo overlay
   (10⁶ trials) for ℓ = 6, 8;
-* the contour table at p_d = 0.9, 0.99, 0.999 (upper bound, exact, ROC_g), the spec's T5/T8 view;
+* the contour table at p_d = 0.9, 0.99, 0.999 (upper bound, exact, ROC_g): the contours at fixed p_d;
 * Fig. 3.8 (ROC_g), Figs 3.9–3.10 (Exp against N and Exp_g), Figs 3.2 and 3.7 (densities), Fig. 3.11
   (autocorrelations) with the Zakai bandwidths;
 * importance sampling down to p_f ~ 1e-20 (ℓ = 20), the chip-level PSK ensemble (10⁷ trials) and

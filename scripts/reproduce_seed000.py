@@ -1,4 +1,5 @@
-"""`make reproduce`: regenerate every figure and table of seed 000 at full size into results/seed000/.
+"""`make reproduce`: regenerate every figure and table of the mode-signature paper (*LMP mode detection with
+Gold-code signatures*, IEEE CDC 2008) at full size into results/seed000/.
 
 Table I (errata), Fig 2 (closed-loop response), Fig 3 (single-run statistic at two ANRs × c_r ∈ {1, 100}),
 Figs 4–6 (% correct vs horizon and ANR, 50 trials per cell, f_r = 0.01, 0.1, 1 Hz), Fig 7 (the 2-D radar
@@ -79,7 +80,7 @@ def main() -> None:
             str(OUT / f"{fig}.csv"),
         )
     # Fig 7: the 2-D radar example, sigma-point bank, four (angle, range) ANR pairs; the default c_r = 100
-    # and c_r = 1, which follows the seed's sharp drop below the best pair more closely
+    # and c_r = 1, which follows the paper's sharp drop below the best pair more closely
     motionsig(
         "simulate", "--example", "2d", "--mode", "3", "--tau-chips", "7", "--plot", str(OUT / "fig7_trajectory.png"),
         "-o", str(OUT / "fig7_record.csv"), "-q",

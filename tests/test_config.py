@@ -45,7 +45,7 @@ def test_in_range_messages_show_the_interval_and_unit():
         in_range("x", "abc")  # type: ignore[arg-type]
 
 
-@pytest.mark.parametrize("value", [True, 1.5, "3", -1, 11])
+@pytest.mark.parametrize("value", [True, 1.5, "3", -1, 11, math.inf, math.nan])
 def test_integer_rejects_non_integers_and_out_of_range(value):
     with pytest.raises(ConfigError):
         integer("n", value, 0, 10)

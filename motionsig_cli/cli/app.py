@@ -101,6 +101,7 @@ def load_command(name: str) -> Any:
     module, attr, _ = COMMANDS[name]
     obj = getattr(importlib.import_module(module), attr)
     if isinstance(obj, typer.Typer):
+        obj.rich_markup_mode = None  # plain help, as the root's: rich markup would eat "[ns]", "[m/s]"
         cmd = get_command(obj)
     else:
         single = typer.Typer(rich_markup_mode=None, add_completion=False)

@@ -37,7 +37,7 @@ T = TypeVar("T")
 
 
 class CodesVariant(StrEnum):
-    """Table I codes: the corrected Gold codes (default) or the strings as printed in seed 000."""
+    """Table I codes: the corrected Gold codes (default) or the strings as printed in the mode-signature paper."""
 
     corrected = "corrected"
     printed = "printed"
@@ -63,8 +63,18 @@ PlotOpt = Annotated[
 ]
 QuietOpt = Annotated[bool, typer.Option("--quiet", "-q", help="No progress bars or summaries on stderr.")]
 DebugOpt = Annotated[bool, typer.Option("--debug", help="Show the full traceback on errors.")]
+
+
+def _seed(value: int) -> int:
+    """``--seed``: NumPy's SeedSequence takes any integer >= 0."""
+    if value < 0:
+        raise typer.BadParameter(f"{value} is not an integer >= 0")
+    return value
+
+
 SeedOpt = Annotated[
-    int, typer.Option("--seed", min=0, help="Root seed; trial t draws from SeedSequence(seed) child t.")
+    int,
+    typer.Option("--seed", callback=_seed, help="Root seed; trial t draws from SeedSequence(seed) child t."),
 ]
 DEFAULT_SEED_VALUE = DEFAULT_SEED
 
@@ -332,9 +342,7 @@ class Output:
     def check(self, **figures: Path | None) -> None:
         """Validate ``--out``, ``--plot`` and further figure options (``plot_scan=path`` → ``--plot-scan``)
         before any work is done."""
-        check_outputs(
-            self.out, self.plot, extra={"--" + k.replace("_", "-"): v for k, v in figures.items()}
-        )
+        check_outputs(self.out, self.plot, extra={"--" + k.replace("_", "-"): v for k, v in figures.items()})
 
     def emit(self, table: Any) -> None:
         """Write the table to ``--out`` (atomically) or stdout, in ``--format``."""
@@ -415,7 +423,11 @@ def option_name(field: str, options: Mapping[str, str] | None = None) -> str:
 
 
 def command(
-    *, output: bool = True, plot: bool = True, parallel: bool = False, options: Mapping[str, str] | None = None
+    *,
+    output: bool = True,
+    plot: bool = True,
+    parallel: bool = False,
+    options: Mapping[str, str] | None = None,
 ) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
     """Declare a command: add the shared option groups and turn the core's :class:`ConfigError` into a
     one-line usage error naming the option.
@@ -442,6 +454,11 @@ def command(
 
         @functools.wraps(fn)
         def wrapper(**kwargs: Any) -> Any:
+            from typer._click.globals import get_current_context
+
+            ctx = get_current_context(silent=True)
+            if ctx is not None:
+                set_command_path(ctx.command_path)
             extra: dict[str, Any] = {}
             if output:
                 extra["output"] = Output(**{k: kwargs.pop(k) for k in list(kwargs) if k in _OUTPUT_PARAMS})

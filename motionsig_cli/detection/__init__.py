@@ -1,1 +1,2 @@
-"""Detectors: the LMP mode detector (seed 000 eq 52) and, later, SPRT/SLRT and GLR/MLR tests."""
+"""Detectors: the LMP mode detector (eq 52 of the mode-signature paper) with its FFT fast path, Wald's
+sequential test and the track-existence scores, GLR/MLR manoeuvre detection."""

@@ -1,12 +1,13 @@
-"""GLR and MLR maneuver detection with input estimation — seed 002 eqs (1)–(6) and §III, made concrete
-(spec §3.2–§3.3), batched over Monte Carlo runs.
+"""GLR and MLR maneuver detection with input estimation — eqs (1)–(6) and §III of Yao, Teng & Wu,
+*Maneuvering Target Tracking Based on EBPSK Modulated JRC System* ("the paper"), made concrete and batched
+over Monte Carlo runs.
 
 A reference ("H0") Kalman filter runs on the input model x_{k+1} = F x_k + G u_k + w_k with the current input
 estimate û_cur as a known input. A maneuver is a jump of the input: H1(u, n): u_j = û_cur + u for j ≥ n.
 
 **Bias propagation.** Truth minus the H0 prediction has the mean M_j(n) u, with M_j(n) = 0 for j ≤ n and
 
-    M_{j+1}(n) = F (I − K_j H) M_j(n) + G,                                         (spec §3.2 step 1)
+    M_{j+1}(n) = F (I − K_j H) M_j(n) + G,                                   (bias propagation, §III)
 
 so the H0 innovations have the mean E[ν_j] = Ψ_j(n) u, Ψ_j(n) = H M_j(n), for j ≥ n + 1.
 
@@ -16,28 +17,28 @@ input û(n) = Σ(n) e(n) and its maximum is ½ ΔJ(n) with
 
     ΔJ(n) = e(n)ᵀ Σ(n) e(n) = û(n)ᵀ Σ(n)⁻¹ û(n).                                     (eqs 3–4, corrected 5)
 
-The seed's eq (5), −½ Σ ν*ᵀS⁻¹ν* + ½ΔJ, is the H1 log-likelihood up to constants, not the ratio. Onset
+The paper's eq (5), −½ Σ ν*ᵀS⁻¹ν* + ½ΔJ, is the H1 log-likelihood up to constants, not the ratio. Onset
 n̂ = argmax_n ΔJ(n) over n = k−s..k−1 (eq 3); detection iff ΔJ(n̂) > λ (§III step 3). Under H0 at a fixed n,
 ΔJ ~ χ² with dim(u) degrees of freedom (λ = 13.8 is the 0.999 quantile of χ²₂).
 
 **MLR** (eq 6) with the prior u ~ N(0, Σ_u):
 
-    J(n) = ½ eᵀ (Σ⁻¹ + Σ_u⁻¹)⁻¹ e − ½ log det(I + Σ_u Σ⁻¹),                         (spec §3.3)
+    J(n) = ½ eᵀ (Σ⁻¹ + Σ_u⁻¹)⁻¹ e − ½ log det(I + Σ_u Σ⁻¹),                  (eq 6, Gaussian prior)
 
-detection iff max_n J(n) > h (seed: h = 0); the input estimate is the posterior mean (Σ⁻¹ + Σ_u⁻¹)⁻¹ e with
+detection iff max_n J(n) > h (paper: h = 0); the input estimate is the posterior mean (Σ⁻¹ + Σ_u⁻¹)⁻¹ e with
 covariance (Σ⁻¹ + Σ_u⁻¹)⁻¹.
 
 **Correction on detection** (§III step 4) with the estimate û of covariance Σ_û at onset n̂:
 
 * ``exact`` (default): the updated H0 estimate has the bias (I − K_k H) M_k(n̂) û and an error orthogonal to
   every innovation, hence to û − u, so x̂_{k|k} += (I − K_k H) M_k û, P_{k|k} += (I − K_k H) M_k Σ_û M_kᵀ (·)ᵀ;
-* ``paper``: the seed's form, x̂_{k|k−1} += M_k û, P_{k|k−1} += M_k Σ_û M_kᵀ, then the update with z_k is
+* ``paper``: the paper's form, x̂_{k|k−1} += M_k û, P_{k|k−1} += M_k Σ_û M_kᵀ, then the update with z_k is
   redone (z_k enters both û and the update, so the covariance is slightly optimistic).
 
 **Continuation.** Later onsets are restricted to n ≥ the detection scan; the end of a maneuver is detected as
 a new jump. The filter carries the current input u in its state (see :func:`input_tracker`); the correction
 moves its mean by ≈ û and, with ``continuation="estimate"`` (default), gives it the covariance Σ_û, so later
-scans refine it like any other state. ``continuation="known"`` is spec §3.2 step 6 (Willsky–Jones): û_cur += û
+scans refine it like any other state. ``continuation="known"`` is the paper's continuation (Willsky–Jones): û_cur += û
 is then used as an exactly known input. That variant cannot undo an error of û except by a further
 declaration; a false alarm on a short window (Σ_û of hundreds of m/s² at σ = 100 m) leaves a large wrong
 acceleration in the model, and declarations cascade.
@@ -50,15 +51,31 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError, in_range, integer, one_of
 from motionsig_cli.filters.kalman import joseph_update, spd_inv_logdet
 
-__all__ = ["CHI2_2_999", "METHODS", "GLRConfig", "InputModel", "InputTrack", "input_tracker"]
+__all__ = [
+    "CHI2_2_999",
+    "CONTINUATIONS",
+    "CORRECTIONS",
+    "METHODS",
+    "SIGMA_U_RANGE",
+    "WINDOW_RANGE",
+    "GLRConfig",
+    "InputModel",
+    "InputTrack",
+    "input_tracker",
+]
 
 METHODS = ("glr", "mlr", "none")
 CORRECTIONS = ("exact", "paper")
 CONTINUATIONS = ("estimate", "known")
 CHI2_2_999 = -2.0 * math.log(1e-3)
 """0.999 quantile of χ²₂ (= 13.8155…): the default GLR threshold λ."""
+WINDOW_RANGE = (1, 200)
+"""Onset windows s accepted [scans]."""
+SIGMA_U_RANGE = (1e-3, 1e6)
+"""MLR prior standard deviations σ_u accepted [m/s²]."""
 
 
 @dataclass(frozen=True)
@@ -73,32 +90,38 @@ class InputModel:
 
     def __post_init__(self) -> None:
         F, G, Q, H, R = (np.asarray(a, float) for a in (self.F, self.G, self.Q, self.H, self.R))
-        n = F.shape[0]
-        if F.shape != (n, n) or G.shape[0] != n or Q.shape != (n, n) or H.shape[1] != n:
-            raise ValueError("inconsistent shapes of F, G, Q, H")
-        m = H.shape[0]
-        if R.shape != (m, m):
-            raise ValueError(f"R must be {m}x{m}")
-        if not all(np.all(np.isfinite(a)) for a in (F, G, Q, H, R)):
-            raise ValueError("model matrices must be finite")
+        n = F.shape[0] if F.ndim == 2 else -1
+        m = H.shape[0] if H.ndim == 2 else -1
+        shapes = {"F": F.shape == (n, n), "G": G.ndim == 2 and G.shape[0] == n, "Q": Q.shape == (n, n),
+                  "H": H.ndim == 2 and H.shape[1] == n, "R": R.shape == (m, m)}  # fmt: skip
+        for name, a in (("F", F), ("G", G), ("Q", Q), ("H", H), ("R", R)):
+            if not shapes[name]:
+                raise ConfigError(name, a.tolist(), f"has the shape {a.shape}, inconsistent with the others")
+            if not np.all(np.isfinite(a)):
+                raise ConfigError(name, a.tolist(), "has non-finite entries")
         if np.min(np.linalg.eigvalsh(0.5 * (R + R.T))) <= 0:
-            raise ValueError("R must be positive definite")
+            raise ConfigError("R", R.tolist(), "is not positive definite")
         for k, v in (("F", F), ("G", G), ("Q", Q), ("H", H), ("R", R)):
             object.__setattr__(self, k, v)
 
 
 @dataclass(frozen=True)
 class GLRConfig:
-    """Detector settings (spec §3.2–§3.3 defaults).
+    """Detector settings (the paper's values where it gives them).
 
     Attributes:
         method: ``glr``, ``mlr`` or ``none`` (the plain reference Kalman filter, never detecting).
-        window: s, onsets n = k−s..k−1 are tested at scan k.
-        threshold: λ for the GLR (on ΔJ) or h for the MLR (on J_MLR).
-        sigma_u: MLR prior standard deviation of each input component [m/s²].
+        window: s, onsets n = k−s..k−1 are tested at scan k; in :data:`WINDOW_RANGE` (the ring buffer holds
+            s onsets per run; 200 scans is longer than any maneuver onset worth locating).
+        threshold: λ for the GLR (on ΔJ: a number ≥ 0, since ΔJ is never negative) or h for the MLR (on
+            J_MLR, a log-likelihood ratio: any number); ``inf`` never declares (the statistics alone).
+            Ignored by ``none``.
+        sigma_u: MLR prior standard deviation of each input component [m/s²], in :data:`SIGMA_U_RANGE`
+            (1 mm/s² is a prior that rules maneuvers out; 1e6 m/s² is flat for any vehicle, and σ_u² stays
+            a normal double).
         correction: ``exact`` or ``paper`` (see the module docstring).
         continuation: ``estimate`` (the input estimate keeps its covariance and is refined by later scans) or
-            ``known`` (spec §3.2 step 6: the accumulated estimate is used as an exactly known input).
+            ``known`` (the paper's continuation: the accumulated estimate is used as an exactly known input).
     """
 
     method: str = "glr"
@@ -109,18 +132,16 @@ class GLRConfig:
     continuation: str = "estimate"
 
     def __post_init__(self) -> None:
-        if self.method not in METHODS:
-            raise ValueError(f"method {self.method!r} is not one of {', '.join(METHODS)}")
-        if self.correction not in CORRECTIONS:
-            raise ValueError(f"correction {self.correction!r} is not one of {', '.join(CORRECTIONS)}")
-        if self.continuation not in CONTINUATIONS:
-            raise ValueError(f"continuation {self.continuation!r} is not one of {', '.join(CONTINUATIONS)}")
-        if self.window < 1:
-            raise ValueError(f"window s = {self.window} must be at least 1 scan")
-        if math.isnan(self.threshold):
-            raise ValueError("the threshold must be a number")
-        if not (math.isfinite(self.sigma_u) and self.sigma_u > 0):
-            raise ValueError(f"sigma_u = {self.sigma_u:g} must be a finite number > 0")
+        one_of("method", self.method, METHODS)
+        one_of("correction", self.correction, CORRECTIONS)
+        one_of("continuation", self.continuation, CONTINUATIONS)
+        integer("window", self.window, *WINDOW_RANGE)
+        thr = self.threshold
+        if not isinstance(thr, int | float) or math.isnan(thr) or thr == -math.inf:
+            raise ConfigError("threshold", thr, "is not a number (inf never declares)")
+        if self.method == "glr" and thr < 0:
+            raise ConfigError("threshold", thr, "is not a number >= 0 (ΔJ is never negative)")
+        in_range("sigma_u", self.sigma_u, *SIGMA_U_RANGE, unit="m/s²")
 
 
 @dataclass(frozen=True)
@@ -169,7 +190,7 @@ def input_tracker(
     F_ξ = [[F, G], [0, I]], H_ξ = [H, 0] and no process noise on u; u starts known (= 0, zero variance), so
     until the first declaration this is exactly the H0 filter with no input. A jump of u at onset n enters the
     u block at the prediction of scan n: M_n(n) = [0; I], M_{j+1}(n) = F_ξ (I − K_j H_ξ) M_j(n) — the
-    x block of which is the recursion of spec §3.2 step 1 (M_{n+1}(n) = G).
+    x block of which is the bias propagation of the module docstring (M_{n+1}(n) = G).
 
     Args:
         z: (B, N, m) measurements of the scans to process.
@@ -257,12 +278,12 @@ def input_tracker(
                         A = (eye - up.K[b] @ H) @ Mb  # bias of the updated estimate per unit input
                         xb = x[b] + (A @ u_hat[..., None])[..., 0]
                         Pb = P[b] + A @ cov_u @ np.swapaxes(A, -1, -2)
-                    else:  # the seed's step 4: correct the prediction, redo the update with z_k
+                    else:  # the paper's step 4: correct the prediction, redo the update with z_k
                         Pb = Pp[b] + Mb @ cov_u @ np.swapaxes(Mb, -1, -2)
                         redo = joseph_update(xp[b] + (Mb @ u_hat[..., None])[..., 0],
                                              0.5 * (Pb + np.swapaxes(Pb, -1, -2)), z[b, k], H, R)  # fmt: skip
                         xb, Pb = redo.x, redo.P
-                    if cfg.continuation == "known":  # spec §3.2 step 6: û_cur is then a known input
+                    if cfg.continuation == "known":  # the paper's continuation: û_cur is then a known input
                         Pb[:, n:, :] = 0.0
                         Pb[:, :, n:] = 0.0
                     x[b] = xb

@@ -1,5 +1,5 @@
-"""Locally most powerful (LMP) mode detector evaluated with Kalman-filter innovations — seed 000
-eqs (27)–(52), spec §1.4–1.5.
+"""Locally most powerful (LMP) mode detector evaluated with Kalman-filter innovations — eqs (27)–(52) of
+the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008).
 
 For every candidate c = (i, τ, f_c) two filters run on the augmented model of eq (44): KF_cos with
 the replica z_cos and KF_sin with z_sin; one H0 filter runs without the amplitude state. With
@@ -8,7 +8,7 @@ J := ½ Σ ν_jᵀ S_j⁻¹ ν_j (the innovation part of the negative log-likeli
     Λ(c) = 2 J_{H0} − J^c_{H1,cos} − J^c_{H1,sin}                                 eq (52)
     (î, τ̂, f̂_c) = argmax_c Λ(c),  λ* = max_c Λ(c)                               eqs (28)–(29)
 
-``center="h0-noise"`` (our extension, not in the seed) subtracts E[Λ(c)] under white measurement
+``center="h0-noise"`` (our extension, not in the paper) subtracts E[Λ(c)] under white measurement
 noise of the true variance R, computed exactly by a Lyapunov recursion. Under H0 the paper's
 statistic has a candidate-dependent mean (each H1 filter's extra amplitude state absorbs a
 different share of the noise), which biases the argmax towards mode 3 and a few code phases when
@@ -19,17 +19,23 @@ candidates' statistics are correlated differently, so their maxima are not excha
 ``include_logdet`` adds ½ Σ log det(2πS) to every J (the full negative log-likelihood);
 ``weights="exact"`` multiplies the two gains J_{H0} − J_cos and J_{H0} − J_sin by c_cos and c_sin
 (eqs 38, 40), with c = Σ_k z_k² / (c_r R) over the horizon, instead of dropping them as eq (42) does.
+
+Every configuration checks its own fields and raises :class:`~motionsig_cli.config.ConfigError` naming
+the field.
 """
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 
-from motionsig_cli.filters.kalman import expected_costs_white_noise, innovation_costs, riccati
+from motionsig_cli.config import ConfigError, in_range, one_of, positive
+from motionsig_cli.filters.kalman import Progress, expected_costs_white_noise, innovation_costs, riccati
 from motionsig_cli.filters.unscented import (
     BankCosts,
     SigmaMeasurement,
@@ -50,22 +56,70 @@ from motionsig_cli.models.vehicle2d import (
 )
 from motionsig_cli.signals.signature import replica_bank
 
+TAU_GRIDS = ("chips", "samples")
+ZDOTS = ("analytic", "finite-difference")
+
+
+def check_variances(field_name: str, values: tuple[float, ...], n: int, what: str) -> None:
+    """``values`` are ``n`` finite process-noise variances >= 0 (Q = diag(values) must be positive
+    semi-definite); ``what`` names the states, for the message."""
+    if not isinstance(values, tuple | list) or len(values) != n:
+        raise ConfigError(field_name, values, f"is not {n} variances for {what}")
+    if not all(_variance_ok(v) for v in values):
+        raise ConfigError(
+            field_name,
+            values,
+            "holds a variance that is not finite and >= 0 (Q must be PSD, positive semi-definite)",
+        )
+
+
+def check_variance(field_name: str, value: float) -> None:
+    """A finite process-noise variance >= 0 (Q must be positive semi-definite, PSD)."""
+    if not _variance_ok(value):
+        raise ConfigError(
+            field_name, value, "is not a finite variance >= 0 (Q must be PSD, positive semi-definite)"
+        )
+
+
+def _variance_ok(value: float) -> bool:
+    return (
+        isinstance(value, numbers.Real)
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+        and value >= 0
+    )
+
+
+def check_grid(tau_grid: str, fc_grid: tuple[float, ...], include_logdet: bool, zdot: str) -> None:
+    """The search grid and the options :class:`LMPConfig` and :class:`RadarLMPConfig` share."""
+    one_of("tau_grid", tau_grid, TAU_GRIDS)
+    if not isinstance(fc_grid, tuple | list) or not fc_grid:
+        raise ConfigError("fc_grid", fc_grid, "holds no candidate carrier frequency")
+    for f in fc_grid:
+        in_range("fc_grid", f, 0.0, unit="Hz")
+    one_of("include_logdet", include_logdet, (False, True))
+    one_of("zdot", zdot, ZDOTS)
+
 
 @dataclass(frozen=True, slots=True)
 class LMPConfig:
-    """Detector settings (spec §1.5.1; [A] = assumption).
+    """Detector settings of the 1-D example.
 
     Attributes:
-        c_r: KF measurement covariance R_KF = c_r · R (seed: c_r ∈ {1, 100}; 100 "best trade-off").
-        Q0: Per-step process noise of [x, ẋ, r, ṙ] (eq 56).
-        Q_a: Per-step process noise of the amplitude state (eq 57, "10⁰" read as 1).
-        P0: Prior covariance scale (identity × P0) [A].
-        A_r: Reference random walk: ``"cv"`` (constant velocity) or ``"identity"`` [A].
+        c_r: KF measurement covariance R_KF = c_r · R (the paper uses c_r = 1 and 100, and calls 100 the
+            "best trade-off").
+        Q0: Per-step process noise of [x, ẋ, r, ṙ] (eq 56), finite and >= 0.
+        Q_a: Per-step process noise of the amplitude state (eq 57, "10⁰" read as 1), finite and >= 0.
+        P0: Prior covariance scale, identity × P0 (assumed: P0 = 1; the paper does not state it).
+        A_r: Reference random walk: ``"cv"`` (constant velocity) or ``"identity"`` (assumed: cv; the
+            paper does not state it).
         tau_grid: ``"chips"`` (n_ρ chip-aligned phases) or ``"samples"`` (all n_ρ m_ρ phases).
-        fc_grid: Candidate carrier frequencies [Hz] (seed: f_c known, single value).
+        fc_grid: Candidate carrier frequencies [Hz], each finite and >= 0 (the paper: f_c known, one
+            value).
         include_logdet: Add ½ Σ log det(2πS) (full negative log-likelihood).
         weights: ``"paper"`` (eq 42) or ``"exact"`` (eqs 38/40 weights c_cos, c_sin).
         zdot: Replica derivative, ``"analytic"`` or ``"finite-difference"``.
+        center: ``"none"`` (eq 52) or ``"h0-noise"`` (our extension: E[Λ] under white noise subtracted).
     """
 
     c_r: float = 100.0
@@ -81,20 +135,14 @@ class LMPConfig:
     center: Literal["none", "h0-noise"] = "none"
 
     def __post_init__(self) -> None:
-        if not self.c_r > 0:
-            raise ValueError(f"c_r must be > 0, got {self.c_r}")
-        if len(self.Q0) != 4 or min(self.Q0) < 0 or self.Q_a < 0:
-            raise ValueError("Q0 must be 4 non-negative variances and Q_a >= 0 (Q must be PSD)")
-        if not self.P0 > 0:
-            raise ValueError(f"P0 must be > 0, got {self.P0}")
-        if not self.fc_grid or any(not (f >= 0 and np.isfinite(f)) for f in self.fc_grid):
-            raise ValueError("fc_grid must hold at least one finite frequency >= 0")
-        if self.A_r not in ("cv", "identity") or self.tau_grid not in ("chips", "samples"):
-            raise ValueError("A_r must be cv|identity and tau_grid chips|samples")
-        if self.weights not in ("paper", "exact"):
-            raise ValueError("weights must be paper|exact")
-        if self.center not in ("none", "h0-noise"):
-            raise ValueError("center must be none|h0-noise")
+        positive("c_r", self.c_r)
+        check_variances("Q0", self.Q0, 4, "[x, xdot, r, rdot] (eq 56)")
+        check_variance("Q_a", self.Q_a)
+        positive("P0", self.P0)
+        one_of("A_r", self.A_r, ("cv", "identity"))
+        check_grid(self.tau_grid, self.fc_grid, self.include_logdet, self.zdot)
+        one_of("weights", self.weights, ("paper", "exact"))
+        one_of("center", self.center, ("none", "h0-noise"))
 
 
 @dataclass(frozen=True)
@@ -149,6 +197,16 @@ class LMPResult:
         return top2[1] - top2[0]
 
 
+def progress_steps(n_samples: int, cfg: LMPConfig | RadarLMPConfig, filter: str = "kf") -> int:
+    """The time steps :func:`lmp_detect` (``filter`` ``"kf"`` or ``"ukf"``) or :func:`lmp_detect_radar`
+    (a :class:`RadarLMPConfig`) report to ``progress`` on records of ``n_samples``: the passes of the H1 bank
+    over the record (a Kalman bank: its Riccati recursion and its innovations, plus the white-noise
+    expectation with ``center="h0-noise"``; a sigma-point bank: one pass)."""
+    if isinstance(cfg, RadarLMPConfig) or filter == "ukf":
+        return n_samples
+    return n_samples * (3 if cfg.center == "h0-noise" else 2)
+
+
 def lmp_detect(
     y: np.ndarray,
     chips: np.ndarray,
@@ -159,6 +217,7 @@ def lmp_detect(
     *,
     filter: Literal["kf", "ukf"] = "kf",
     sigma: SigmaPointParams | None = None,
+    progress: Progress = None,
 ) -> LMPResult:
     """Evaluate eq (52) for every candidate on B measurement records at once.
 
@@ -170,11 +229,15 @@ def lmp_detect(
         cfg: Detector settings.
         horizons: Horizons in samples.
         filter: ``"kf"`` (Riccati shared by all records) or ``"ukf"`` (the sigma-point bank on the same
-            linear model: it must reproduce the KF numbers, the cross-check of issue 4).
+            linear model: it must reproduce the KF numbers, the cross-check of the two banks).
         sigma: Sigma-point parameters for ``"ukf"``.
+        progress: Called with the time steps done by the H1 bank, per block of steps; they add up to
+            :func:`progress_steps` (the H0 filter, one of 2C + 1, is not counted).
     """
     if filter == "ukf":
-        return _lmp_detect_ukf_1d(y, chips, vehicle, m_rho, cfg, horizons, sigma or SigmaPointParams())
+        return _lmp_detect_ukf_1d(
+            y, chips, vehicle, m_rho, cfg, horizons, sigma or SigmaPointParams(), progress
+        )
     y = np.atleast_2d(np.asarray(y, dtype=float))
     N = y.shape[1]
     if not np.all(np.isfinite(y)):
@@ -208,13 +271,15 @@ def lmp_detect(
 
     H1m = np.array([[1.0, 0.0, 0.0, 0.0, 0.0]])
     Q1 = np.diag([*cfg.Q0, cfg.Q_a])
-    g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(5), N, 2 * C)
-    J1 = innovation_costs(F1_at, H1m, g1, np.zeros(5), y, hz, include_logdet=cfg.include_logdet)
+    g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(5), N, 2 * C, progress=progress)
+    J1 = innovation_costs(
+        F1_at, H1m, g1, np.zeros(5), y, hz, include_logdet=cfg.include_logdet, progress=progress
+    )
     J_cos, J_sin = J1[:C], J1[C:]
     if cfg.center == "h0-noise":  # centre every J on its expectation under white noise of variance R
         R_true = np.array([[vehicle.R]])
         J0 = J0 - expected_costs_white_noise(lambda k: F0, H0m, g0, R_true, N, hz)[0][None, :]
-        E1 = expected_costs_white_noise(F1_at, H1m, g1, R_true, N, hz)
+        E1 = expected_costs_white_noise(F1_at, H1m, g1, R_true, N, hz, progress=progress)
         J_cos, J_sin = J_cos - E1[:C, None, :], J_sin - E1[C:, None, :]
     if cfg.weights == "paper":
         Lam = 2 * J0[None] - J_cos - J_sin  # eq (52)
@@ -235,6 +300,7 @@ def _lmp_detect_ukf_1d(
     cfg: LMPConfig,
     horizons: Sequence[int],
     sigma: SigmaPointParams,
+    progress: Progress = None,
 ) -> LMPResult:
     """The 1-D bank of :func:`lmp_detect` run by the sigma-point filters (exact for this linear model)."""
     if cfg.center != "none" or cfg.weights != "paper":
@@ -273,6 +339,7 @@ def _lmp_detect_ukf_1d(
         y,
         hz,
         sigma,
+        progress=progress,
     )
     return _assemble(cands, hz, c0, c1, cfg.include_logdet)
 
@@ -289,16 +356,18 @@ def _assemble(cands: Candidates, hz: np.ndarray, c0: BankCosts, c1: BankCosts, l
 
 @dataclass(frozen=True, slots=True)
 class RadarLMPConfig:
-    """Detector settings for the 2-D radar example (spec §1.7; [A] = assumption).
+    """Detector settings for the 2-D radar example.
 
     Attributes:
-        c_r: Filter measurement covariance R_UKF = c_r · diag(R_κ, R_χ) [A: the seed's "best
-            trade-off" c_r = 100 of the 1-D example; c_r = 1 follows Fig 7's shape more closely].
-        Q0: Per-step process noise of the 8 H0 states (eq 61).
-        Q1: Per-step process noise of the 10 H1 states (eq 62).
-        P0: Prior covariance scale (identity × P0) [A].
+        c_r: Filter measurement covariance R_UKF = c_r · diag(R_κ, R_χ), finite and > 0 (assumed: the
+            paper's "best trade-off" c_r = 100 of the 1-D example; it states none for the radar, and
+            c_r = 1 follows Fig 7's shape more closely).
+        Q0: Per-step process noise of the 8 H0 states (eq 61), finite and >= 0.
+        Q1: Per-step process noise of the 10 H1 states (eq 62), finite and >= 0.
+        P0: Prior covariance scale, identity × P0 (assumed: P0 = 1; the paper does not state it).
         tau_grid, fc_grid, include_logdet, zdot: As in :class:`LMPConfig`.
-        sigma: Scaled unscented-transform parameters (α, β, κ) [A: 1, 2, 0].
+        sigma: Scaled unscented-transform parameters (α, β, κ) (assumed: 1, 2, 0; the paper does not
+            state them); they must suit both the 8-state and the 10-state filters.
     """
 
     c_r: float = 100.0
@@ -312,16 +381,17 @@ class RadarLMPConfig:
     sigma: SigmaPointParams = field(default_factory=SigmaPointParams)
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.c_r) and self.c_r > 0):
-            raise ValueError(f"c_r must be > 0, got {self.c_r}")
-        if len(self.Q0) != 8 or len(self.Q1) != 10:
-            raise ValueError("Q0 needs 8 variances (eq 61) and Q1 10 (eq 62)")
-        if min(self.Q0) < 0 or min(self.Q1) < 0 or not np.all(np.isfinite([*self.Q0, *self.Q1])):
-            raise ValueError("process-noise variances must be finite and >= 0 (Q must be PSD)")
-        if not (np.isfinite(self.P0) and self.P0 > 0):
-            raise ValueError(f"P0 must be > 0, got {self.P0}")
-        if not self.fc_grid or any(not (f >= 0 and np.isfinite(f)) for f in self.fc_grid):
-            raise ValueError("fc_grid must hold at least one finite frequency >= 0")
+        positive("c_r", self.c_r)
+        check_variances(
+            "Q0", self.Q0, 8, "the H0 states [x, xdot, y, ydot, r_x, rdot_x, r_y, rdot_y] (eq 61)"
+        )
+        check_variances("Q1", self.Q1, 10, "the H1 states [..., a_x, a_y] (eq 62)")
+        positive("P0", self.P0)
+        check_grid(self.tau_grid, self.fc_grid, self.include_logdet, self.zdot)
+        if not isinstance(self.sigma, SigmaPointParams):
+            raise ConfigError("sigma", self.sigma, "is not a SigmaPointParams")
+        self.sigma.weights(8)  # n + λ = α²(n + κ) > 0 and a usable centre weight, H0 and H1 filters
+        self.sigma.weights(10)
 
     @property
     def as_grid(self) -> LMPConfig:
@@ -351,8 +421,10 @@ def lmp_detect_radar(
     m_rho: int,
     cfg: RadarLMPConfig,
     horizons: Sequence[int],
+    *,
+    progress: Progress = None,
 ) -> LMPResult:
-    """Eq (52) with sigma-point filters on range/bearing records (seed 000 §IV.B, eqs 59–62).
+    """Eq (52) with sigma-point filters on range/bearing records (the paper's §IV.B, eqs 59–62).
 
     H0: one filter on the 8-state model of eq (61). H1: for every candidate one filter with the
     replica z_cos and one with z_sin on the 10-state model of eq (62), the amplitudes a_x and a_y
@@ -362,6 +434,8 @@ def lmp_detect_radar(
         y: Records [range, bearing] (B, N, 2) (or (N, 2)), bearing in radians.
         chips: Bipolar codes (M, n_ρ).  vehicle: T, K, start, R_κ, R_χ the filters assume.
         m_rho: Samples per chip.  cfg: Detector settings.  horizons: Horizons in samples.
+        progress: Called with the time steps done by the H1 bank (2C of the 2C + 1 filters), per block of
+            steps; they add up to the record length.
     """
     y = np.asarray(y, dtype=float)
     if y.ndim == 2:
@@ -404,5 +478,6 @@ def lmp_detect_radar(
         y,
         hz,
         cfg.sigma,
+        progress=progress,
     )
     return _assemble(cands, hz, c0, c1, cfg.include_logdet)

@@ -40,6 +40,7 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.linalg
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.lmp import Candidates, LMPConfig, LMPResult, candidate_grid
 from motionsig_cli.filters.kalman import riccati
 from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column, transition_h0
@@ -51,15 +52,16 @@ MAX_TAIL = 1_000_000  # impulse-response samples kept at most
 
 
 def check_fft_config(cfg: LMPConfig) -> None:
-    """The settings the FFT path implements (a ValueError names the one it does not)."""
+    """The settings the FFT path implements: a :class:`ConfigError` of the field ``method`` (the choice of
+    this path) says which setting it does not."""
     if cfg.Q_a != 0:
-        raise ValueError(f"the FFT path needs a constant amplitude, Q_a = 0 (got {cfg.Q_a:g})")
+        raise ConfigError("method", "fft", f"needs a constant amplitude, Q_a = 0 (got {cfg.Q_a:g})")
     if cfg.weights != "paper":
-        raise ValueError("the FFT path implements weights='paper' (eq 52) only")
+        raise ConfigError("method", "fft", "implements weights='paper' (eq 52) only")
     if cfg.center != "none":
-        raise ValueError("the FFT path implements center='none' only")
+        raise ConfigError("method", "fft", "implements center='none' only")
     if cfg.zdot != "analytic":
-        raise ValueError("the FFT path implements the analytic replica derivative only")
+        raise ConfigError("method", "fft", "implements the analytic replica derivative only")
 
 
 def steady_state(vehicle: Vehicle1D, cfg: LMPConfig) -> tuple[np.ndarray, float, np.ndarray]:

@@ -1,4 +1,5 @@
-"""Wald's sequential probability-ratio test on a log likelihood ratio (seed 001; spec §2.1).
+"""Wald's sequential probability-ratio test on a log likelihood ratio, as used for track existence in
+Govaers, *Evaluation of Distributed Detection Methods for Agile Targets* (Fraunhofer FKIE, slides).
 
 Thresholds from the error probabilities α = P(confirm | h0) and β = P(delete | h1):
 log A = log(β/(1 − α)), log B = log((1 − β)/α). Continue while log A < log LR(k) < log B; at or below
@@ -12,16 +13,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motionsig_cli.config import in_range
+
 __all__ = ["Decisions", "first_crossing", "freeze_at_decision", "wald_thresholds"]
 
 CONFIRM, DELETE, UNDECIDED = 1, -1, 0
 
 
 def wald_thresholds(alpha: float, beta: float) -> tuple[float, float]:
-    """(log A, log B) = (log β/(1−α), log (1−β)/α) for α, β in (0, 0.5)."""
-    for name, v in (("alpha", alpha), ("beta", beta)):
-        if not 0.0 < v < 0.5:
-            raise ValueError(f"{name} = {v:g} is outside (0, 0.5)")
+    """(log A, log B) = (log β/(1−α), log (1−β)/α) for α, β in (0, 0.5).
+
+    Wald's bounds only need α + β < 1 (then log A < log B); an error probability of one half or more is
+    no test at all, so each is checked in the open interval (0, 0.5) (:class:`~motionsig_cli.config.
+    ConfigError` naming ``alpha`` or ``beta``).
+    """
+    in_range("alpha", alpha, 0.0, 0.5, lo_open=True, hi_open=True)
+    in_range("beta", beta, 0.0, 0.5, lo_open=True, hi_open=True)
     return math.log(beta) - math.log1p(-alpha), math.log1p(-beta) - math.log(alpha)
 
 

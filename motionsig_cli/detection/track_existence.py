@@ -1,33 +1,56 @@
-"""Sequential likelihood ratio for track existence from several sensors: centralised (CKF), mean of local
-scores (LKF) and distributed (DKF) — seed 001; spec §2.4.
+"""Sequential likelihood ratio for track existence from several sensors, after Govaers, *Evaluation of
+Distributed Detection Methods for Agile Targets* (Fraunhofer FKIE, slides): three ways of fusing the
+sensors' data into one score, kept in the registry :data:`FUSION_METHODS`.
 
 All scores are log likelihood ratios, accumulated scan by scan: log LR(k) = log LR(k−1) + log Λ(k).
 
-- **CKF**: one filter with all data; per scan predict with (F, Q), then the local update (§2.3) of each
-  sensor in turn; log Λ(k) = Σ_s log p̄ˢ.
-- **LKF**: one filter per sensor with (F, Q); fused LR = (1/S) Σ_s LRˢ, i.e. logsumexp − log S
-  (``lkf_mean="log"``: the mean of the log LRs).
-- **DKF**: local filters with the relaxed evolution model Pˢ ← FPˢFᵀ + S·Q, initialised at (m₀, S·P₀),
-  so that the product of the S local Gaussians is the centralised one. The fusion centre receives
-  (xˢ, Pˢ, p̄ˢ) and computes log Λ(k) = log c_{k|k} − log c_{k|k−1} + Σ_s log p̄ˢ, with
-  c = ∫ ∏_s N(x; xˢ, Pˢ) dx evaluated by the sequential product
-  c = ∏_{s=1}^{S−1} N(x^{s+1}; x^{(1:s)}, P^{(1:s)} + P^{s+1}) (the slides' P^{s} corrected to P^{s+1}).
+- **CKF** (centralised Kalman filter): one filter with all data; per scan predict with (F, Q), then the
+  local update (:func:`motionsig_cli.filters.pda.local_update`) of each sensor in turn;
+  log Λ(k) = Σ_s log p̄ˢ.
+- **LKF** (local Kalman filters): one filter per sensor with (F, Q); fused LR = (1/S) Σ_s LRˢ, i.e.
+  logsumexp − log S (``lkf_mean="log"``: the mean of the log LRs).
+- **DKF** (distributed Kalman filter, here the federated relaxed-evolution approximation): local filters
+  with the relaxed evolution model Pˢ ← FPˢFᵀ + S·Q, initialised at (m₀, S·P₀), so that the product of
+  the S local Gaussians is the centralised one. The fusion centre receives (xˢ, Pˢ, p̄ˢ) and computes
+  log Λ(k) = log c_{k|k} − log c_{k|k−1} + Σ_s log p̄ˢ, with c = ∫ ∏_s N(x; xˢ, Pˢ) dx evaluated by the
+  sequential product c = ∏_{s=1}^{S−1} N(x^{s+1}; x^{(1:s)}, P^{(1:s)} + P^{s+1}) (the slides' P^{s}
+  corrected to P^{s+1}).
+
+A new fusion rule is one scoring function and one entry of :data:`FUSION_METHODS`; the command's
+``--methods`` choices and help, and the experiment, are read from there.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError, in_range, one_of
 from motionsig_cli.filters.pda import local_update
 from motionsig_cli.models.radar import MeasurementModel
 
-__all__ = ["METHODS", "ScanData", "TrackExistenceModel", "log_gauss", "log_product_constant", "run_methods"]
+__all__ = [
+    "FUSION_METHODS",
+    "LKF_MEANS",
+    "METHODS",
+    "FusionMethod",
+    "FusionOptions",
+    "ScanData",
+    "TrackExistenceModel",
+    "check_methods",
+    "log_gauss",
+    "log_product_constant",
+    "run_methods",
+    "score_ckf",
+    "score_dkf",
+    "score_lkf",
+]
 
-METHODS = ("ckf", "dkf", "lkf")
+LKF_MEANS = ("lr", "log")
+"""LKF's fusion of the local scores: the mean of the likelihood ratios (the slides) or of their logs."""
 
 
 def log_gauss(x: np.ndarray, m: np.ndarray, C: np.ndarray) -> np.ndarray:
@@ -43,7 +66,7 @@ def log_gauss(x: np.ndarray, m: np.ndarray, C: np.ndarray) -> np.ndarray:
 
 
 def log_product_constant(means: Sequence[np.ndarray], covs: Sequence[np.ndarray]) -> np.ndarray:
-    """log ∫ ∏_s N(x; x_s, P_s) dx by the sequential product of Gaussians (spec §2.4, corrected).
+    """log ∫ ∏_s N(x; x_s, P_s) dx by the sequential product of Gaussians (the slides' form, corrected).
 
     N(x; a, A)·N(x; b, B) = N(a; b, A + B)·N(x; c, C) with C = A − A(A+B)⁻¹A and
     c = a + A(A+B)⁻¹(b − a) (the Kalman form: no inverse of a single covariance). Batched over runs;
@@ -75,14 +98,16 @@ class TrackExistenceModel:
     m0_cov: np.ndarray
 
     def __post_init__(self) -> None:
-        if not 0.0 < self.pd <= 1.0:
-            raise ValueError(f"p_D = {self.pd:g} is outside (0, 1]")
-        if not (math.isfinite(self.clutter_rate) and self.clutter_rate >= 0):
-            raise ValueError("the clutter rate must be >= 0")
+        in_range("pd", self.pd, 0.0, 1.0, lo_open=True)
+        in_range("clutter_rate", self.clutter_rate, 0.0)
         if len(self.sensors) < 1:
-            raise ValueError("at least one sensor is needed")
-        if np.any(np.linalg.eigvalsh(self.Q) < -1e-12) or np.any(np.linalg.eigvalsh(self.m0_cov) <= 0):
-            raise ValueError("Q must be positive semi-definite and P0 positive definite")
+            raise ConfigError("sensors", len(self.sensors), "rows: at least one sensor is needed")
+        low = float(np.linalg.eigvalsh(self.Q).min())
+        if low < -1e-12:
+            raise ConfigError("Q", low, "is its smallest eigenvalue: Q must be positive semi-definite")
+        low = float(np.linalg.eigvalsh(self.m0_cov).min())
+        if low <= 0:
+            raise ConfigError("m0_cov", low, "is its smallest eigenvalue: P0 must be positive definite")
 
     @property
     def n_sensors(self) -> int:
@@ -102,6 +127,161 @@ class ScanData:
     valid: tuple[np.ndarray, ...]
 
 
+@dataclass(frozen=True)
+class FusionOptions:
+    """Options of the fusion rules (one field per rule that has one).
+
+    Attributes:
+        lkf_mean: LKF's mean of the local scores, one of :data:`LKF_MEANS`.
+    """
+
+    lkf_mean: str = "lr"
+
+    def __post_init__(self) -> None:
+        one_of("lkf_mean", self.lkf_mean, LKF_MEANS)
+
+
+def _update(
+    model: TrackExistenceModel, m: np.ndarray, P: np.ndarray, Z: np.ndarray, V: np.ndarray, sensor: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return local_update(m, P, Z, V, sensor, model.meas, model.pd, model.log_rho)
+
+
+def _stacked(scan: ScanData, S: int, R: int) -> tuple[np.ndarray, np.ndarray]:
+    """All sensors' measurements as one (S·R, M, 2) batch, padded to a common M (sensor-major)."""
+    M = max(z.shape[1] for z in scan.Z)
+    Z = np.zeros((S, R, M, 2))
+    V = np.zeros((S, R, M), dtype=bool)
+    for s, (z, v) in enumerate(zip(scan.Z, scan.valid, strict=True)):
+        Z[s, :, : z.shape[1]] = z
+        V[s, :, : z.shape[1]] = v
+    return Z.reshape(S * R, M, 2), V.reshape(S * R, M)
+
+
+def score_ckf(
+    model: TrackExistenceModel, m0: np.ndarray, scans: Sequence[ScanData], options: FusionOptions
+) -> np.ndarray:
+    """CKF: one filter updated by every sensor in turn; log LR (R, K)."""
+    R, S = m0.shape[0], model.n_sensors
+    F, Q = model.F, model.Q
+    out = np.zeros((R, len(scans)))
+    m, P = m0.copy(), np.broadcast_to(model.m0_cov, (R, 4, 4)).copy()
+    total = np.zeros(R)
+    for k, scan in enumerate(scans):
+        m, P = m @ F.T, F @ P @ F.T + Q
+        lam = np.zeros(R)
+        for s in range(S):  # sequential by construction: each sensor updates the running estimate
+            m, P, lp = _update(model, m, P, scan.Z[s], scan.valid[s], model.sensors[s])
+            lam += lp
+        total = total + lam
+        out[:, k] = total
+    return out
+
+
+def score_lkf(
+    model: TrackExistenceModel, m0: np.ndarray, scans: Sequence[ScanData], options: FusionOptions
+) -> np.ndarray:
+    """LKF: S independent local filters (one batch of S·R, sensor-major), their LRs (or log LRs, with
+    ``options.lkf_mean = "log"``) averaged; log LR (R, K)."""
+    R, S = m0.shape[0], model.n_sensors
+    F, Q = model.F, model.Q
+    out = np.zeros((R, len(scans)))
+    P0b = np.broadcast_to(model.m0_cov, (R, 4, 4))
+    m, P = np.tile(m0, (S, 1)), np.tile(P0b, (S, 1, 1))
+    sensor_rows = np.repeat(model.sensors, R, axis=0)  # (S·R, 2)
+    score = np.zeros((S, R))
+    for k, scan in enumerate(scans):
+        Zs, Vs = _stacked(scan, S, R)
+        m, P, lp = _update(model, m @ F.T, F @ P @ F.T + Q, Zs, Vs, sensor_rows)
+        score += lp.reshape(S, R)
+        if options.lkf_mean == "lr":
+            top = score.max(axis=0)
+            safe = np.where(np.isneginf(top), 0.0, top)
+            with np.errstate(divide="ignore"):
+                fused = safe + np.log(np.mean(np.exp(score - safe), axis=0))  # log of the mean LR
+        else:
+            fused = score.mean(axis=0)
+        out[:, k] = fused
+    return out
+
+
+def score_dkf(
+    model: TrackExistenceModel, m0: np.ndarray, scans: Sequence[ScanData], options: FusionOptions
+) -> np.ndarray:
+    """DKF: local filters on the relaxed evolution model (S·Q, initialised at S·P₀, no feedback), fused
+    through the product constants c_{k|k−1} and c_{k|k}; log LR (R, K)."""
+    R, S = m0.shape[0], model.n_sensors
+    F, Q = model.F, model.Q
+    out = np.zeros((R, len(scans)))
+    P0b = np.broadcast_to(model.m0_cov, (R, 4, 4))
+    m, P = np.tile(m0, (S, 1)), S * np.tile(P0b, (S, 1, 1))  # relaxed: ∏ N(·; m0, S·P0) ∝ N(·; m0, P0)
+    sensor_rows = np.repeat(model.sensors, R, axis=0)  # (S·R, 2)
+    total = np.zeros(R)
+    for k, scan in enumerate(scans):
+        Zs, Vs = _stacked(scan, S, R)
+        m, P = m @ F.T, F @ P @ F.T + S * Q  # relaxed evolution model
+        log_c_prior = log_product_constant(list(m.reshape(S, R, 4)), list(P.reshape(S, R, 4, 4)))
+        m, P, lp = _update(model, m, P, Zs, Vs, sensor_rows)
+        log_c_post = log_product_constant(list(m.reshape(S, R, 4)), list(P.reshape(S, R, 4, 4)))
+        total = total + lp.reshape(S, R).sum(axis=0) + log_c_post - log_c_prior
+        out[:, k] = total
+    return out
+
+
+ScoreFn = Callable[[TrackExistenceModel, np.ndarray, Sequence[ScanData], FusionOptions], np.ndarray]
+"""``score(model, m0 (R, 4), scans, options)`` → log LR(k), k = 1..K, per run: (R, K)."""
+
+
+@dataclass(frozen=True)
+class FusionMethod:
+    """One way of fusing the sensors' data into a track-existence score.
+
+    Attributes:
+        abbreviation: The short name used in the slides (``CKF``).
+        title: What the abbreviation stands for (``centralised Kalman filter``).
+        description: How the sensors' data reach the score, in a few words.
+        score: The scoring function (:data:`ScoreFn`).
+    """
+
+    abbreviation: str
+    title: str
+    description: str
+    score: ScoreFn
+
+    @property
+    def help(self) -> str:
+        """``CKF = centralised Kalman filter: …``, for help texts."""
+        return f"{self.abbreviation} = {self.title}: {self.description}"
+
+
+FUSION_METHODS: dict[str, FusionMethod] = {
+    "ckf": FusionMethod("CKF", "centralised Kalman filter", "all measurements at one filter", score_ckf),
+    "dkf": FusionMethod(
+        "DKF",
+        "distributed Kalman filter",
+        "here the federated relaxed-evolution approximation (local filters on S·Q, fused at a centre)",
+        score_dkf,
+    ),
+    "lkf": FusionMethod(
+        "LKF", "local Kalman filters", "one per sensor, their likelihood ratios averaged", score_lkf
+    ),
+}
+"""The fusion rules by name (the command's ``--methods`` values), in output order."""
+
+METHODS = tuple(FUSION_METHODS)
+
+
+def check_methods(methods: Sequence[str], field: str = "methods") -> tuple[str, ...]:
+    """``methods`` as a tuple if it is a non-empty selection of :data:`FUSION_METHODS`, else
+    :class:`~motionsig_cli.config.ConfigError` naming ``field``."""
+    names = tuple(methods)
+    if not names:
+        raise ConfigError(field, names, f"is empty: choose from {', '.join(METHODS)}")
+    for name in names:
+        one_of(field, name, METHODS)
+    return names
+
+
 def run_methods(
     model: TrackExistenceModel,
     m0: np.ndarray,
@@ -111,67 +291,5 @@ def run_methods(
     lkf_mean: str = "lr",
 ) -> dict[str, np.ndarray]:
     """log LR(k) for k = 1..K of each method, (R, K) per method, from initial track means m0 (R, 4)."""
-    R = m0.shape[0]
-    S = model.n_sensors
-    F, Q, P0 = model.F, model.Q, model.m0_cov
-    out = {name: np.zeros((R, len(scans))) for name in methods}
-    P0b = np.broadcast_to(P0, (R, 4, 4))
-    ckf = (m0.copy(), P0b.copy())
-    # the S local filters of LKF and DKF are independent: one batch of S·R filters, sensor-major
-    lkf = (np.tile(m0, (S, 1)), np.tile(P0b, (S, 1, 1)))
-    lkf_score = np.zeros((S, R))
-    dkf = (np.tile(m0, (S, 1)), S * np.tile(P0b, (S, 1, 1)))  # relaxed: ∏ N(·; m0, S·P0) ∝ N(·; m0, P0)
-    sensor_rows = np.repeat(model.sensors, R, axis=0)  # (S·R, 2)
-    total = {name: np.zeros(R) for name in methods}
-
-    def upd(
-        m: np.ndarray, P: np.ndarray, Z: np.ndarray, V: np.ndarray, sensor: np.ndarray
-    ) -> tuple[np.ndarray, ...]:
-        return local_update(m, P, Z, V, sensor, model.meas, model.pd, model.log_rho)
-
-    def stacked(scan: ScanData) -> tuple[np.ndarray, np.ndarray]:
-        """All sensors' measurements as one (S·R, M, 2) batch, padded to a common M."""
-        M = max(z.shape[1] for z in scan.Z)
-        Z = np.zeros((S, R, M, 2))
-        V = np.zeros((S, R, M), dtype=bool)
-        for s, (z, v) in enumerate(zip(scan.Z, scan.valid, strict=True)):
-            Z[s, :, : z.shape[1]] = z
-            V[s, :, : z.shape[1]] = v
-        return Z.reshape(S * R, M, 2), V.reshape(S * R, M)
-
-    for k, scan in enumerate(scans):
-        if "ckf" in methods:
-            m, P = ckf
-            m, P = m @ F.T, F @ P @ F.T + Q
-            lam = np.zeros(R)
-            for s in range(S):  # sequential by construction: each sensor updates the running estimate
-                m, P, lp = upd(m, P, scan.Z[s], scan.valid[s], model.sensors[s])
-                lam += lp
-            ckf = (m, P)
-            total["ckf"] = total["ckf"] + lam
-            out["ckf"][:, k] = total["ckf"]
-        if "lkf" in methods or "dkf" in methods:
-            Zs, Vs = stacked(scan)
-        if "lkf" in methods:
-            m, P = lkf
-            m, P, lp = upd(m @ F.T, F @ P @ F.T + Q, Zs, Vs, sensor_rows)
-            lkf = (m, P)
-            lkf_score += lp.reshape(S, R)
-            if lkf_mean == "lr":
-                top = lkf_score.max(axis=0)
-                safe = np.where(np.isneginf(top), 0.0, top)
-                with np.errstate(divide="ignore"):
-                    fused = safe + np.log(np.mean(np.exp(lkf_score - safe), axis=0))  # log of the mean LR
-            else:
-                fused = lkf_score.mean(axis=0)
-            out["lkf"][:, k] = fused
-        if "dkf" in methods:
-            m, P = dkf
-            m, P = m @ F.T, F @ P @ F.T + S * Q  # relaxed evolution model
-            log_c_prior = log_product_constant(list(m.reshape(S, R, 4)), list(P.reshape(S, R, 4, 4)))
-            m, P, lp = upd(m, P, Zs, Vs, sensor_rows)
-            dkf = (m, P)
-            log_c_post = log_product_constant(list(m.reshape(S, R, 4)), list(P.reshape(S, R, 4, 4)))
-            total["dkf"] = total["dkf"] + lp.reshape(S, R).sum(axis=0) + log_c_post - log_c_prior
-            out["dkf"][:, k] = total["dkf"]
-    return out
+    options = FusionOptions(lkf_mean)
+    return {name: FUSION_METHODS[name].score(model, m0, scans, options) for name in check_methods(methods)}

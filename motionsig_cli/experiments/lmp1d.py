@@ -1,35 +1,61 @@
-"""The 1-D LMP experiment of seed 000 §IV.A: one trial = draw (i, τ, θ), simulate, detect.
+"""The 1-D LMP experiment of the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE
+CDC 2008, §IV.A, Figs 3–6): one record through the detector, and the Monte Carlo of Figs 4–6 (one trial =
+draw (i, τ, θ), simulate, detect) with its threshold calibration.
 
 Random streams (so a trial's numbers depend on (seed, trial) only, never on batching):
 ``trial_rng(seed, t, 0)`` draws i, τ, θ; ``(seed, t, 1)`` the process noise; ``(seed, t, 2)`` the
 measurement noise. ``motionsig simulate --seed s`` with the defaults is trial 0 of
 ``motionsig detect --montecarlo --seed s`` at the same settings.
+
+The Monte Carlo runs are :class:`~motionsig_cli.engine.MonteCarloJob` classes (:class:`LmpJob`,
+:class:`CalibrationJob`); their results build the command's table (``table()``), the figure's data and a
+one-line summary. :class:`RecordDetection` runs the detector on one record
+(:mod:`motionsig_cli.experiments.record_reading` reads it, :mod:`motionsig_cli.experiments.lmp_record`
+tabulates the result).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
-from functools import partial
-from typing import Any, Literal
+from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from motionsig_cli.detection.lmp import LMPConfig, LMPResult, candidate_grid, lmp_detect
-from motionsig_cli.detection.lmp_fft import lmp_detect_fft
-from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
+from motionsig_cli.config import ConfigError, in_range, integer, one_of
+from motionsig_cli.detection.lmp import LMPConfig, LMPResult, candidate_grid, lmp_detect, progress_steps
+from motionsig_cli.detection.lmp_fft import check_fft_config, lmp_detect_fft
+from motionsig_cli.engine import tasks_of, trials_per_task
+from motionsig_cli.experiments.lmp_record import RecordResult, record_result, sigma_meta
+from motionsig_cli.experiments.record_reading import VehicleRecord, record_horizons
+from motionsig_cli.filters.kalman import Progress
+from motionsig_cli.filters.unscented import SigmaPointParams
 from motionsig_cli.models.vehicle import Vehicle1D, simulate_1d
-from motionsig_cli.rng import trial_rng
+from motionsig_cli.rng import DEFAULT_SEED, trial_rng
+from motionsig_cli.signals.correlation import to_bipolar
+from motionsig_cli.signals.modes import table1_codes
 from motionsig_cli.signals.signature import ZdotMethod, replica_bank
+from motionsig_cli.tables import Table, make_meta
 
-SEED_ANR_LABELS = {1e-1: 2.2, 1e-2: 25.3, 1e-3: 48.3, 1e-5: 94.3}  # seed 000 Figs 4–6 axis labels ("dB")
+# the paper's axis labels of Figs 4–6 ("dB", 10·ln) for the measurement variances behind them
+SEED_ANR_LABELS = {1e-1: 2.2, 1e-2: 25.3, 1e-3: 48.3, 1e-5: 94.3}
+MAX_MC_TRIALS = 100_000_000  # records of one Monte Carlo run (trials x R)
+MAX_NULL_TRIALS = 2_000_000  # null (and signature) trials per calibration cell: 16 B each per horizon kept
+MAX_BANK_GB = 4.0  # a single record's filter bank: gains, S⁻¹ and log det of every filter and step
+Method = Literal["bank", "fft"]
+Codes = Literal["corrected", "printed"]
 
 
 def anr_db(R: float, a_sig: float = 0.5) -> tuple[float, float, float]:
-    """ANR = a²/(2R) (eq 58) as (linear, 10·log10 dB, the seed's 10·ln "dB")."""
+    """ANR = a²/(2R) (eq 58) as (linear, 10·log10 dB, the paper's 10·ln "dB")."""
     anr = a_sig**2 / (2 * R)
     return anr, 10 * math.log10(anr), 10 * math.log(anr)
+
+
+def table1_chips(codes: Codes = "corrected") -> np.ndarray:
+    """The Table I codes as bipolar chips (3, 31), floats."""
+    return to_bipolar(table1_codes(codes)).astype(float)
 
 
 @dataclass(frozen=True)
@@ -137,33 +163,46 @@ class MCCell(CorrectRates):
     mode_correct: int
 
 
-Method = Literal["bank", "fft"]
+# ------------------------------------------------------------------------------- checks of the jobs
+# the Monte Carlo runs' default horizons: every 10 s to 80 s (Figs 4–7)
+FIG_HORIZONS = tuple(float(h) for h in range(10, 81, 10))
 
 
-@dataclass(frozen=True)
-class MCSpec:
-    """Everything a Monte Carlo task of Figs 4–6 needs (picklable: it travels to the workers)."""
-
-    vehicle: Vehicle1D
-    chips: np.ndarray
-    m_rho: int
-    f_c: float
-    cfg: LMPConfig
-    fr_list: tuple[float, ...]
-    horizons_s: tuple[float, ...]
-    seed: int
-    signature: bool = True
-    method: Method = "bank"
-
-    @property
-    def n_samples(self) -> int:
-        return round(max(self.horizons_s) / self.vehicle.T)
-
-    @property
-    def horizon_samples(self) -> list[int]:
-        return [round(h / self.vehicle.T) for h in self.horizons_s]
+def check_horizons(horizons_s: Sequence[float], T: float, longest: float = math.inf) -> None:
+    """Horizons [s]: at least one, each a finite number at least one sample T long (rounded to samples)
+    and at most ``longest``."""
+    if not horizons_s:
+        raise ConfigError("horizons_s", horizons_s, "holds no horizon")
+    for h in horizons_s:
+        in_range("horizons_s", h, 0.0, lo_open=True, unit="s")
+        if round(h / T) < 1:
+            raise ConfigError("horizons_s", h, f"s is shorter than one sample (T = {T:g} s)")
+        if h > longest:
+            raise ConfigError("horizons_s", h, f"s is not in [{T:g}, {longest:g}] s")
 
 
+def check_values(name: str, values: Sequence[float], lo: float, hi: float = math.inf, **kw: Any) -> None:
+    """A non-empty list of finite numbers in [lo, hi] (``kw``: :func:`~motionsig_cli.config.in_range`'s
+    options)."""
+    if not values:
+        raise ConfigError(name, values, "is empty")
+    for v in values:
+        in_range(name, v, lo, hi, **kw)
+
+
+def check_method(method: str, cfg: LMPConfig) -> None:
+    """``bank`` or ``fft``; the FFT path only with the settings it implements."""
+    one_of("method", method, ("bank", "fft"))
+    if method == "fft":
+        check_fft_config(cfg)
+
+
+def _tuple(value: Any) -> Any:
+    """Lists become tuples (a job is frozen and travels to the workers)."""
+    return tuple(value) if isinstance(value, list) else value
+
+
+# -------------------------------------------------------------------------------- the Monte Carlo
 @dataclass(frozen=True)
 class TrialOutcomes:
     """Per-trial results of one task: (f_r, trial, horizon) arrays."""
@@ -173,125 +212,223 @@ class TrialOutcomes:
     lam_max: np.ndarray  # λ* = max_c Λ(c), eq (29)
 
 
-def detect_batch(y: np.ndarray, spec: MCSpec, R: float) -> LMPResult:
-    """The configured detector (bank or FFT path) on records y (B, N) at measurement variance R."""
-    veh = replace(spec.vehicle, R=R)
-    if spec.method == "fft":
-        return lmp_detect_fft(y, spec.chips, veh, spec.m_rho, spec.cfg, spec.horizon_samples)
-    return lmp_detect(y, spec.chips, veh, spec.m_rho, spec.cfg, spec.horizon_samples)
-
-
-def mc_task(spec: MCSpec, task: tuple[float, range]) -> TrialOutcomes:
-    """One task: the trials ``task[1]`` at measurement variance ``task[0]``, every f_r."""
-    R, ids = task
-    ys, truths = [], []
-    for fr in spec.fr_list:
-        veh = replace(spec.vehicle, R=R, f_r=fr)
-        y, draws = simulate_trials(
-            veh,
-            spec.chips,
-            spec.m_rho,
-            spec.f_c,
-            spec.n_samples,
-            spec.seed,
-            list(ids),
-            signature=spec.signature,
-        )
-        ys.append(y)
-        truths.extend(draws)
-    res = detect_batch(np.concatenate(ys), spec, R)
-    best, lam = res.best()  # (F·B, H), records ordered f_r-major
-    c = res.candidates
-    ok_mode = c.mode[best] == np.array([d.mode for d in truths])[:, None]
-    ok = ok_mode & (c.tau[best] == np.array([d.tau for d in truths])[:, None])
-    shape = (len(spec.fr_list), len(ids), len(spec.horizons_s))
-    return TrialOutcomes(ok.reshape(shape), ok_mode.reshape(shape), lam.reshape(shape))
-
-
-def task_cost(spec: MCSpec) -> tuple[float, float]:
-    """Cost model [s] of a task at one R: (fixed, per trial over all f_r), measured on a 2-core machine.
-
-    The bank's fixed part is its Riccati recursion (2C + 1 filters, ≈ 0.37 s at N = 1600), the per-trial
-    part the innovations (≈ 1.2e-8 s per filter-step); the FFT path's fixed part is the simulation and
-    whitening loops over N (≈ 2e-5 s per sample), its per-trial part ≈ 8e-7 s per sample and f_r.
-    """
-    n, F = spec.n_samples, len(spec.fr_list)
-    if spec.method == "fft":
-        return n * 2e-5, F * n * 8e-7
-    C = len(candidate_grid(spec.chips.shape[0], spec.chips.shape[1], spec.m_rho, spec.cfg))
-    return n * 2.3e-4, F * n * (2 * C + 1) * 1.2e-8
-
-
-def mc_tasks(
-    spec: MCSpec, R_list: Sequence[float], trials: int, *, chunk: int | None = None
-) -> list[tuple[float, range]]:
-    """The tasks of a run: for every R, the trials in chunks worth ≥ 0.1 s and ≥ 4× the task's fixed cost
-    (so chunking adds at most 25 %), with at most 200 records in memory."""
-    if trials < 1:
-        raise ValueError("the number of trials must be >= 1")
-    fixed, per_trial = task_cost(spec)
-    per = chunk or min(max(1, 200 // len(spec.fr_list)), trials_per_task(per_trial, fixed_seconds=fixed))
-    return [(float(R), r) for R in R_list for r in tasks_of(trials, per)]
-
-
-def cells_of(spec: MCSpec, R_list: Sequence[float], trials: int, tasks: Sequence[tuple[float, range]],
-             results: Sequence[TrialOutcomes]) -> list[MCCell]:  # fmt: skip
-    """Sum the tasks' outcomes (in task order) into the (f_r, R, horizon) cells."""
-    cells: list[MCCell] = []
-    for R in R_list:
-        mine = [res for (r, _), res in zip(tasks, results, strict=True) if r == R]
-        ok = np.concatenate([m.ok for m in mine], axis=1).sum(axis=1)  # (F, H)
-        okm = np.concatenate([m.ok_mode for m in mine], axis=1).sum(axis=1)
-        for f, fr in enumerate(spec.fr_list):
-            for j, hs in enumerate(spec.horizons_s):
-                cells.append(MCCell(fr, R, float(hs), trials, int(ok[f, j]), int(okm[f, j])))
-    return cells
-
-
-def monte_carlo(
-    vehicle: Vehicle1D,
-    chips: np.ndarray,
-    m_rho: int,
-    f_c: float,
-    cfg: LMPConfig,
-    fr_list: Sequence[float],
-    R_list: Sequence[float],
-    horizons_s: Sequence[float],
-    trials: int,
-    seed: int,
-    *,
-    chunk: int | None = None,
-    on_chunk: Callable[[int], None] | None = None,
-    signature: bool = True,
-    method: Method = "bank",
-    engine: Engine | None = None,
-    identity: dict[str, Any] | None = None,
-) -> list[MCCell]:
-    """% correct (i, τ) vs horizon for every (f_r, R) — Figs 4–6.
+@dataclass(frozen=True, eq=False)
+class LmpJob:
+    """The Monte Carlo of Figs 4–6: % correct (i, τ) vs horizon for every (f_r, R).
 
     One record per trial (the longest horizon) serves every horizon. Trial t of every cell uses the
     same draws (common random numbers across f_r and R), so cells differ only by f_r and R. One
-    Riccati recursion per task serves all f_r and trials (the filters do not know f_r). The tasks run
-    on ``engine`` (default: this process); the counts do not depend on it or on ``chunk``.
+    Riccati recursion per task serves all f_r and trials (the filters do not know f_r). A task is
+    the trials of one chunk at one R (:meth:`tasks`); the counts do not depend on the engine or on
+    ``chunk``.
+
+    Attributes:
+        cfg: Detector settings.
+        fr_list: Reference frequencies [Hz], each finite and >= 0 (the paper: 0.01, 0.1, 1).
+        R_list: Measurement variances, each finite and > 0.
+        horizons_s: Horizons [s], each at least one sample; None: every 10 s to 80 s.
+        trials: Trials per (f_r, R) cell, >= 1; trials × len(R_list) at most :data:`MAX_MC_TRIALS`.
+        seed: Root seed (>= 0).
+        signature: False: records without a signature (the argmax under H0).
+        method: ``"bank"`` (2C + 1 Kalman filters) or ``"fft"`` (:mod:`motionsig_cli.detection.lmp_fft`).
+        vehicle: The model (its R and f_r are set per cell).
+        codes: The Table I codes the records carry (``chips`` default to them).
+        chips: Bipolar chips (M, n_ρ); None: those of ``codes``.
+        m_rho: Samples per chip (>= 1).  f_c: Carrier frequency [Hz] (finite, >= 0).
+        chunk: Trials per task (None: from the cost model, :meth:`cost`).
     """
-    spec = MCSpec(vehicle, np.asarray(chips, float), m_rho, f_c, cfg, tuple(fr_list), tuple(horizons_s), seed,
-                  signature, method)  # fmt: skip
-    tasks = mc_tasks(spec, R_list, trials, chunk=chunk)
-    results = run_tasks(
-        partial(mc_task, spec),
-        tasks,
-        engine or Engine(),
-        sizes=[len(t[1]) for t in tasks],
-        progress=on_chunk,
-        identity=identity,
-    )
-    return cells_of(spec, R_list, trials, tasks, results)
+
+    name: ClassVar[str] = "detect --montecarlo"
+
+    cfg: LMPConfig = field(default_factory=LMPConfig)
+    fr_list: tuple[float, ...] = (0.01, 0.1, 1.0)
+    R_list: tuple[float, ...] = (1e-1, 1e-2, 1e-3, 1e-5)
+    horizons_s: tuple[float, ...] | None = None
+    trials: int = 50
+    seed: int = DEFAULT_SEED
+    signature: bool = True
+    method: Method = "bank"
+    vehicle: Vehicle1D = field(default_factory=Vehicle1D)
+    codes: Codes = "corrected"
+    chips: np.ndarray | None = None
+    m_rho: int = 20
+    f_c: float = 1.0
+    chunk: int | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("fr_list", "R_list", "horizons_s"):
+            object.__setattr__(self, name, _tuple(getattr(self, name)))
+        if self.horizons_s is None:
+            object.__setattr__(self, "horizons_s", FIG_HORIZONS)
+        one_of("codes", self.codes, ("corrected", "printed"))
+        if self.chips is None:
+            object.__setattr__(self, "chips", table1_chips(self.codes))
+        object.__setattr__(self, "chips", np.asarray(self.chips, float))
+        check_values("fr_list", self.fr_list, 0.0, unit="Hz")
+        check_values("R_list", self.R_list, 0.0, lo_open=True)
+        check_horizons(self.horizons_s, self.vehicle.T)
+        integer("trials", self.trials, 1)
+        if self.trials * len(self.R_list) > MAX_MC_TRIALS:
+            raise ConfigError(
+                "trials",
+                self.trials,
+                f"x {len(self.R_list)} values of R: at most {MAX_MC_TRIALS:.0e} records",
+            )
+        integer("seed", self.seed, 0)
+        one_of("signature", self.signature, (False, True))
+        check_method(self.method, self.cfg)
+        integer("m_rho", self.m_rho, 1)
+        in_range("f_c", self.f_c, 0.0, unit="Hz")
+        if self.chunk is not None:
+            integer("chunk", self.chunk, 1)
+
+    @property
+    def n_samples(self) -> int:
+        return round(max(self.horizons_s) / self.vehicle.T)
+
+    @property
+    def horizon_samples(self) -> list[int]:
+        return [round(h / self.vehicle.T) for h in self.horizons_s]
+
+    @property
+    def n_candidates(self) -> int:
+        return len(candidate_grid(self.chips.shape[0], self.chips.shape[1], self.m_rho, self.cfg))
+
+    def detect(self, y: np.ndarray, R: float) -> LMPResult:
+        """The configured detector (bank or FFT path) on records y (B, N) at measurement variance R."""
+        veh = replace(self.vehicle, R=R)
+        if self.method == "fft":
+            return lmp_detect_fft(y, self.chips, veh, self.m_rho, self.cfg, self.horizon_samples)
+        return lmp_detect(y, self.chips, veh, self.m_rho, self.cfg, self.horizon_samples)
+
+    def cost(self) -> tuple[float, float]:
+        """Cost model [s] of a task at one R: (fixed, per trial over all f_r), measured on a 2-core machine.
+
+        The bank's fixed part is its Riccati recursion (2C + 1 filters, ≈ 0.37 s at N = 1600), the
+        per-trial part the innovations (≈ 1.2e-8 s per filter-step); the FFT path's fixed part is the
+        simulation and whitening loops over N (≈ 2e-5 s per sample), its per-trial part ≈ 8e-7 s per
+        sample and f_r.
+        """
+        n, F = self.n_samples, len(self.fr_list)
+        if self.method == "fft":
+            return n * 2e-5, F * n * 8e-7
+        return n * 2.3e-4, F * n * (2 * self.n_candidates + 1) * 1.2e-8
+
+    def tasks(self) -> list[tuple[float, range]]:
+        """For every R, the trials in chunks worth ≥ 0.1 s and ≥ 4× the task's fixed cost (so chunking adds
+        at most 25 %), with at most 200 records in memory."""
+        fixed, per_trial = self.cost()
+        per = self.chunk or min(
+            max(1, 200 // len(self.fr_list)), trials_per_task(per_trial, fixed_seconds=fixed)
+        )
+        return [(float(R), r) for R in self.R_list for r in tasks_of(self.trials, per)]
+
+    def task_size(self, task: tuple[float, range]) -> int:
+        return len(task[1])
+
+    def run_task(self, task: tuple[float, range]) -> TrialOutcomes:
+        """The trials ``task[1]`` at measurement variance ``task[0]``, every f_r."""
+        R, ids = task
+        ys, truths = [], []
+        for fr in self.fr_list:
+            veh = replace(self.vehicle, R=R, f_r=fr)
+            y, draws = simulate_trials(
+                veh, self.chips, self.m_rho, self.f_c, self.n_samples, self.seed, list(ids),
+                signature=self.signature,
+            )  # fmt: skip
+            ys.append(y)
+            truths.extend(draws)
+        res = self.detect(np.concatenate(ys), R)
+        best, lam = res.best()  # (F·B, H), records ordered f_r-major
+        c = res.candidates
+        ok_mode = c.mode[best] == np.array([d.mode for d in truths])[:, None]
+        ok = ok_mode & (c.tau[best] == np.array([d.tau for d in truths])[:, None])
+        shape = (len(self.fr_list), len(ids), len(self.horizons_s))
+        return TrialOutcomes(ok.reshape(shape), ok_mode.reshape(shape), lam.reshape(shape))
+
+    def reduce(self, tasks: Sequence[tuple[float, range]], results: Sequence[TrialOutcomes]) -> LmpMonteCarlo:
+        """Sum the tasks' outcomes (in task order) into the (f_r, R, horizon) cells."""
+        cells: list[MCCell] = []
+        for R in self.R_list:
+            mine = [res for (r, _), res in zip(tasks, results, strict=True) if r == R]
+            ok = np.concatenate([m.ok for m in mine], axis=1).sum(axis=1)  # (F, H)
+            okm = np.concatenate([m.ok_mode for m in mine], axis=1).sum(axis=1)
+            for f, fr in enumerate(self.fr_list):
+                for j, hs in enumerate(self.horizons_s):
+                    cells.append(MCCell(fr, R, float(hs), self.trials, int(ok[f, j]), int(okm[f, j])))
+        return LmpMonteCarlo(self, cells)
+
+    def identity(self) -> dict[str, Any]:
+        return dict(
+            method=self.method, cfg=repr(self.cfg), fr_list=list(self.fr_list), R_list=list(self.R_list),
+            horizons_s=list(self.horizons_s), trials=self.trials, seed=self.seed, signature=self.signature,
+        )  # fmt: skip
+
+
+def detector_meta(cfg: LMPConfig, *, full: bool = True) -> dict[str, Any]:
+    """The detector settings as metadata (``full``: with weights, centring and the replica derivative)."""
+    meta: dict[str, Any] = dict(
+        c_r=cfg.c_r, Q0=list(cfg.Q0), Q_a=cfg.Q_a, P0=cfg.P0, A_r=cfg.A_r, tau_grid=cfg.tau_grid,
+        fc_grid=list(cfg.fc_grid), include_logdet=cfg.include_logdet,
+    )  # fmt: skip
+    if full:
+        meta.update(weights=cfg.weights, center=cfg.center, zdot=cfg.zdot)
+    return meta
+
+
+@dataclass(frozen=True, eq=False)
+class LmpMonteCarlo:
+    """The cells of an :class:`LmpJob`, and the command's table, figure data and summary."""
+
+    job: LmpJob
+    cells: list[MCCell]
+
+    def table(self) -> Table:
+        job, veh = self.job, self.job.vehicle
+        rows = []
+        for c in self.cells:
+            lin, l10, lnl = anr_db(c.R, veh.a_sig)
+            rows.append(
+                (c.f_r, c.R, lin, l10, lnl, SEED_ANR_LABELS.get(c.R, ""), c.horizon_s, c.pct, c.se_pct,
+                 c.pct_mode, c.correct, c.trials)
+            )  # fmt: skip
+        n_cand = job.n_candidates
+        meta = make_meta(
+            "detect --montecarlo", method=job.method, trials=job.trials, fr_list=list(job.fr_list),
+            R_list=list(job.R_list), horizons_s=list(job.horizons_s), seed=job.seed, signature=job.signature,
+            **detector_meta(job.cfg), T=veh.T, m_rho=job.m_rho, f_c=job.f_c, K=list(veh.K), a_sig=veh.a_sig,
+            a_r=veh.a_r, sigma_a=veh.sigma_a, codes=job.codes, n_candidates=n_cand, chance_pct=100.0 / n_cand,
+            correct="mode_hat == mode and tau_hat == tau on the grid",
+            trial_streams="trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)) for (i,tau,theta) | process | "
+            "measurement noise",
+        )  # fmt: skip
+        columns = ("f_r", "R", "anr_linear", "anr_db_log10", "anr_db_paper_ln", "seed_anr_label", "horizon_s",
+                   "pct_correct", "se_pct", "pct_mode_correct", "correct", "trials")  # fmt: skip
+        return Table(columns, rows, meta)
+
+    def figure_data(self) -> tuple[np.ndarray, dict[float, dict[str, tuple[np.ndarray, np.ndarray]]], str]:
+        """(horizons, f_r → {ANR label → (% correct, SE)}, title): the arguments of
+        :func:`motionsig_cli.plotting.montecarlo_figure`."""
+        job = self.job
+        curves: dict[float, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
+        for fr in job.fr_list:
+            curves[fr] = {}
+            for Rv in job.R_list:
+                sel = [c for c in self.cells if c.f_r == fr and c.R == Rv]
+                label = f"{anr_db(Rv, job.vehicle.a_sig)[2]:.1f} (R={Rv:g})"
+                curves[fr][label] = (np.array([c.pct for c in sel]), np.array([c.se_pct for c in sel]))
+        return np.array(job.horizons_s), curves, f"{job.trials} trials per cell, c_r = {job.cfg.c_r:g}"
+
+    def summary(self) -> str:
+        return (
+            f"{len(self.cells)} cells x {self.job.trials} trials; chance level "
+            f"{100.0 / self.job.n_candidates:.2f} %"
+        )
 
 
 # ------------------------------------------------------------------------------ threshold calibration
-NULL_OFFSET = (
-    1 << 40
-)  # null trial t draws from trial_rng(seed, NULL_OFFSET + t, …): independent of the H1 trials
+# null trial t draws from trial_rng(seed, NULL_OFFSET + t, …): independent of the H1 trials
+NULL_OFFSET = 1 << 40
 
 
 @dataclass(frozen=True)
@@ -332,15 +469,125 @@ def threshold_for(null_max: np.ndarray, pfa: float) -> float:
     return float(s[n - k - 1])
 
 
-def calib_task(specs: tuple[MCSpec, MCSpec], task: tuple[int, float, range]) -> TrialOutcomes:
-    """A calibration task: ``task = (0 | 1, R, trials)``, 0 = null records (no signature), 1 = with it."""
-    which, R, ids = task
-    if which == 0:
-        ids = range(NULL_OFFSET + ids.start, NULL_OFFSET + ids.stop)
-    return mc_task(specs[which], (R, ids))
+@dataclass(frozen=True, eq=False)
+class CalibrationJob:
+    """Null distribution of λ* (records with no signature), the threshold for ``pfa`` and P_D at it, per
+    (f_r, R, horizon).
+
+    Its tasks are those of two :class:`LmpJob` arms: the null arm (``null_trials``, no signature, trial t
+    drawn as trial NULL_OFFSET + t) and the signature arm (``trials``). The result does not depend on the
+    engine. The chunking (fixed by the parameters) batches the filters' floating-point work, so another
+    chunk size may move the thresholds' last bits; the counts are exact integers either way.
+
+    Attributes:
+        pfa: Target false-alarm probability, in (0, 1).
+        null_trials: Null trials per cell, 1 … :data:`MAX_NULL_TRIALS`; None: ⌈20 / pfa⌉.
+        trials: Signature trials per cell, 1 … :data:`MAX_NULL_TRIALS`.
+        Others: as in :class:`LmpJob` (default f_r: 0.01 Hz).
+    """
+
+    name: ClassVar[str] = "detect --calibrate"
+
+    cfg: LMPConfig = field(default_factory=LMPConfig)
+    fr_list: tuple[float, ...] = (0.01,)
+    R_list: tuple[float, ...] = (1e-1, 1e-2, 1e-3, 1e-5)
+    horizons_s: tuple[float, ...] | None = None
+    trials: int = 50
+    null_trials: int | None = None
+    pfa: float = 0.01
+    seed: int = DEFAULT_SEED
+    method: Method = "bank"
+    vehicle: Vehicle1D = field(default_factory=Vehicle1D)
+    codes: Codes = "corrected"
+    chips: np.ndarray | None = None
+    m_rho: int = 20
+    f_c: float = 1.0
+
+    def __post_init__(self) -> None:
+        in_range("pfa", self.pfa, 0.0, 1.0, lo_open=True, hi_open=True)
+        if self.null_trials is None:
+            n = math.ceil(20 / self.pfa)
+            if n > MAX_NULL_TRIALS:
+                raise ConfigError(
+                    "pfa", self.pfa, f"needs 20/P_FA = {20 / self.pfa:.1e} null trials by default, more than "
+                    f"{MAX_NULL_TRIALS:.0e}: raise it or set the number of null trials",
+                )  # fmt: skip
+            object.__setattr__(self, "null_trials", n)
+        for name in ("null_trials", "trials"):
+            integer(name, getattr(self, name), 1)
+            if getattr(self, name) > MAX_NULL_TRIALS:
+                raise ConfigError(
+                    name, getattr(self, name), f"is too many: at most {MAX_NULL_TRIALS:.0e} per cell"
+                )
+        arm = self.arm(True)  # checks the shared fields
+        for name in ("fr_list", "R_list", "horizons_s", "chips"):
+            object.__setattr__(self, name, getattr(arm, name))
+
+    def arm(self, signature: bool) -> LmpJob:
+        """The signature arm (``trials``) or the null arm (``null_trials``, no signature)."""
+        return LmpJob(
+            self.cfg, self.fr_list, self.R_list, self.horizons_s, self.trials if signature else self.null_trials,
+            self.seed, signature, self.method, self.vehicle, self.codes, self.chips, self.m_rho, self.f_c,
+        )  # fmt: skip
+
+    @property
+    def warning(self) -> str | None:
+        """A note when the null trials are too few for the target P_FA."""
+        if self.null_trials * self.pfa >= 1:
+            return None
+        return (
+            f"warning: {self.null_trials} null trials < 1/P_FA: the threshold is the largest null maximum, "
+            f"its false-alarm rate is not {self.pfa:g}"
+        )
+
+    def tasks(self) -> list[tuple[int, float, range]]:
+        """``(0 | 1, R, trials)``: 0 = null records (no signature), 1 = with it; the null tasks first."""
+        null = [(0, R, r) for R, r in self.arm(False).tasks()]
+        return null + [(1, R, r) for R, r in self.arm(True).tasks()]
+
+    def task_size(self, task: tuple[int, float, range]) -> int:
+        return len(task[2])
+
+    def run_task(self, task: tuple[int, float, range]) -> TrialOutcomes:
+        which, R, ids = task
+        if which == 0:
+            ids = range(NULL_OFFSET + ids.start, NULL_OFFSET + ids.stop)
+        return self.arm(which == 1).run_task((R, ids))
+
+    def reduce(
+        self, tasks: Sequence[tuple[int, float, range]], results: Sequence[TrialOutcomes]
+    ) -> Calibration:
+        def joined(which: int, R: float, attr: str) -> np.ndarray:
+            mine = [getattr(o, attr) for t, o in zip(tasks, results, strict=True) if t[:2] == (which, R)]
+            return np.concatenate(mine, axis=1)
+
+        null = {R: joined(0, R, "lam_max") for R in self.R_list}
+        sig = {R: joined(1, R, "lam_max") for R in self.R_list}
+        corr = {R: joined(1, R, "ok") for R in self.R_list}
+        cells = []
+        for R in self.R_list:
+            for f, fr in enumerate(self.fr_list):
+                for j, hs in enumerate(self.horizons_s):
+                    thr = threshold_for(null[R][f, :, j], self.pfa)
+                    det = sig[R][f, :, j] > thr
+                    cells.append(
+                        CalibrationCell(
+                            fr, float(R), float(hs), self.pfa, thr, self.null_trials,
+                            int(np.sum(null[R][f, :, j] > thr)), self.trials, int(det.sum()),
+                            int(np.sum(det & corr[R][f, :, j])),
+                        )
+                    )  # fmt: skip
+        return Calibration(cells, null, sig, corr, self)
+
+    def identity(self) -> dict[str, Any]:
+        return dict(
+            method=self.method, cfg=repr(self.cfg), fr_list=list(self.fr_list), R_list=list(self.R_list),
+            horizons_s=list(self.horizons_s), trials=self.trials, null_trials=self.null_trials, pfa=self.pfa,
+            seed=self.seed,
+        )  # fmt: skip
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Calibration:
     """Cells plus the raw maxima (for ROC curves): ``null[R]``, ``signal[R]`` are (F, trials, H)."""
 
@@ -348,64 +595,51 @@ class Calibration:
     null: dict[float, np.ndarray]
     signal: dict[float, np.ndarray]
     correct: dict[float, np.ndarray]
+    job: CalibrationJob
 
+    def table(self) -> Table:
+        job = self.job
+        rows = []
+        for c in self.cells:
+            lin, l10, lnl = anr_db(c.R, job.vehicle.a_sig)
+            rows.append(
+                (c.f_r, c.R, lin, l10, lnl, SEED_ANR_LABELS.get(c.R, ""), c.horizon_s, c.pfa, c.threshold,
+                 c.false_alarms / c.null_trials, c.null_trials, c.pd, c.pd_se, c.detections_correct / c.trials,
+                 c.trials)
+            )  # fmt: skip
+        meta = make_meta(
+            "detect --calibrate", method=job.method, pfa=job.pfa, trials=job.trials, null_trials=job.null_trials,
+            fr_list=list(job.fr_list), R_list=list(job.R_list), horizons_s=list(job.horizons_s), seed=job.seed,
+            **detector_meta(job.cfg, full=False), T=job.vehicle.T, m_rho=job.m_rho, f_c=job.f_c, codes=job.codes,
+            statistic="max over candidates of Lambda (eq 29); declare present when it exceeds the threshold",
+            threshold_rule="order statistic of the null maxima leaving at most floor(pfa * null_trials) above it",
+            trial_streams="signature trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)); "
+            "null trial t: spawn_key=(2^40 + t, 0|1|2), drawn with no signature",
+        )  # fmt: skip
+        columns = ("f_r", "R", "anr_linear", "anr_db_log10", "anr_db_paper_ln", "seed_anr_label", "horizon_s",
+                   "pfa_target", "threshold", "pfa_in_sample", "null_trials", "pd", "pd_se", "pd_and_correct",
+                   "trials")  # fmt: skip
+        return Table(columns, rows, meta)
 
-def calibrate(
-    spec: MCSpec,
-    R_list: Sequence[float],
-    trials: int,
-    null_trials: int,
-    pfa: float,
-    *,
-    engine: Engine | None = None,
-    identity: dict[str, Any] | None = None,
-    on_chunk: Callable[[int], None] | None = None,
-) -> Calibration:
-    """Null distribution of λ*, the threshold for ``pfa`` and P_D at it, per (f_r, R, horizon).
+    def figure_data(self) -> tuple[dict[str, dict[str, tuple[np.ndarray, np.ndarray]]], float, str]:
+        """(panel → {horizon → ROC curve}, P_FA, title): the arguments of
+        :func:`motionsig_cli.plotting.calibration_roc_figure`."""
+        job = self.job
+        panels: dict[str, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
+        for R in job.R_list:
+            for f, fr in enumerate(job.fr_list):
+                name = f"ANR {anr_db(R, job.vehicle.a_sig)[2]:.1f} paper dB (R={R:g})" + (
+                    f", f_r={fr:g}" if len(job.fr_list) > 1 else ""
+                )
+                panels[name] = {
+                    f"{h:g} s": roc_curve(self.null[R][f, :, j], self.signal[R][f, :, j])
+                    for j, h in enumerate(job.horizons_s)
+                }
+        return panels, job.pfa, f"{job.method}: {job.trials} + {job.null_trials} null trials"
 
-    The result does not depend on the engine. The chunking (fixed by the parameters) batches the
-    filters' floating-point work, so another chunk size may move the thresholds' last bits; the
-    counts are exact integers either way.
-    """
-    if not 0 < pfa < 1:
-        raise ValueError(f"the false-alarm probability must lie in (0, 1), got {pfa:g}")
-    if null_trials < 1 or trials < 1:
-        raise ValueError("trials and null trials must be >= 1")
-    specs = (replace(spec, signature=False), replace(spec, signature=True))
-    tasks = [(0, R, r) for R, r in mc_tasks(specs[0], R_list, null_trials)]
-    tasks += [(1, R, r) for R, r in mc_tasks(specs[1], R_list, trials)]
-    results = run_tasks(
-        partial(calib_task, specs),
-        tasks,
-        engine or Engine(),
-        sizes=[len(t[2]) for t in tasks],
-        progress=on_chunk,
-        identity=identity,
-    )
-    null, sig, corr = {}, {}, {}
-    for R in R_list:
-        null[R] = np.concatenate(
-            [o.lam_max for t, o in zip(tasks, results, strict=True) if t[:2] == (0, R)], axis=1
-        )
-        sig[R] = np.concatenate(
-            [o.lam_max for t, o in zip(tasks, results, strict=True) if t[:2] == (1, R)], axis=1
-        )
-        corr[R] = np.concatenate(
-            [o.ok for t, o in zip(tasks, results, strict=True) if t[:2] == (1, R)], axis=1
-        )
-    cells = []
-    for R in R_list:
-        for f, fr in enumerate(spec.fr_list):
-            for j, hs in enumerate(spec.horizons_s):
-                thr = threshold_for(null[R][f, :, j], pfa)
-                det = sig[R][f, :, j] > thr
-                cells.append(
-                    CalibrationCell(
-                        fr, float(R), float(hs), pfa, thr, null_trials, int(np.sum(null[R][f, :, j] > thr)),
-                        trials, int(det.sum()), int(np.sum(det & corr[R][f, :, j])),
-                    )
-                )  # fmt: skip
-    return Calibration(cells, null, sig, corr)
+    def summary(self) -> str:
+        job = self.job
+        return f"{len(self.cells)} cells; threshold for P_FA = {job.pfa:g} from {job.null_trials} null trials each"
 
 
 def roc_curve(null_max: np.ndarray, signal_max: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -415,3 +649,107 @@ def roc_curve(null_max: np.ndarray, signal_max: np.ndarray) -> tuple[np.ndarray,
     pfa = 1.0 - np.searchsorted(n0, t, side="right") / n0.size
     pd = 1.0 - np.searchsorted(n1, t, side="right") / n1.size
     return np.concatenate([[1.0], pfa]), np.concatenate([[1.0], pd])
+
+
+# ---------------------------------------------------------------------------------------- one record
+def check_threshold(threshold: float | None) -> None:
+    """A decision threshold on max Λ: None (no decision) or a number (±inf allowed, not NaN)."""
+    if threshold is not None and not (isinstance(threshold, int | float) and threshold == threshold):
+        raise ConfigError("threshold", threshold, "is not a number")
+
+
+@dataclass(frozen=True, eq=False)
+class RecordDetection:
+    """Eq (52) on one 1-D record (Fig 3): the argmax per horizon, or every candidate's statistic.
+
+    Attributes:
+        record: The record (:func:`motionsig_cli.experiments.record_reading.read_record_1d`); the filters
+            assume its vehicle (T, K, a_sig, R).
+        cfg: Detector settings.
+        method: ``"bank"`` (2C + 1 filters) or ``"fft"`` (one steady-state filter and FFTs).
+        filter: ``"kf"`` (Kalman bank) or ``"ukf"`` (the sigma-point bank on the same linear model; it
+            supports center ``"none"`` and weights ``"paper"`` only, and α, κ must suit its 4- and 5-state
+            filters).
+        sigma: Unscented-transform parameters of ``"ukf"``.
+        horizons: Horizons [s] (see :func:`~motionsig_cli.experiments.record_reading.record_horizons`);
+            None: every 10 s. The bank keeps its gains up to the longest: at most :data:`MAX_BANK_GB`.
+        threshold: Declare "signature present" when max Λ >= threshold (None: no decision).
+        candidates: Every candidate's statistic instead of the argmax.
+    """
+
+    record: VehicleRecord
+    cfg: LMPConfig
+    method: Method = "bank"
+    filter: Literal["kf", "ukf"] = "kf"
+    sigma: SigmaPointParams = field(default_factory=SigmaPointParams)
+    horizons: tuple[float, ...] | None = None
+    threshold: float | None = None
+    candidates: bool = False
+
+    def __post_init__(self) -> None:
+        one_of("filter", self.filter, ("kf", "ukf"))
+        check_method(self.method, self.cfg)
+        if self.method == "fft" and self.filter == "ukf":
+            raise ConfigError(
+                "method", "fft", "replaces the filter bank: it runs no sigma-point filters (ukf)"
+            )
+        if self.filter == "ukf":
+            if self.cfg.center != "none" or self.cfg.weights != "paper":
+                raise ConfigError(
+                    "filter", "ukf", "(the sigma-point bank) supports center none and weights paper only"
+                )
+            self.sigma.weights(4)  # the H0 filter
+            self.sigma.weights(5)  # the H1 filters
+        rec, T = self.record, self.record.vehicle.T
+        hs = record_horizons(self.horizons, rec.y.shape[0] * T, T)
+        object.__setattr__(self, "horizons", tuple(hs))
+        n_filters = 2 * len(candidate_grid(rec.chips.shape[0], rec.chips.shape[1], rec.m_rho, self.cfg)) + 1
+        need_gb = n_filters * self.n_used * 7 * 8 / 1e9  # gains, S⁻¹, log det per filter and step
+        if need_gb > MAX_BANK_GB and self.method == "bank":
+            raise ConfigError(
+                "horizons", max(hs), f"s is too long for the bank of {n_filters} filters: it would need "
+                f"~{need_gb:.1f} GB (limit {MAX_BANK_GB:g} GB); use shorter horizons or a coarser grid",
+            )  # fmt: skip
+        check_threshold(self.threshold)
+
+    @property
+    def horizon_samples(self) -> list[int]:
+        return [round(h / self.record.vehicle.T) for h in self.horizons]
+
+    @property
+    def n_used(self) -> int:
+        """Samples the detector runs over (the longest horizon)."""
+        return max(self.horizon_samples)
+
+    @property
+    def steps(self) -> int:
+        """The time steps :meth:`detect` reports to its ``progress`` callback (0 for the FFT path)."""
+        return 0 if self.method == "fft" else progress_steps(self.n_used, self.cfg, self.filter)
+
+    @property
+    def title(self) -> str:
+        """The Fig 3-style panel's title."""
+        return f"horizon {self.horizons[-1]:g} s, R = {self.record.vehicle.R:g}, c_r = {self.cfg.c_r:g}"
+
+    def detect(self, progress: Progress = None) -> RecordResult:
+        """Run the detector; ``progress`` is called with the time steps done, per block of steps."""
+        rec, cfg, hz = self.record, self.cfg, self.horizon_samples
+        args = (rec.y[: self.n_used], rec.chips, rec.vehicle, rec.m_rho, cfg, hz)
+        if self.method == "fft":
+            try:
+                res = lmp_detect_fft(*args)
+            except ConfigError:
+                raise
+            except ValueError as exc:  # e.g. an unstable steady-state filter
+                raise ConfigError("method", "fft", f"cannot run: {exc}") from None
+        else:
+            res = lmp_detect(*args, filter=self.filter, sigma=self.sigma, progress=progress)
+        params = dict(
+            source=rec.source, **detector_meta(cfg), horizons_s=list(self.horizons), threshold=self.threshold,
+            filter=self.filter, method=self.method,
+            **(sigma_meta(self.sigma, res.repairs) if self.filter == "ukf" else {}), input_meta=rec.meta,
+        )  # fmt: skip
+        return record_result(
+            res, list(self.horizons), hz, rec.truth, params, rec.chips.shape, rec.m_rho,
+            candidates=self.candidates, threshold=self.threshold,
+        )  # fmt: skip

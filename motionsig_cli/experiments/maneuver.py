@@ -1,90 +1,139 @@
-"""The seed-002 scenario and its Monte Carlo: a target that turns twice, Cartesian position measurements, and
-four trackers on the same runs — the IMM of three Kalman filters, the GLR and MLR input-estimation trackers,
-and the constant-velocity Kalman filter they start from (spec §3.1–§3.6).
+"""The maneuvering-target scenario of Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK Modulated
+JRC System* ("the paper"), and its Monte Carlo: a target that turns twice, position measurements, and four
+trackers on the same runs — the IMM of three Kalman filters, the GLR and MLR input-estimation trackers, and
+the constant-velocity Kalman filter they start from.
 
-Scans are numbered k = 1..N as in the seed. Interval k covers (t_k, t_{k+1}]; the input u(k) is held over it:
-p(k+1) = p(k) + v(k)T + ½u(k)T², v(k+1) = v(k) + u(k)T (exact constant-acceleration kinematics). Every
+Scans are numbered k = 1..N as in the paper. Interval k covers (t_k, t_{k+1}]; the input u(k) is held over
+it: p(k+1) = p(k) + v(k)T + ½u(k)T², v(k+1) = v(k) + u(k)T (exact constant-acceleration kinematics). Every
 tracker initialises by two-point differencing at scan 2, so estimates start at scan 3.
 
-Run r draws only from ``trial_rng(seed, r)``: the standard-normal measurement errors w_r (N, 2), scaled by σ.
-Every σ and every method therefore sees the same w_r (common random numbers), and a result does not depend on
-the number of runs, their order or how they are chunked.
+**Measurements.** A :class:`MeasurementSource` turns the truth into the records the trackers see; the
+sources are registered in :data:`SOURCES` (today ``gaussian``: true position + N(0, σ²) Cartesian noise per
+axis, :class:`GaussianPositions`). Run r draws only from ``trial_rng(seed, r)``, its seed child: every σ and
+every method therefore sees the same draws (common random numbers), and a result does not depend on the
+number of runs, their order or how they are chunked.
 
-The Monte Carlo (:class:`MCJob`) runs on the engine (:mod:`motionsig_cli.engine`): a task is a chunk of
-consecutive runs at one σ (:func:`mc_task` returns the chunk's error sums and declarations), chunks are sized
-from :func:`cost` only, and :func:`mc_reduce` adds the partial sums in task order — so a result is
-byte-identical on 1 worker, N workers or a Dask cluster.
+**Monte Carlo.** :class:`ManeuverJob` implements :class:`motionsig_cli.engine.MonteCarloJob`: a task is a
+chunk of consecutive runs at one σ (:meth:`ManeuverJob.run_task` returns the chunk's error sums and
+declarations), chunks are sized from :func:`cost` only, and :meth:`ManeuverJob.reduce` adds the partial sums
+in task order — so a result is byte-identical on 1 worker, N workers or a Dask cluster.
+
+**Reports.** :class:`ManeuverStudy` is what the command asks for (a job and a view of its results);
+:func:`report` turns the job's result into the table (per scan, per input change or one summary row per σ and
+method), the one-line summary and the figures' data. :func:`measurement_table` writes the simulated records
+and :func:`track_record` tracks one record read from a file.
 """
 
 from __future__ import annotations
 
 import contextlib
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import asdict, dataclass, field
-from functools import partial
-from typing import Any
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from motionsig_cli.detection.glr import CHI2_2_999, GLRConfig, InputModel, input_tracker
-from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
+from motionsig_cli.config import ConfigError, in_range, integer, one_of
+from motionsig_cli.detection.glr import (
+    CHI2_2_999,
+    CONTINUATIONS,
+    CORRECTIONS,
+    SIGMA_U_RANGE,
+    WINDOW_RANGE,
+    GLRConfig,
+    InputModel,
+    input_tracker,
+)
+from motionsig_cli.engine import Engine, run_job, tasks_of, trials_per_task
+from motionsig_cli.errors import InputError
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.models.motion import (
+    G2_FORMS,
     H_POS4,
     H_POS6,
     MU0_PAPER,
     PI_PAPER,
+    Q0_RANGE,
+    Q_PAPER,
+    check_distribution,
+    check_transition,
     cv_input_model,
     imm_models,
     two_point_init,
 )
 from motionsig_cli.rng import trial_rng
+from motionsig_cli.tables import Table, make_meta
 
 __all__ = [
     "METHODS",
     "PRESETS",
+    "SOURCES",
+    "VIEWS",
     "DetectionSummary",
     "ErrorStats",
-    "MCJob",
+    "GaussianPositions",
     "MCPartial",
     "MCResult",
+    "ManeuverJob",
+    "ManeuverReport",
     "ManeuverScenario",
+    "ManeuverStudy",
+    "MeasurementSource",
     "SingularCovariance",
     "TrackerConfig",
     "Tracks",
     "detection_summary",
     "error_stats",
-    "mc_reduce",
-    "mc_task",
+    "measurement_source",
+    "measurement_table",
     "measurements",
     "monte_carlo",
+    "report",
     "run_trackers",
     "track",
+    "track_record",
 ]
 
 METHODS = ("imm", "glr", "mlr", "cv")
 """Trackers: IMM (§IV), GLR and MLR input estimation (§II–III), and the constant-velocity KF (no detection)."""
 PRESETS = ("literal", "turn90")
+VIEWS = ("scans", "events", "summary")
+"""Tables of a Monte Carlo: per scan, per true input change, one summary row per σ and method."""
 FIRST_SCAN = 3
 """First filtered scan (two-point initialisation at scan 2)."""
 T_RANGE = (1e-3, 3600.0)
 """Scan periods accepted [s] (below 1 ms the two-point covariance 2σ²/T² leaves the range of doubles)."""
+SCANS_RANGE = (3, 100_000)
+"""Scans per run: two initialise the trackers; 100 000 (28 h at T = 1 s) keeps one task's arrays ~1 GB."""
+SIGMA_RANGE = (1e-3, 1e7)
+"""Measurement noise σ per axis [m]: 1 mm to 10 000 km covers every sensor (σ² stays a normal double)."""
+MAX_SIGMAS = 10
+"""Most σ values in one Monte Carlo."""
+RUNS_RANGE = (1, 1_000_000)
+"""Monte Carlo runs (every run's declarations are kept for the detection statistics)."""
+RESPONSE_RANGE = (1, 10_000)
+"""Response window W [scans]: a declaration needs at least the scan after the change; 10 000 scans is far longer
+than any maneuver's transient (declarations are then told apart by their estimated onsets alone)."""
 MAX_SECONDS = 600.0
-"""Largest estimated run time accepted by the command layer."""
+"""Largest estimated run time of a :class:`ManeuverStudy`."""
+MAX_MEASUREMENT_ROWS = 1_000_000
+"""Largest table of simulated records (:func:`measurement_table`)."""
+MAX_COORD = 1e9
+"""Largest |measurement| accepted from a record [m] (a million km; squares stay far from overflow)."""
 
 
 @dataclass(frozen=True)
 class ManeuverScenario:
-    """Trajectory of spec §3.5.
+    """The paper's trajectory (§V).
 
     Attributes:
         preset: ``literal`` (as printed: v(1) = (0, 450) m/s, u = (20, 20) m/s² on scans [200, 300),
             (3, 3) on [305, 330)) or ``turn90`` (exact 90° turns in the same windows: v(1) = (0, −450),
             u₁ = 450/(100T)·(1, 1), u₂ = −450/(25T)·(1, 1)).
-        T: scan period [s] (not given by the seed: 1 s).
-        scans: N (seed: 450).
-        p0: initial position [m] (assumption: the origin).
+        T: scan period [s], in :data:`T_RANGE` (assumed: 1 s; the paper does not state it).
+        scans: N (paper: 450), in :data:`SCANS_RANGE`.
+        p0: initial position [m] (assumed: the origin; the paper does not state it).
     """
 
     preset: str = "literal"
@@ -95,14 +144,11 @@ class ManeuverScenario:
     v0: tuple[float, float] = field(init=False)
 
     def __post_init__(self) -> None:
-        if self.preset not in PRESETS:
-            raise ValueError(f"preset {self.preset!r} is not one of {', '.join(PRESETS)}")
-        if not (math.isfinite(self.T) and T_RANGE[0] <= self.T <= T_RANGE[1]):
-            raise ValueError(f"scan period T = {self.T:g} must be in [{T_RANGE[0]:g}, {T_RANGE[1]:g}] s")
-        if not 3 <= self.scans <= 1_000_000:
-            raise ValueError(f"scans = {self.scans} must be in [3, 1e6] (two scans initialise the trackers)")
-        if not all(math.isfinite(v) for v in self.p0):
-            raise ValueError("the initial position must be finite")
+        one_of("preset", self.preset, PRESETS)
+        in_range("T", self.T, *T_RANGE, unit="s")
+        integer("scans", self.scans, *SCANS_RANGE)
+        if len(self.p0) != 2 or not all(math.isfinite(v) for v in self.p0):
+            raise ConfigError("p0", self.p0, "is not a finite position (x, y)")
         if self.preset == "literal":
             segs = ((200, 300, 20.0, 20.0), (305, 330, 3.0, 3.0))
             v0 = (0.0, 450.0)
@@ -153,7 +199,24 @@ class ManeuverScenario:
 
 @dataclass(frozen=True)
 class TrackerConfig:
-    """Tracker settings (spec §3.2–§3.4 defaults; the [ASSUMPTION]s are options)."""
+    """Tracker settings (the paper's values where it gives them; the assumptions are options).
+
+    Attributes:
+        g2: form of G₂ = G₃, one of :data:`~motionsig_cli.models.motion.G2_FORMS`.
+        Pi, mu0: IMM transition matrix (3 × 3, rows non-negative summing to 1) and initial model
+            probabilities (3, non-negative, summing to 1).
+        q0: acceleration psd q̃₀ of the GLR/MLR/CV filter [m²/s³], in
+            :data:`~motionsig_cli.models.motion.Q0_RANGE` ([0, 1e6]: 0 is the exact CV model; 1e6 m²/s³, a
+            velocity random walk of 1 km/s in one second, is far beyond any vehicle).
+        window: GLR/MLR onset window s [scans], in :data:`~motionsig_cli.detection.glr.WINDOW_RANGE`.
+        glr_threshold: GLR threshold λ on ΔJ, a finite number ≥ 0 (ΔJ is never negative; the ``cv`` method
+            is the tracker that never declares).
+        mlr_threshold: MLR threshold h on max_n J(n), any finite number (J is a log-likelihood ratio and
+            may be negative; the paper's h is 0).
+        sigma_u: MLR prior standard deviation σ_u of each input [m/s²], in
+            :data:`~motionsig_cli.detection.glr.SIGMA_U_RANGE`.
+        correction, continuation: see :class:`~motionsig_cli.detection.glr.GLRConfig`.
+    """
 
     g2: str = "paper-fixed"
     Pi: tuple[tuple[float, ...], ...] = PI_PAPER
@@ -166,20 +229,107 @@ class TrackerConfig:
     correction: str = "exact"
     continuation: str = "estimate"
 
+    def __post_init__(self) -> None:
+        one_of("g2", self.g2, G2_FORMS)
+        Pi = check_transition("Pi", self.Pi, r=3)
+        mu0 = check_distribution("mu0", self.mu0, r=3)
+        object.__setattr__(self, "Pi", tuple(tuple(row) for row in Pi.tolist()))
+        object.__setattr__(self, "mu0", tuple(mu0.tolist()))
+        in_range("q0", self.q0, *Q0_RANGE, unit="m²/s³")
+        integer("window", self.window, *WINDOW_RANGE)
+        if not (isinstance(self.glr_threshold, int | float) and math.isfinite(self.glr_threshold)
+                and self.glr_threshold >= 0):  # fmt: skip
+            raise ConfigError(
+                "glr_threshold", self.glr_threshold, "is not a finite number >= 0 (ΔJ is never negative)"
+            )
+        in_range("mlr_threshold", self.mlr_threshold)
+        in_range("sigma_u", self.sigma_u, *SIGMA_U_RANGE, unit="m/s²")
+        one_of("correction", self.correction, CORRECTIONS)
+        one_of("continuation", self.continuation, CONTINUATIONS)
+
     def glr(self, method: str) -> GLRConfig:
+        """The detector of ``method`` (``glr``, ``mlr`` or ``none``: the CV filter)."""
         thr = {"glr": self.glr_threshold, "mlr": self.mlr_threshold, "none": math.inf}[method]
         return GLRConfig(method=method, window=self.window, threshold=thr, sigma_u=self.sigma_u,
                          correction=self.correction, continuation=self.continuation)  # fmt: skip
 
+    def meta(self) -> dict[str, Any]:
+        """The detector settings as a record's provenance names them."""
+        return {"q0": self.q0, "window": self.window, "glr_threshold": self.glr_threshold,
+                "mlr_threshold": self.mlr_threshold, "sigma_u": self.sigma_u, "correction": self.correction,
+                "continuation": self.continuation, "g2": self.g2}  # fmt: skip
 
-def measurements(sc: ManeuverScenario, sigma: float, runs: Sequence[int], seed: int) -> np.ndarray:
-    """z (B, N, 2) = truth position + σ w_r, w_r from ``trial_rng(seed, r)`` (spec §3.1)."""
-    if not (math.isfinite(sigma) and sigma > 0):
-        raise ValueError(f"sigma = {sigma:g} must be a finite number > 0")
-    pos = sc.truth()[:, [0, 2]]
-    w = np.stack([trial_rng(seed, int(r)).standard_normal((sc.scans, 2)) for r in runs]) if len(runs) else (
-        np.zeros((0, sc.scans, 2)))  # fmt: skip
-    return pos[None] + sigma * w
+
+def _check_sigma(field_name: str, sigma: float) -> float:
+    return in_range(field_name, sigma, *SIGMA_RANGE, unit="m")
+
+
+def _check_methods(methods: Sequence[str]) -> None:
+    if not methods:
+        raise ConfigError("methods", tuple(methods), f"is empty; choose from {', '.join(METHODS)}")
+    for m in methods:
+        one_of("methods", m, METHODS)
+
+
+# ------------------------------------------------------------------------------- measurement sources
+class MeasurementSource(Protocol):
+    """What feeds the trackers: the measurement records of a batch of runs, made from the truth.
+
+    A source draws run r's randomness only from the generator it gets for that run (``trial_rng(seed, r)``,
+    the run's seed child), so run r's record does not depend on the other runs. Register a new source in
+    :data:`SOURCES`.
+    """
+
+    name: ClassVar[str]
+    seeding: ClassVar[str]
+    """How run r's draws are made (the tables' provenance)."""
+
+    def measure(self, truth: np.ndarray, sigma: float, rngs: Sequence[np.random.Generator]) -> np.ndarray:
+        """Position measurements z (B, N, 2) of B runs at scans 1..N.
+
+        Args:
+            truth: (N, 4) true states [x, ẋ, y, ẏ] at scans 1..N.
+            sigma: measurement noise σ per axis [m] (the trackers assume R = σ² I).
+            rngs: one generator per run, the run's seed child.
+        """
+        ...
+
+
+@dataclass(frozen=True)
+class GaussianPositions:
+    """Cartesian position measurements: z = true position + σ w, w ~ N(0, I) (N, 2) per run (§V)."""
+
+    name: ClassVar[str] = "gaussian"
+    seeding: ClassVar[str] = (
+        "run r draws w_r ~ N(0, I) (scans x 2) from SeedSequence(seed).spawn(...)[r]; z = truth + σ w_r "
+        "(the same w_r for every σ and method)"
+    )
+
+    def measure(self, truth: np.ndarray, sigma: float, rngs: Sequence[np.random.Generator]) -> np.ndarray:
+        """z (B, N, 2) = truth position + σ w_r, w_r = ``rngs[r].standard_normal((N, 2))``."""
+        n = truth.shape[0]
+        pos = truth[:, [0, 2]]
+        w = np.stack([g.standard_normal((n, 2)) for g in rngs]) if len(rngs) else np.zeros((0, n, 2))
+        return pos[None] + sigma * w
+
+
+SOURCES: dict[str, MeasurementSource] = {s.name: s for s in (GaussianPositions(),)}
+"""The measurement sources by name: add a member here."""
+
+
+def measurement_source(name: str) -> MeasurementSource:
+    """The registered source ``name`` (:class:`ConfigError` on ``source`` if there is none)."""
+    return SOURCES[one_of("source", name, tuple(SOURCES))]
+
+
+def measurements(
+    sc: ManeuverScenario, sigma: float, runs: Sequence[int], seed: int, source: str = "gaussian"
+) -> np.ndarray:
+    """z (B, N, 2) of runs ``runs`` from ``source`` (default: truth position + σ w_r, w_r from
+    ``trial_rng(seed, r)``)."""
+    _check_sigma("sigma", sigma)
+    src = measurement_source(source)
+    return src.measure(sc.truth(), sigma, [trial_rng(seed, int(r)) for r in runs])
 
 
 @dataclass(frozen=True)
@@ -209,8 +359,7 @@ class Tracks:
 
 def track(method: str, z: np.ndarray, T: float, sigma: float, cfg: TrackerConfig) -> Tracks:
     """Run one tracker on measurement records z (B, N, 2) of scans 1..N."""
-    if method not in METHODS:
-        raise ValueError(f"method {method!r} is not one of {', '.join(METHODS)}")
+    one_of("method", method, METHODS)
     z = np.asarray(z, float)
     if z.ndim != 3 or z.shape[1] < 3 or z.shape[2] != 2:
         raise ValueError(f"z must be (runs, scans >= 3, 2); got shape {z.shape}")
@@ -239,9 +388,10 @@ def run_trackers(
     seed: int,
     methods: Sequence[str],
     cfg: TrackerConfig,
+    source: str = "gaussian",
 ) -> dict[str, Tracks]:
-    """All requested trackers on the same runs."""
-    z = measurements(sc, sigma, runs, seed)
+    """All requested trackers on the same runs (measurements from ``source``)."""
+    z = measurements(sc, sigma, runs, seed, source)
     return {m: track(m, z, sc.T, sigma, cfg) for m in methods}
 
 
@@ -263,30 +413,54 @@ class MCResult:
     onset: np.ndarray | None
 
 
-class SingularCovariance(np.linalg.LinAlgError):
-    """A covariance stopped being positive definite in floating point at this σ (a bad σ/T combination).
-    Picklable (``args == (sigma,)``), so it crosses process boundaries intact."""
+class SingularCovariance(ConfigError, np.linalg.LinAlgError):
+    """A covariance stopped being positive definite in floating point at this σ: a bad σ/T combination,
+    reported as a bad ``sigma``. Picklable, so it crosses process boundaries intact."""
 
-    def __init__(self, sigma: float) -> None:
-        super().__init__(sigma)
-        self.sigma = sigma
+    def __init__(self, sigma: float, T: float) -> None:
+        super().__init__(
+            "sigma",
+            sigma,
+            f"m is too small for the motion over T = {T:g} s: the innovation covariance is numerically "
+            "singular (increase σ or decrease T)",
+        )
+        self.sigma, self.T = sigma, T
 
-    def __str__(self) -> str:
-        return f"numerically singular covariance at sigma = {self.sigma:g}"
+    def __reduce__(self) -> tuple[type[SingularCovariance], tuple[float, float]]:
+        return SingularCovariance, (self.sigma, self.T)
+
+
+@contextlib.contextmanager
+def _numerics(sigma: float, T: float) -> Iterator[None]:
+    """A covariance that stops being positive definite in floating point is a bad σ/T combination, not a bug."""
+    try:
+        yield
+    except np.linalg.LinAlgError as exc:
+        if isinstance(exc, SingularCovariance):
+            raise
+        raise SingularCovariance(sigma, T) from None
 
 
 @dataclass(frozen=True)
-class MCJob:
-    """A Monte Carlo: runs 0..runs−1 of every σ, tracked by ``methods``.
+class ManeuverJob:
+    """A Monte Carlo (a :class:`~motionsig_cli.engine.MonteCarloJob`): runs 0..runs−1 of every σ, measured
+    by ``source`` and tracked by ``methods``.
 
     A task is ``(σ index, range of runs)``; :meth:`tasks` chunks the runs into tasks of :meth:`runs_per_task`
     runs (``chunk``, or from the cost model), never from the number of workers, so the floating-point sums —
-    added in task order by :func:`mc_reduce` — are the same however the tasks are spread.
+    added in task order by :meth:`reduce` — are the same however the tasks are spread.
 
     Attributes:
+        sigmas: measurement noise σ per axis [m], each in :data:`SIGMA_RANGE`, at most :data:`MAX_SIGMAS`.
+        runs: Monte Carlo runs, in :data:`RUNS_RANGE`.
+        seed: root seed (≥ 0); run r draws from ``trial_rng(seed, r)``.
+        methods: trackers, among :data:`METHODS`.
+        source: the measurement source, a key of :data:`SOURCES`.
         chunk: runs per task (None: from :func:`cost`).
-        quiet_fp: run the trackers under ``np.errstate(all="ignore")`` (in the worker, where it matters).
+        quiet_fp: run the trackers and the reduction under ``np.errstate(all="ignore")``.
     """
+
+    name: ClassVar[str] = "maneuver"
 
     sc: ManeuverScenario
     sigmas: tuple[float, ...]
@@ -294,18 +468,23 @@ class MCJob:
     seed: int
     methods: tuple[str, ...]
     cfg: TrackerConfig
+    source: str = "gaussian"
     chunk: int | None = None
     quiet_fp: bool = False
 
     def __post_init__(self) -> None:
-        if self.runs < 1:
-            raise ValueError("at least one run")
         if not self.sigmas:
-            raise ValueError("at least one sigma")
-        if not self.methods or any(m not in METHODS for m in self.methods):
-            raise ValueError(f"methods must be among {', '.join(METHODS)}; got {self.methods!r}")
-        if self.chunk is not None and self.chunk < 1:
-            raise ValueError("chunk must be >= 1")
+            raise ConfigError("sigmas", tuple(self.sigmas), "is empty; give at least one σ")
+        if len(self.sigmas) > MAX_SIGMAS:
+            raise ConfigError("sigmas", tuple(self.sigmas), f"has more than {MAX_SIGMAS} values")
+        for s in self.sigmas:
+            _check_sigma("sigmas", s)
+        integer("runs", self.runs, *RUNS_RANGE)
+        integer("seed", self.seed, 0)
+        _check_methods(self.methods)
+        measurement_source(self.source)
+        if self.chunk is not None:
+            integer("chunk", self.chunk, 1)
 
     def runs_per_task(self) -> int:
         """``chunk``, or runs per task worth at least the engine's minimum task time *and* 4× the per-batch
@@ -322,6 +501,10 @@ class MCJob:
         per_task = self.runs_per_task()
         return [(i, r) for i in range(len(self.sigmas)) for r in tasks_of(self.runs, per_task)]
 
+    def task_size(self, task: tuple[int, range]) -> int:
+        """Runs in ``task``."""
+        return len(task[1])
+
     def identity(self) -> dict[str, Any]:
         """Everything the task results depend on (JSON values), for a checkpoint's manifest."""
         return {
@@ -336,8 +519,69 @@ class MCJob:
             "seed": self.seed,
             "methods": list(self.methods),
             "tracker": asdict(self.cfg),
+            "source": self.source,
             "runs_per_task": self.runs_per_task(),
         }
+
+    def _fp(self) -> contextlib.AbstractContextManager[Any]:
+        return np.errstate(all="ignore") if self.quiet_fp else contextlib.nullcontext()
+
+    def run_task(self, task: tuple[int, range]) -> dict[str, MCPartial]:
+        """Every tracker on the task's runs at σ = ``sigmas[i]``: per tracker, the sums of the errors."""
+        i, runs = task
+        sigma = self.sigmas[i]
+        truth = self.sc.truth()[FIRST_SCAN - 1 :, [0, 2]]
+        with _numerics(sigma, self.sc.T), self._fp():
+            tracks = run_trackers(self.sc, sigma, runs, self.seed, self.methods, self.cfg, self.source)
+            out = {}
+            for m, tr in tracks.items():
+                err = truth[None] - tr.pos
+                out[m] = MCPartial(
+                    err.sum(axis=0),
+                    (err * err).sum(axis=0),
+                    None if tr.mu is None else tr.mu.sum(axis=0),
+                    tr.pos[0] if runs.start == 0 and len(runs) else None,
+                    tr.detected,
+                    tr.onset,
+                )
+        return out
+
+    def reduce(
+        self, tasks: Sequence[tuple[int, range]], results: Sequence[dict[str, MCPartial]]
+    ) -> dict[float, dict[str, MCResult]]:
+        """Per σ and tracker, the Monte Carlo result: the tasks' sums added in task order (eqs 14–15)."""
+        per_sigma: list[list[dict[str, MCPartial]]] = [[] for _ in self.sigmas]
+        for (i, _), part in zip(tasks, results, strict=True):
+            per_sigma[i].append(part)
+        with self._fp():
+            return {
+                sigma: {m: self._result([part[m] for part in parts]) for m in self.methods}
+                for sigma, parts in zip(self.sigmas, per_sigma, strict=True)
+            }
+
+    def _result(self, parts: Sequence[MCPartial]) -> MCResult:
+        """One tracker's result at one σ from its tasks' sums, in task order."""
+        n = self.runs
+        n_scan = self.sc.scans - FIRST_SCAN + 1
+        s1, s2 = np.zeros((n_scan, 2)), np.zeros((n_scan, 2))
+        mu = track0 = None
+        det, on = [], []
+        for p in parts:
+            s1 += p.s1
+            s2 += p.s2
+            if p.mu is not None:
+                mu = p.mu if mu is None else mu + p.mu
+            if track0 is None:
+                track0 = p.track0
+            if p.detected is not None:
+                det.append(p.detected)
+                on.append(p.onset)
+        mean = s1 / n  # eq (14)
+        msq = s2 / n
+        sd = np.sqrt(np.maximum(msq - mean * mean, 0.0))  # eq (15)
+        stats = ErrorStats(np.arange(FIRST_SCAN, self.sc.scans + 1), mean, sd, np.sqrt(msq.sum(axis=1)))
+        return MCResult(stats, track0, None if mu is None else mu / n,
+                        np.concatenate(det) if det else None, np.concatenate(on) if on else None)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -359,66 +603,6 @@ class MCPartial:
     onset: np.ndarray | None
 
 
-def mc_task(job: MCJob, task: tuple[int, range]) -> dict[str, MCPartial]:
-    """One task (module level: picklable): every tracker on the task's runs at σ = ``job.sigmas[i]``."""
-    i, runs = task
-    sigma = job.sigmas[i]
-    truth = job.sc.truth()[FIRST_SCAN - 1 :, [0, 2]]
-    try:
-        with np.errstate(all="ignore") if job.quiet_fp else contextlib.nullcontext():
-            tracks = run_trackers(job.sc, sigma, runs, job.seed, job.methods, job.cfg)
-            out = {}
-            for m, tr in tracks.items():
-                err = truth[None] - tr.pos
-                out[m] = MCPartial(
-                    err.sum(axis=0),
-                    (err * err).sum(axis=0),
-                    None if tr.mu is None else tr.mu.sum(axis=0),
-                    tr.pos[0] if runs.start == 0 and len(runs) else None,
-                    tr.detected,
-                    tr.onset,
-                )
-    except np.linalg.LinAlgError:
-        raise SingularCovariance(sigma) from None
-    return out
-
-
-def mc_reduce(
-    job: MCJob, tasks: Sequence[tuple[int, range]], partials: Sequence[dict[str, MCPartial]]
-) -> dict[float, dict[str, MCResult]]:
-    """Per σ and tracker, the Monte Carlo result: the tasks' sums added in task order (eqs 14–15)."""
-    per_sigma: list[list[dict[str, MCPartial]]] = [[] for _ in job.sigmas]
-    for (i, _), part in zip(tasks, partials, strict=True):
-        per_sigma[i].append(part)
-    n = job.runs
-    n_scan = job.sc.scans - FIRST_SCAN + 1
-    out: dict[float, dict[str, MCResult]] = {}
-    for sigma, parts in zip(job.sigmas, per_sigma, strict=True):
-        res = {}
-        for m in job.methods:
-            s1, s2 = np.zeros((n_scan, 2)), np.zeros((n_scan, 2))
-            mu = track0 = None
-            det, on = [], []
-            for p in (part[m] for part in parts):
-                s1 += p.s1
-                s2 += p.s2
-                if p.mu is not None:
-                    mu = p.mu if mu is None else mu + p.mu
-                if track0 is None:
-                    track0 = p.track0
-                if p.detected is not None:
-                    det.append(p.detected)
-                    on.append(p.onset)
-            mean = s1 / n  # eq (14)
-            msq = s2 / n
-            sd = np.sqrt(np.maximum(msq - mean * mean, 0.0))  # eq (15)
-            stats = ErrorStats(np.arange(FIRST_SCAN, job.sc.scans + 1), mean, sd, np.sqrt(msq.sum(axis=1)))
-            res[m] = MCResult(stats, track0, None if mu is None else mu / n,
-                              np.concatenate(det) if det else None, np.concatenate(on) if on else None)  # fmt: skip
-        out[sigma] = res
-    return out
-
-
 def monte_carlo(
     sc: ManeuverScenario,
     sigma: float,
@@ -430,24 +614,14 @@ def monte_carlo(
     chunk: int = 250,
     on_chunk: Callable[[int], None] | None = None,
     engine: Engine | None = None,
+    source: str = "gaussian",
 ) -> dict[str, MCResult]:
-    """Runs 0..n_runs−1 in chunks of ``chunk`` runs (memory stays bounded) on ``engine`` (default: in this
-    process); sums of errors are accumulated in chunk order, so the result does not depend on the engine, and
-    on the chunk size only through floating-point summation order. ``on_chunk`` gets each finished chunk's
-    number of runs."""
-    if n_runs < 1:
-        raise ValueError("at least one run")
-    job = MCJob(sc, (sigma,), n_runs, seed, tuple(methods), cfg, chunk=chunk)
-    tasks = job.tasks()
-    partials = run_tasks(
-        partial(mc_task, job),
-        tasks,
-        Engine() if engine is None else engine,
-        sizes=[len(r) for _, r in tasks],
-        progress=on_chunk,
-        identity={"command": "maneuver", **job.identity()},
-    )
-    return mc_reduce(job, tasks, partials)[sigma]
+    """Runs 0..n_runs−1 at one σ in chunks of ``chunk`` runs (memory stays bounded) on ``engine`` (default:
+    in this process); sums of errors are accumulated in chunk order, so the result does not depend on the
+    engine, and on the chunk size only through floating-point summation order. ``on_chunk`` gets each
+    finished chunk's number of runs."""
+    job = ManeuverJob(sc, (sigma,), n_runs, seed, tuple(methods), cfg, source=source, chunk=chunk)
+    return run_job(job, engine, progress=on_chunk)[sigma]
 
 
 def cost(scans: int, runs: int, methods: Sequence[str], n_sigma: int) -> float:
@@ -517,8 +691,7 @@ def detection_summary(
     one nearest to n̂ (ties to the later change): two changes a few scans apart (the end of turn 1 at 300 and
     the start of turn 2 at 305) are then told apart by the estimated onset, not by the declaration scan.
     """
-    if response < 1:
-        raise ValueError("the response window must be at least 1 scan")
+    integer("response", response, *RESPONSE_RANGE)
     M = detected.shape[0]
     scans = np.arange(FIRST_SCAN, sc.scans + 1)
     ev = sc.events()
@@ -553,3 +726,318 @@ def detection_summary(
     se = float(per_run.std(ddof=1) / math.sqrt(M) / n_quiet) if (n_quiet and M > 1) else math.nan
     other = float((detected & (owner < 0) & ~quiet[None]).sum() / M)
     return DetectionSummary(rows, 1000 * rate, 1000 * se, n_quiet, other, response)
+
+
+# ------------------------------------------------------------------------------------------ reports
+@dataclass(frozen=True)
+class ManeuverStudy:
+    """What the command asks for: the Monte Carlo ``job`` and the view of its results.
+
+    Attributes:
+        view: one of :data:`VIEWS`; ``events`` needs ``glr`` or ``mlr`` among the job's methods.
+        response: W [scans], in :data:`RESPONSE_RANGE`: a declaration at scan k can be attributed to a
+            change n with n < k ≤ n + W (:func:`detection_summary`).
+        max_seconds: the largest estimated run time (:func:`cost`) accepted.
+    """
+
+    job: ManeuverJob
+    view: str = "scans"
+    response: int = 30
+    max_seconds: float = MAX_SECONDS
+
+    def __post_init__(self) -> None:
+        one_of("view", self.view, VIEWS)
+        integer("response", self.response, *RESPONSE_RANGE)
+        job = self.job
+        if self.view == "events" and not {"glr", "mlr"} & set(job.methods):
+            raise ConfigError("view", self.view, "needs glr or mlr among the methods")
+        seconds = cost(job.sc.scans, job.runs, job.methods, len(job.sigmas))
+        if seconds > self.max_seconds:
+            raise ConfigError(
+                "runs",
+                job.runs,
+                f"runs need an estimated {seconds:.0f} s ({job.sc.scans} scans x {len(job.sigmas)} σ x "
+                f"{len(job.methods)} methods); the limit is {self.max_seconds:.0f} s",
+            )
+
+
+@dataclass(frozen=True)
+class ManeuverReport:
+    """A study's results for people: the table, a one-line summary and the figures' data.
+
+    Attributes:
+        table: the view's table with its provenance.
+        note: the RMS position error of every σ and method, one line.
+        track_figure: keyword arguments of :func:`motionsig_cli.plotting.maneuver_figure` (the first
+            method: Figs 2–4 of the paper and the IMM model probabilities).
+        compare_figure: keyword arguments of :func:`motionsig_cli.plotting.maneuver_comparison_figure`.
+    """
+
+    table: Table
+    note: str
+    track_figure: dict[str, Any]
+    compare_figure: dict[str, Any]
+
+
+def _cell(v: float | None) -> float | None:
+    """An undefined statistic (no detection, one run) is an empty cell, not 'nan'."""
+    return None if v is None or (isinstance(v, float) and math.isnan(v)) else v
+
+
+def _phase_rms(sc: ManeuverScenario, st: ErrorStats) -> list[float]:
+    """RMS position error over each phase of :meth:`ManeuverScenario.phases`."""
+    out = []
+    for _, a, b in sc.phases():
+        sel = (st.scan >= a) & (st.scan < b)
+        out.append(float(np.sqrt(np.mean(st.rms[sel] ** 2))) if sel.any() else math.nan)
+    return out
+
+
+Results = dict[float, dict[str, MCResult]]
+Rows = tuple[tuple[str, ...], list[tuple[Any, ...]]]
+
+
+def _scan_rows(sc: ManeuverScenario, results: Results, methods: Sequence[str], response: int) -> Rows:
+    """Per σ, method and scan: eqs (14)–(15), the RMS error, mean model probabilities, declaration rate."""
+    cols = ("sigma", "method", "scan", "ebar_x", "ebar_y", "sd_x", "sd_y", "rms_pos", "mu_1", "mu_2", "mu_3",
+            "declared")  # fmt: skip
+    rows: list[tuple[Any, ...]] = []
+    for s, r in results.items():
+        for m in methods:
+            st, mu, det = r[m].stats, r[m].mu, r[m].detected
+            rate = det.mean(axis=0) if det is not None else None
+            for i, k in enumerate(st.scan):
+                rows.append((s, m, int(k), float(st.mean[i, 0]), float(st.mean[i, 1]), float(st.sd[i, 0]),
+                             float(st.sd[i, 1]), float(st.rms[i]),
+                             *((float(v) for v in mu[i]) if mu is not None else (None, None, None)),
+                             float(rate[i]) if rate is not None else None))  # fmt: skip
+    return cols, rows
+
+
+def _event_rows(sc: ManeuverScenario, results: Results, methods: Sequence[str], response: int) -> Rows:
+    """Per σ, detecting method and true input change: detection fraction, delay and onset error."""
+    cols = ("sigma", "method", "onset_scan", "du_x", "du_y", "runs", "detected", "mean_delay", "median_delay",
+            "mean_onset_error", "rms_onset_error")  # fmt: skip
+    rows: list[tuple[Any, ...]] = []
+    for s, r in results.items():
+        for m in methods:
+            if r[m].detected is None:
+                continue
+            d = detection_summary(sc, r[m].detected, r[m].onset, response)
+            n_runs = r[m].detected.shape[0]
+            for n, du, frac, md, med, oe, roe in d.events:
+                rows.append((s, m, n, du[0], du[1], n_runs, frac, *map(_cell, (md, med, oe, roe))))
+    return cols, rows
+
+
+def _summary_rows(sc: ManeuverScenario, results: Results, methods: Sequence[str], response: int) -> Rows:
+    """One row per σ and method: RMS error per phase, false alarms, detection and delay of each change."""
+    names = [p for p, _, _ in sc.phases()]
+    ev = sc.events()
+    cols = ("sigma", "method", *(f"rms_{p.replace(' ', '')}" for p in names), "false_alarms_per_1000",
+            "false_alarms_se", "quiet_scans", "other_per_run",
+            *(f"detected_{n}" for n, _ in ev), *(f"delay_{n}" for n, _ in ev))  # fmt: skip
+    rows: list[tuple[Any, ...]] = []
+    for s, r in results.items():
+        for m in methods:
+            ph = _phase_rms(sc, r[m].stats)
+            if r[m].detected is None:
+                rows.append((s, m, *ph, None, None, None, None, *(None for _ in ev), *(None for _ in ev)))
+                continue
+            d = detection_summary(sc, r[m].detected, r[m].onset, response)
+            rows.append((s, m, *map(_cell, ph), _cell(d.false_alarms_per_1000), _cell(d.false_alarms_se),
+                         d.quiet_scans, d.other, *(e[2] for e in d.events), *(_cell(e[3]) for e in d.events)))  # fmt: skip
+    return cols, rows
+
+
+_VIEW_ROWS: dict[str, Callable[[ManeuverScenario, Results, Sequence[str], int], Rows]] = {
+    "scans": _scan_rows,
+    "events": _event_rows,
+    "summary": _summary_rows,
+}
+
+
+def report(study: ManeuverStudy, results: Results) -> ManeuverReport:
+    """The table of ``study.view``, its provenance, the summary line and the figures' data, from the job's
+    result (:meth:`ManeuverJob.reduce`)."""
+    job = study.job
+    sc, cfg, methods = job.sc, job.cfg, job.methods
+    ms = imm_models(sc.T, g2=cfg.g2, Pi=np.asarray(cfg.Pi), mu0=np.asarray(cfg.mu0))
+    cols, rows = _VIEW_ROWS[study.view](sc, results, methods, study.response)
+    meta = make_meta(
+        "maneuver",
+        view=study.view,
+        methods=list(methods),
+        sigma=list(job.sigmas),
+        runs=job.runs,
+        seed=job.seed,
+        seeding=measurement_source(job.source).seeding,
+        scenario={
+            "preset": sc.preset,
+            "T": sc.T,
+            "scans": sc.scans,
+            "p0": list(sc.p0),
+            "v0": list(sc.v0),
+            "segments [from, to) scans, u_x, u_y": [list(x) for x in sc.segments],
+            "kinematics": "exact constant acceleration over each interval; noise-free truth",
+        },
+        imm={
+            "G2": cfg.g2,
+            "transition": ms.Pi.tolist(),
+            "mu0": ms.mu0.tolist(),
+            "Q": list(Q_PAPER),
+            "models": list(ms.names),
+            "init": "two-point differencing at scan 2",
+        },
+        glr={
+            "q0": cfg.q0,
+            "window": cfg.window,
+            "threshold": cfg.glr_threshold,
+            "correction": cfg.correction,
+            "continuation": cfg.continuation,
+        },
+        mlr={"sigma_u": cfg.sigma_u, "threshold": cfg.mlr_threshold},
+        response_window=study.response,
+        first_scan=FIRST_SCAN,
+        error_sign="truth - estimate (eq 14); sd with 1/M (eq 15)",
+        radar="the EBPSK parameters of Table I of Yao, Teng & Wu, Maneuvering Target Tracking Based on EBPSK "
+        "Modulated JRC System (f_c 10 GHz, 100 MHz IF, f_s 1 GHz, K = 2, N = 7) do not enter the trackers",
+    )
+    scan = np.arange(FIRST_SCAN, sc.scans + 1)
+    events = tuple(n for n, _ in sc.events())
+    first = methods[0]
+    per = [
+        (s, r[first].track0, r[first].stats.mean, r[first].stats.sd, r[first].mu) for s, r in results.items()
+    ]
+    track_figure = {"truth": sc.truth(), "scan": scan, "per_sigma": per, "method": first.upper(),
+                    "model_names": ms.names if first == "imm" else (), "events": events}  # fmt: skip
+    rms = {(s, m): r[m].stats.rms for s, r in results.items() for m in methods}
+    rate = {(s, m): r[m].detected.mean(axis=0) for s, r in results.items() for m in methods
+            if r[m].detected is not None}  # fmt: skip
+    note = "; ".join(
+        f"σ={s:g} {m} RMS {np.sqrt(np.mean(r[m].stats.rms ** 2)):.0f} m"
+        for s, r in results.items()
+        for m in methods
+    )
+    return ManeuverReport(
+        Table(columns=cols, rows=rows, meta=meta),
+        note,
+        track_figure,
+        {"scan": scan, "rms": rms, "rate": rate, "events": events},
+    )
+
+
+def measurement_table(job: ManeuverJob) -> Table:
+    """The simulated records of the job's runs (every σ), one row per run and scan, with the truth: the input
+    of :func:`track_record`. At most :data:`MAX_MEASUREMENT_ROWS` rows."""
+    sc = job.sc
+    if job.runs * sc.scans * len(job.sigmas) > MAX_MEASUREMENT_ROWS:
+        raise ConfigError(
+            "runs",
+            job.runs,
+            f"runs x {sc.scans} scans x {len(job.sigmas)} σ are more than {MAX_MEASUREMENT_ROWS:.0e} "
+            "measurement rows",
+        )
+    truth = sc.truth()
+    rows = []
+    for s in job.sigmas:
+        z = measurements(sc, s, range(job.runs), job.seed, job.source)
+        for r in range(job.runs):
+            for i in range(sc.scans):
+                rows.append((s, r, i + 1, i * sc.T, float(z[r, i, 0]), float(z[r, i, 1]), float(truth[i, 0]),
+                             float(truth[i, 2])))  # fmt: skip
+    sigma = job.sigmas[0] if len(job.sigmas) == 1 else list(job.sigmas)
+    meta = make_meta("maneuver", view="measurements", sigma=sigma, T=sc.T, preset=sc.preset, runs=job.runs,
+                     seed=job.seed, scans=sc.scans)  # fmt: skip
+    cols = ("sigma", "run", "scan", "t", "z_x", "z_y", "x_true", "y_true")
+    return Table(columns=cols, rows=rows, meta=meta)
+
+
+# ----------------------------------------------------------------------------------- one record
+def _finite_column(t: Table, name: str) -> np.ndarray:
+    arr = t.numeric(name)
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size:
+        raise InputError(f"{t.source}:{t.lines[bad[0]]}: column {name!r} is not finite")
+    return arr
+
+
+def _record(t: Table) -> tuple[np.ndarray, np.ndarray]:
+    """Scans and measurements (N, 2) of a record: columns scan, z_x, z_y with consecutive integer scans (no
+    gaps), finite values within :data:`MAX_COORD`, at least 3 scans, one run and one σ."""
+    for col in ("run", "sigma"):
+        if col in t.columns and len(set(t.column(col))) > 1:
+            raise InputError(f"{t.source}: several values of {col!r} in one file; track one record at a time")
+    if len(t.rows) < 3:
+        raise InputError(
+            f"{t.source}: need at least 3 scans (two initialise the trackers), found {len(t.rows)}"
+        )
+    scans = t.numeric("scan", integer=True)
+    steps = np.diff(scans)
+    if np.any(steps != 1):
+        i = int(np.flatnonzero(steps != 1)[0]) + 1
+        what = "missing scan(s)" if steps[i - 1] > 1 else "scans out of order or repeated"
+        raise InputError(f"{t.source}:{t.lines[i]}: {what}: scan {scans[i]} after {scans[i - 1]}")
+    z = np.stack([_finite_column(t, "z_x"), _finite_column(t, "z_y")], axis=-1)
+    big = np.flatnonzero(np.any(np.abs(z) > MAX_COORD, axis=1))
+    if big.size:
+        raise InputError(f"{t.source}:{t.lines[big[0]]}: |measurement| exceeds {MAX_COORD:g} m")
+    return scans, z
+
+
+def _meta_number(t: Table, key: str, lo: float, hi: float, unit: str) -> float | None:
+    """A positive number of the record's metadata in [lo, hi] (None if absent)."""
+    if key not in t.meta:
+        return None
+    value = t.meta[key]
+    if isinstance(value, bool):
+        raise InputError(f"{t.source}: metadata {key!r} must be a number, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{t.source}: metadata {key!r} must be a number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise InputError(f"{t.source}: metadata {key!r} must be a finite number > 0, got {v:g}")
+    try:
+        return in_range(key, v, lo, hi, unit=unit)
+    except ConfigError as exc:
+        raise InputError(f"{t.source}: metadata {key!r} = {exc.detail}") from None
+
+
+def track_record(
+    t: Table,
+    methods: Sequence[str],
+    cfg: TrackerConfig,
+    *,
+    sigma: float | None = None,
+    T: float | None = None,
+) -> Table:
+    """Track one measurement record (a table with columns scan, z_x, z_y: see :func:`_record`) with every
+    method; the per-scan state, model probabilities and declarations.
+
+    ``sigma`` and ``T`` default to the record's metadata (``sigma``, ``T``; T = 1 s if absent): a bad value
+    given here is a :class:`ConfigError`, a bad value of the record an :class:`InputError`.
+    """
+    _check_methods(methods)
+    scans, z = _record(t)
+    s = _check_sigma("sigma", sigma) if sigma is not None else _meta_number(t, "sigma", *SIGMA_RANGE, "m")
+    if s is None:
+        raise InputError(f"{t.source}: the record's metadata has no 'sigma'")
+    T_ = in_range("T", T, *T_RANGE, unit="s") if T is not None else _meta_number(t, "T", *T_RANGE, "s") or 1.0
+    rows = []
+    for m in methods:
+        with _numerics(s, T_), np.errstate(all="ignore"):
+            tr = track(m, z[None], T_, s, cfg)
+        for i in range(tr.state.shape[1]):
+            st = tr.state[0, i]
+            mu = tr.mu[0, i] if tr.mu is not None else (None, None, None)
+            det = bool(tr.detected[0, i]) if tr.detected is not None else None
+            onset = (
+                int(scans[0] - 1 + tr.onset[0, i]) if (tr.onset is not None and tr.onset[0, i] >= 0) else None
+            )
+            rows.append((m, int(scans[i + 2]), *(float(v) for v in st), *(None if v is None else float(v) for v in mu),
+                         det, onset))  # fmt: skip
+    cols = ("method", "scan", "x", "vx", "y", "vy", "ax", "ay", "mu_1", "mu_2", "mu_3", "declared", "onset")
+    meta = make_meta("maneuver", input=t.source, sigma=s, T=T_, methods=list(methods), config=cfg.meta(),
+                     transition=[list(row) for row in cfg.Pi], mu0=list(cfg.mu0))  # fmt: skip
+    return Table(columns=cols, rows=rows, meta=meta)

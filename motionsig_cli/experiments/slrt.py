@@ -1,51 +1,83 @@
-"""The seed-001 scenario and its Monte Carlo: S radars on a circle, a nearly-constant-velocity target (or
-none), Poisson clutter uniform in each field of view, and the three track-existence scores (spec §2.5).
+"""The track-existence scenario of Govaers, *Evaluation of Distributed Detection Methods for Agile Targets*
+(Fraunhofer FKIE, slides), and its Monte Carlo: S radars on a circle, a nearly-constant-velocity target (or
+none), Poisson clutter uniform in each field of view, and the track-existence scores of
+:data:`~motionsig_cli.detection.track_existence.FUSION_METHODS` (CKF, DKF, LKF).
 
 Run r draws only from ``trial_rng(seed, r)`` (truth, detections, clutter, the initial track draw), so a
 result does not depend on the number of runs or on their order.
 
-The command's Monte Carlo (:class:`SlrtJob`) runs on the engine (:mod:`motionsig_cli.engine`): tasks are
-chunks of consecutive runs of one case, sized from :func:`cost` only (never from the worker count), and
-:func:`collect` joins the chunks in task order, so the scores are the same on 1 worker, N workers or Dask.
+The command's experiment is a :class:`SlrtStudy` (target cases at several p_D and a no-target case, the
+runs, Wald's test). Its Monte Carlo, :meth:`SlrtStudy.job`, is a :class:`SlrtJob` for the engine
+(:class:`motionsig_cli.engine.MonteCarloJob`): tasks are chunks of consecutive runs of one case, sized from
+:func:`cost` only (never from the worker count), and joined in task order, so the scores are the same on
+1 worker, N workers or Dask. :meth:`SlrtStudy.result` turns the scores into the per-scan curves or Wald's
+decisions (:class:`SlrtResult`: tables, figure panels, a summary line).
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
-from functools import partial
-from typing import Any
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field, replace
+from functools import cached_property
+from typing import Any, ClassVar
 
 import numpy as np
 
-from motionsig_cli.detection.sprt import Decisions, first_crossing, wald_thresholds
-from motionsig_cli.detection.track_existence import METHODS, ScanData, TrackExistenceModel, run_methods
-from motionsig_cli.engine import Engine, run_tasks, tasks_of, trials_per_task
+from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
+from motionsig_cli.detection.sprt import (
+    Decisions,
+    first_crossing,
+    freeze_at_decision,
+    wald_thresholds,
+)
+from motionsig_cli.detection.track_existence import (
+    METHODS,
+    FusionOptions,
+    ScanData,
+    TrackExistenceModel,
+    check_methods,
+    run_methods,
+)
+from motionsig_cli.engine import tasks_of, trials_per_task
 from motionsig_cli.models.radar import MeasurementModel, cv_model, wrap_angle
-from motionsig_cli.rng import trial_rng
+from motionsig_cli.rng import DEFAULT_SEED, trial_rng
+from motionsig_cli.tables import Table, make_meta
 
 __all__ = [
+    "VIEWS",
     "SlrtJob",
+    "SlrtResult",
     "SlrtScenario",
-    "collect",
+    "SlrtStudy",
+    "cost",
     "decisions",
     "generate",
-    "monte_carlo",
     "run",
-    "score_task",
+    "scan_picture",
+    "scan_xy",
     "summarise",
 ]
 
 MAX_SECONDS = 240.0
-"""Largest estimated run time accepted (:func:`cost`)."""
+"""Largest estimated run time :class:`SlrtStudy` accepts (:func:`cost`)."""
 MAX_BYTES = 2 * 1024**3
 """Largest estimated memory for the generated measurements."""
+MAX_PD_CASES = 10
+"""Most target cases (distinct p_D values) of one study."""
+MEAS_MODELS = ("range_bearing", "cartesian")
+VIEWS = ("curves", "decisions")
+"""The tables of :meth:`SlrtResult.table`: per-scan statistics of log LR, or Wald's decisions."""
+ASSUMPTIONS = (
+    "assumed: measurement model, noise, field of view, scan period, sensor angles, initial track and "
+    "thresholds (the slides do not give them)"
+)
 
 
 @dataclass(frozen=True)
 class SlrtScenario:
-    """Spec §2.5 defaults; every value the slides leave open is an option (marked [A] in the spec).
+    """One case of the slides' scenario. The slides give the geometry (radars on a circle of about 13 km),
+    the target's motion, clutter and the p_D values; every other value is our assumption, and a field.
 
     Attributes:
         n_sensors: radars on a circle of radius ``radius`` m at equally spaced azimuths from 0°.
@@ -57,6 +89,20 @@ class SlrtScenario:
         q: acceleration psd q̃ [m²/s³]; T: scan period [s]; scans: number of scans.
         x0: truth initial state [x, ẋ, y, ẏ]; p0_sd: track prior standard deviations (position, velocity).
         fov_range: field-of-view radius [m].
+
+    Every field is checked (:class:`~motionsig_cli.config.ConfigError` naming it):
+
+    - ``n_sensors`` an integer in [1, 64]; ``scans`` an integer in [1, 10⁵] (the long-run check's length);
+      ``clutter_rate`` in [0, 1000]. The upper bounds are the sizes the implementation is built for (the
+      filters loop over sensors and scans in Python; beyond 1000 false alarms per scan a sensor's
+      measurements say nothing about the target); :class:`SlrtStudy` bounds their product by its cost.
+    - ``radius`` in [0, fov_range) m: sensors at or beyond the field of view never see the target (which
+      starts at the origin); with two sensors or more at least 1 m, or they all stand at one point.
+    - ``pd_true``, ``pd_filter`` in (0, 1]; ``pd_filter = 1`` only without clutter (``clutter_rate = 0``).
+    - ``sigma_r`` in [10⁻³, 10⁵] m and ``sigma_phi_deg`` in [10⁻⁶, 90] deg: R positive definite and well
+      conditioned.
+    - ``q`` in [0, 10⁶] m²/s³; ``T`` in (0, 3600] s; ``x0`` four finite numbers; ``p0_sd`` two numbers
+      > 0; ``fov_range`` > 0 m; ``meas_model`` one of :data:`MEAS_MODELS`.
     """
 
     n_sensors: int = 4
@@ -76,35 +122,34 @@ class SlrtScenario:
     fov_range: float = 26_000.0
 
     def __post_init__(self) -> None:
-        if self.n_sensors < 1:
-            raise ValueError("at least one sensor is needed")
-        if not (math.isfinite(self.radius) and 0 <= self.radius < self.fov_range):
-            raise ValueError(
-                f"sensor circle radius must be in [0, {self.fov_range:g}) m (beyond it the target starts "
-                "outside every field of view)"
-            )
+        integer("n_sensors", self.n_sensors, 1, 64)
+        positive("fov_range", self.fov_range, unit="m")
+        in_range("radius", self.radius, 0.0, self.fov_range, hi_open=True, unit="m")
         if self.n_sensors > 1 and self.radius < 1.0:
-            raise ValueError("all sensors at one point: give a circle radius of at least 1 m")
-        if not (math.isfinite(self.q) and 0 <= self.q <= 1e6) or not (
-            math.isfinite(self.T) and 0 < self.T <= 3600
-        ):
-            raise ValueError("acceleration psd must be in [0, 1e6] and the scan period in (0, 3600] s")
-        for name, v in (("p_D (data)", self.pd_true), ("p_D (filters)", self.pd_filter)):
-            if not 0.0 < v <= 1.0:
-                raise ValueError(f"{name} = {v:g} is outside (0, 1]")
-        if not (math.isfinite(self.clutter_rate) and self.clutter_rate >= 0):
-            raise ValueError("the clutter rate must be a finite number >= 0")
+            raise ConfigError("radius", self.radius, "m puts all sensors at one point: use at least 1 m")
+        if not isinstance(self.target, bool | np.bool_):
+            raise ConfigError("target", self.target, "is not true or false")
+        in_range("pd_true", self.pd_true, 0.0, 1.0, lo_open=True)
+        in_range("pd_filter", self.pd_filter, 0.0, 1.0, lo_open=True)
+        in_range("clutter_rate", self.clutter_rate, 0.0, 1000.0)
         if self.pd_filter == 1.0 and self.clutter_rate > 0:
-            raise ValueError("p_D = 1 for the filters is only meaningful without clutter")
-        if not (1e-3 <= self.sigma_r <= 1e5 and 1e-6 <= self.sigma_phi_deg <= 90.0):
-            raise ValueError(
-                "measurement noise must satisfy 1e-3 <= sigma_r <= 1e5 m and 1e-6 <= sigma_phi <= 90 deg "
-                "(R positive definite and well conditioned)"
+            raise ConfigError(
+                "pd_filter", self.pd_filter, "for the filters is only meaningful without clutter"
             )
-        if self.scans < 1:
-            raise ValueError("at least one scan")
-        if not all(v > 0 and math.isfinite(v) for v in self.p0_sd):
-            raise ValueError("track prior standard deviations must be > 0")
+        in_range("sigma_r", self.sigma_r, 1e-3, 1e5, unit="m")
+        in_range("sigma_phi_deg", self.sigma_phi_deg, 1e-6, 90.0, unit="deg")
+        one_of("meas_model", self.meas_model, MEAS_MODELS)
+        in_range("q", self.q, 0.0, 1e6, unit="m²/s³")
+        in_range("T", self.T, 0.0, 3600.0, lo_open=True, unit="s")
+        integer("scans", self.scans, 1, 100_000)
+        if len(self.x0) != 4:
+            raise ConfigError("x0", self.x0, "is not four numbers [x, ẋ, y, ẏ]")
+        for v in self.x0:
+            in_range("x0", v)
+        if len(self.p0_sd) != 2:
+            raise ConfigError("p0_sd", self.p0_sd, "is not two numbers (position, velocity)")
+        for v in self.p0_sd:
+            positive("p0_sd", v)
 
     @property
     def sensors(self) -> np.ndarray:
@@ -144,7 +189,7 @@ class Generated:
 
 
 def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
-    """Draw the scenario for the given run indices (spec §2.5)."""
+    """Draw the scenario for the given run indices."""
     F, Q = cv_model(sc.T, sc.q)
     meas = sc.measurement()
     sensors = sc.sensors
@@ -201,24 +246,32 @@ def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
 def run(
     sc: SlrtScenario, runs: int, seed: int, methods: Sequence[str] = METHODS, *, lkf_mean: str = "lr"
 ) -> tuple[dict[str, np.ndarray], Generated]:
-    """log LR (runs × scans) per method, and the generated data."""
-    if runs < 1:
-        raise ValueError("the number of Monte Carlo runs must be >= 1")
+    """log LR (runs × scans) per method, and the generated data (in this process; no time limit)."""
+    integer("runs", runs, 1)
     nbytes = cost(sc, runs)[1]
-    if nbytes > MAX_BYTES:  # the time budget is the command layer's call (scripts may run longer)
-        raise ValueError(f"the measurements would need about {nbytes / 1e9:.1f} GB; the limit is 2 GB")
+    if nbytes > MAX_BYTES:
+        raise ConfigError(
+            "runs", runs, f"would need about {nbytes / 1e9:.1f} GB of measurements; the limit is 2 GB"
+        )
     gen = generate(sc, range(runs), seed)
     return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean), gen
 
 
+Task = tuple[int, range]
+"""A task of :class:`SlrtJob`: (case index, runs)."""
+
+
 @dataclass(frozen=True)
 class SlrtJob:
-    """The command's Monte Carlo: runs 0..runs−1 of every case, scored by ``methods``.
+    """The Monte Carlo of a study: runs 0..runs−1 of every case, scored by ``methods`` (an engine
+    :class:`~motionsig_cli.engine.MonteCarloJob`; its result is, per case, log LR (runs × scans) per method).
 
     A task is ``(case index, range of runs)``; :meth:`tasks` chunks each case's runs into tasks of
     :meth:`runs_per_task` runs (from the cost model, so the chunking — and with it every floating-point
     result — depends on the parameters only, never on the number of workers).
     """
+
+    name: ClassVar[str] = "slrt"
 
     cases: tuple[SlrtScenario, ...]
     runs: int
@@ -228,11 +281,11 @@ class SlrtJob:
 
     def __post_init__(self) -> None:
         if not self.cases:
-            raise ValueError("at least one case")
-        if self.runs < 1:
-            raise ValueError("the number of Monte Carlo runs must be >= 1")
-        if not self.methods or any(m not in METHODS for m in self.methods):
-            raise ValueError(f"methods must be among {', '.join(METHODS)}; got {self.methods!r}")
+            raise ConfigError("cases", self.cases, "is empty: at least one case")
+        integer("runs", self.runs, 1)
+        integer("seed", self.seed, 0)
+        check_methods(self.methods)
+        FusionOptions(self.lkf_mean)
 
     def runs_per_task(self) -> int:
         """Runs per task: worth at least the engine's minimum task time *and* 4× the per-batch overhead of
@@ -242,10 +295,30 @@ class SlrtJob:
         per_run = max(cost(sc, 1)[0] - cost(sc, 0)[0] for sc in self.cases)
         return trials_per_task(per_run, fixed_seconds=fixed)
 
-    def tasks(self) -> list[tuple[int, range]]:
+    def tasks(self) -> list[Task]:
         """(case, runs) in case order, runs in increasing order within a case."""
         per_task = self.runs_per_task()
         return [(c, r) for c in range(len(self.cases)) for r in tasks_of(self.runs, per_task)]
+
+    def task_size(self, task: Task) -> int:
+        """Runs in the task."""
+        return len(task[1])
+
+    def run_task(self, task: Task) -> dict[str, np.ndarray]:
+        """One task: log LR (runs in the task × scans) per method of one case."""
+        case, runs = task
+        sc = self.cases[case]
+        gen = generate(sc, runs, self.seed)
+        return run_methods(sc.model(), gen.m0, gen.scans, self.methods, lkf_mean=self.lkf_mean)
+
+    def reduce(
+        self, tasks: Sequence[Task], results: Sequence[dict[str, np.ndarray]]
+    ) -> list[dict[str, np.ndarray]]:
+        """Per case, the log LR (runs × scans) per method: the tasks' results joined in task order."""
+        parts: list[list[dict[str, np.ndarray]]] = [[] for _ in self.cases]
+        for (case, _), res in zip(tasks, results, strict=True):
+            parts[case].append(res)
+        return [{m: np.concatenate([p[m] for p in ps]) for m in self.methods} for ps in parts]
 
     def identity(self) -> dict[str, Any]:
         """Everything the task results depend on (JSON values), for a checkpoint's manifest."""
@@ -259,39 +332,264 @@ class SlrtJob:
         }
 
 
-def score_task(job: SlrtJob, task: tuple[int, range]) -> dict[str, np.ndarray]:
-    """One task: log LR (runs in the task × scans) per method of one case (module level: picklable)."""
-    case, runs = task
-    sc = job.cases[case]
-    gen = generate(sc, runs, job.seed)
-    return run_methods(sc.model(), gen.m0, gen.scans, job.methods, lkf_mean=job.lkf_mean)
+def _case(base: SlrtScenario, field_name: str, pd: float, *, target: bool) -> SlrtScenario:
+    """``base`` with a target (or none) and p_D = ``pd`` for data and filters; a bad p_D names ``field_name``."""
+    in_range(field_name, pd, 0.0, 1.0, lo_open=True)
+    try:
+        return replace(base, target=target, pd_true=pd, pd_filter=pd)
+    except ConfigError as exc:
+        if exc.field in ("pd_true", "pd_filter"):
+            raise ConfigError(field_name, pd, exc.reason) from None
+        raise
 
 
-def collect(
-    job: SlrtJob, tasks: Sequence[tuple[int, range]], results: Sequence[dict[str, np.ndarray]]
-) -> list[dict[str, np.ndarray]]:
-    """Per case, the log LR (runs × scans) per method: the tasks' results joined in task order."""
-    parts: list[list[dict[str, np.ndarray]]] = [[] for _ in job.cases]
-    for (case, _), res in zip(tasks, results, strict=True):
-        parts[case].append(res)
-    return [{m: np.concatenate([p[m] for p in ps]) for m in job.methods} for ps in parts]
+@dataclass(frozen=True)
+class SlrtStudy:
+    """The command's experiment: target cases at several p_D and a no-target case of one scenario, every
+    case scored by the chosen fusion methods on runs 0..runs−1, and Wald's test on the scores.
+
+    Attributes:
+        scenario: what the cases share (its ``target``, ``pd_true`` and ``pd_filter`` are set per case).
+        pd: p_D of the target cases (data and filters alike): 1 to :data:`MAX_PD_CASES` values in (0, 1];
+            a repeated value gives one case.
+        no_target: also run the no-target (clutter only) case, whose filters assume p_D = ``filter_pd``
+            (in (0, 1]).
+        runs: Monte Carlo runs per case, ≥ 1, with an estimated run time ≤ :data:`MAX_SECONDS` and memory
+            ≤ :data:`MAX_BYTES` for all cases (:func:`cost`).
+        seed: root seed (run r draws from ``trial_rng(seed, r)``).
+        methods: names in :data:`~motionsig_cli.detection.track_existence.FUSION_METHODS`.
+        lkf_mean: LKF's mean (:class:`~motionsig_cli.detection.track_existence.FusionOptions`).
+        alpha, beta: Wald's error probabilities P(confirm | no target) and P(delete | target), in (0, 0.5).
+        stop: freeze each run's score at its decision (default: keep accumulating).
+    """
+
+    scenario: SlrtScenario = field(default_factory=SlrtScenario)
+    pd: tuple[float, ...] = (0.9, 0.5, 0.2)
+    no_target: bool = True
+    filter_pd: float = 0.9
+    runs: int = 50
+    seed: int = DEFAULT_SEED
+    methods: tuple[str, ...] = METHODS
+    lkf_mean: str = "lr"
+    alpha: float = 1e-3
+    beta: float = 0.1
+    stop: bool = False
+
+    def __post_init__(self) -> None:
+        cases = self.cases
+        self.job()
+        wald_thresholds(self.alpha, self.beta)
+        seconds, nbytes = cost(cases[0][1], self.runs, len(cases))
+        if seconds > MAX_SECONDS or nbytes > MAX_BYTES:
+            sc = self.scenario
+            raise ConfigError(
+                "runs",
+                self.runs,
+                f"is too many runs for {len(cases)} case(s) x {sc.scans} scans x {sc.n_sensors} sensors: an "
+                f"estimated {seconds:.0f} s and {nbytes / 1e9:.2g} GB; the limits are {MAX_SECONDS:.0f} s and 2 GB",
+            )
+
+    @cached_property
+    def cases(self) -> list[tuple[str, SlrtScenario]]:
+        """(label, scenario) of each case: the target cases in the order of ``pd``, then the no-target one."""
+        values = tuple(dict.fromkeys(self.pd))
+        if not values:
+            raise ConfigError("pd", self.pd, "is empty: give at least one p_D")
+        if len(values) > MAX_PD_CASES:
+            raise ConfigError("pd", self.pd, f"is more than {MAX_PD_CASES} values")
+        out = [(f"target, p_D = {v:g}", _case(self.scenario, "pd", v, target=True)) for v in values]
+        if self.no_target:
+            out.append(("no target", _case(self.scenario, "filter_pd", self.filter_pd, target=False)))
+        return out
+
+    @property
+    def thresholds(self) -> tuple[float, float]:
+        """Wald's (log A, log B)."""
+        return wald_thresholds(self.alpha, self.beta)
+
+    def job(self) -> SlrtJob:
+        """The Monte Carlo of every case (run it with :func:`motionsig_cli.engine.run_job`)."""
+        return SlrtJob(
+            tuple(sc for _, sc in self.cases), self.runs, self.seed, tuple(self.methods), self.lkf_mean
+        )
+
+    def result(self, scores: Sequence[dict[str, np.ndarray]]) -> SlrtResult:
+        """The job's scores checked (no NaN, no +inf) and, with ``stop``, frozen at each run's decision."""
+        log_a, log_b = self.thresholds
+        out = []
+        for (label, _), case in zip(self.cases, scores, strict=True):
+            case = dict(case)
+            for m, v in case.items():
+                if np.any(np.isnan(v) | (v == np.inf)):
+                    raise RuntimeError(f"NaN or +inf log LR in {label}, {m}")
+                if self.stop:
+                    case[m] = freeze_at_decision(v, log_a, log_b)
+            out.append(case)
+        return SlrtResult(self, out)
 
 
-def monte_carlo(
-    job: SlrtJob, engine: Engine | None = None, *, progress: Callable[[int], None] | None = None
-) -> list[dict[str, np.ndarray]]:
-    """:func:`score_task` over :meth:`SlrtJob.tasks` on ``engine`` (default: in this process), then
-    :func:`collect`. ``progress`` is called with the number of runs of each finished task."""
-    tasks = job.tasks()
-    results = run_tasks(
-        partial(score_task, job),
-        tasks,
-        Engine() if engine is None else engine,
-        sizes=[len(r) for _, r in tasks],
-        progress=progress,
-        identity={"command": "slrt", **job.identity()},
-    )
-    return collect(job, tasks, results)
+CURVE_COLUMNS = (
+    "case",
+    "target",
+    "pd",
+    "method",
+    "scan",
+    "mean_loglr",
+    "median_loglr",
+    "q05_loglr",
+    "q95_loglr",
+)
+DECISION_COLUMNS = (
+    "case",
+    "target",
+    "pd",
+    "method",
+    "runs",
+    "confirmed",
+    "deleted",
+    "undecided",
+    "mean_decision_scan",
+    "max_decision_scan",
+    "error_rate",
+    "wald_bound",
+    "error_rate_se",
+)
+
+
+@dataclass(frozen=True)
+class SlrtResult:
+    """A study's scores: per case, log LR (runs × scans) per method (frozen at the decision with ``stop``)."""
+
+    study: SlrtStudy
+    scores: list[dict[str, np.ndarray]]
+
+    def table(self, view: str) -> Table:
+        """The ``curves`` or ``decisions`` table (:data:`VIEWS`) with the study's provenance."""
+        one_of("view", view, VIEWS)
+        columns, rows = (
+            (CURVE_COLUMNS, self.curves()) if view == "curves" else (DECISION_COLUMNS, self.decisions())
+        )
+        return Table(columns=columns, rows=rows, meta=self.meta(view))
+
+    def _rows(self) -> list[tuple[str, SlrtScenario, str, np.ndarray]]:
+        return [
+            (label, sc, m, scores[m])
+            for (label, sc), scores in zip(self.study.cases, self.scores, strict=True)
+            for m in self.study.methods
+        ]
+
+    def curves(self) -> list[tuple[Any, ...]]:
+        """Per case, method and scan: mean, median, 5 % and 95 % quantiles of log LR over the runs."""
+        rows = []
+        for label, sc, m, loglr in self._rows():
+            st = summarise(loglr)
+            for j in range(sc.scans):
+                rows.append((label, sc.target, sc.pd_filter, m, j + 1, float(st["mean"][j]), float(st["median"][j]),
+                             float(st["q05"][j]), float(st["q95"][j])))  # fmt: skip
+        return rows
+
+    def decisions(self) -> list[tuple[Any, ...]]:
+        """Per case and method: Wald's decisions (fractions confirmed, deleted, undecided), the mean and
+        latest decision scan, the error rate (deleted with a target, confirmed without), Wald's bound on it
+        (β/(1−α), α/(1−β)) and its binomial standard error (at least that of one error in ``runs``)."""
+        alpha, beta, runs = self.study.alpha, self.study.beta, self.study.runs
+        rows = []
+        for label, sc, m, loglr in self._rows():
+            d = decisions(loglr, alpha, beta)
+            conf, dele = d.decision == 1, d.decision == -1
+            decided = d.decision != 0
+            wrong = dele if sc.target else conf
+            bound = beta / (1 - alpha) if sc.target else alpha / (1 - beta)
+            rows.append((label, sc.target, sc.pd_filter, m, runs, float(conf.mean()), float(dele.mean()),
+                         float(1 - decided.mean()), float(d.time[decided].mean()) if decided.any() else None,
+                         int(d.time.max()) if decided.any() else None, float(wrong.mean()), bound,
+                         float(math.sqrt(max(wrong.mean() * (1 - wrong.mean()), 1 / runs) / runs))))  # fmt: skip
+        return rows
+
+    def meta(self, view: str) -> dict[str, Any]:
+        """Provenance: the view, every parameter of the study and scenario, and how to read the scores."""
+        st, sc = self.study, self.study.scenario
+        log_a, log_b = st.thresholds
+        shared = (
+            "n_sensors",
+            "radius",
+            "clutter_rate",
+            "sigma_r",
+            "sigma_phi_deg",
+            "meas_model",
+            "q",
+            "T",
+            "scans",
+        )
+        return make_meta(
+            "slrt",
+            view=view,
+            methods=list(st.methods),
+            lkf_mean=st.lkf_mean,
+            runs=st.runs,
+            seed=st.seed,
+            seeding="run r draws from SeedSequence(seed).spawn(...)[r]: truth, detections, clutter, initial track",
+            scenario={
+                **{k: getattr(sc, k) for k in shared},
+                "x0": list(sc.x0),
+                "p0_sd": list(sc.p0_sd),
+                "fov_range_m": sc.fov_range,
+                "sensor_azimuths": "equally spaced from 0 deg",
+            },
+            no_target_filter_pd=st.filter_pd if st.no_target else None,
+            sprt={
+                "alpha": st.alpha,
+                "beta": st.beta,
+                "log_A": log_a,
+                "log_B": log_b,
+                "rule": "first crossing",
+            },
+            dkf="relaxed evolution model S*Q, locals initialised at S*P0, no feedback; c by the sequential product "
+            "with P^(s+1) (slides' P^s corrected)"
+            if "dkf" in st.methods
+            else None,
+            stop=st.stop,
+            clutter_floor="with --clutter 0 the clutter density is floored at 1e-300 per field of view: absolute "
+            "scores are arbitrary, only differences between methods mean something"
+            if sc.clutter_rate == 0
+            else None,
+            minus_inf="a log LR of -inf means the filters' p_D = 1 and a sensor saw nothing: the target hypothesis "
+            "is impossible (certain deletion)",
+            assumptions=ASSUMPTIONS,
+        )
+
+    def panels(self) -> list[tuple[str, np.ndarray, dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]]]:
+        """Per case (label, scans 1..K, {method: (mean, q05, q95)}) for the figure."""
+        k = np.arange(1, self.study.scenario.scans + 1)
+        out = []
+        for (label, _), scores in zip(self.study.cases, self.scores, strict=True):
+            curves = {}
+            for m in self.study.methods:
+                st = summarise(scores[m])
+                curves[m] = (st["mean"], st["q05"], st["q95"])
+            out.append((label, k, curves))
+        return out
+
+    def summary(self) -> str:
+        """One line: the mean log LR at the last scan of each case and method."""
+        last = "; ".join(
+            f"{label}: " + ", ".join(f"{m} {scores[m][:, -1].mean():.1f}" for m in self.study.methods)
+            for (label, _), scores in zip(self.study.cases, self.scores, strict=True)
+        )
+        return f"slrt: mean log LR at scan {self.study.scenario.scans}: {last}"
+
+
+def scan_picture(
+    study: SlrtStudy,
+) -> tuple[np.ndarray, list[np.ndarray], list[np.ndarray], np.ndarray, str]:
+    """The last scan of run 0 of the first case, for a figure: (sensors, false alarms and target detections
+    per sensor in x–y, the true track up to that scan, a title). Run 0 is drawn again: it depends on
+    (seed, 0) only, so it is the run 0 of the Monte Carlo."""
+    label, sc = study.cases[0]
+    gen = generate(sc, range(1), study.seed)
+    k = sc.scans - 1
+    clutter_xy, target_xy = scan_xy(sc, gen, 0, k)
+    return sc.sensors, clutter_xy, target_xy, gen.truth[0, : k + 1], f"{label}: run 0, scan {k + 1}"
 
 
 def scan_xy(

@@ -1,9 +1,10 @@
-"""Interacting multiple model (IMM) filter, batched over Monte Carlo runs — seed 002 eqs (7)–(13), corrected.
+"""Interacting multiple model (IMM) filter, batched over Monte Carlo runs — eqs (7)–(13) of Yao, Teng & Wu,
+*Maneuvering Target Tracking Based on EBPSK Modulated JRC System* ("the paper"), corrected.
 
-One cycle (spec §3.4), for every run b and model j at once (the only loop is over scans):
+One cycle (§IV), for every run b and model j at once (the only loop is over scans):
 
 1. predicted model probabilities  c̄_j = Σ_i p_ij μ_i(k−1);
-2. mixing probabilities           μ_{i|j} = p_ij μ_i(k−1) / c̄_j   (the seed prints a spurious Σ_i);
+2. mixing probabilities           μ_{i|j} = p_ij μ_i(k−1) / c̄_j   (the paper prints a spurious Σ_i);
 3. mixing, eqs (9)–(10)           X̂_0j = Σ_i μ_{i|j} X̂_i,  P_0j = Σ_i μ_{i|j} [P_i + (X̂_i − X̂_0j)(·)ᵀ];
 4. model-matched Kalman filters   X̂_j(k|k−1) = Φ_j X̂_0j,  P_j(k|k−1) = Φ_j P_0j Φ_jᵀ + G_j Q_j G_jᵀ,
                                   Joseph-form update with Z(k);
@@ -77,7 +78,7 @@ def imm_filter(
         z: (B, N, m) measurements of the scans to process (the first is the scan after initialisation).
         H: (m, n) measurement matrix; R: (m, m) measurement noise covariance.
         models: the r models, transition matrix and initial probabilities (μ at the initialisation scan).
-        x0: (B, n) or (n,) initial estimate, shared by every model-conditioned filter (spec §3.4).
+        x0: (B, n) or (n,) initial estimate, shared by every model-conditioned filter (§IV).
         P0: (n, n) or (B, n, n) initial covariance.
         keep_P: also return the combined covariance of every scan.
 

@@ -1,4 +1,5 @@
-"""Batched linear Kalman filter banks — seed 000 eqs (45)–(52) (prediction-error decomposition).
+"""Batched linear Kalman filter banks — eqs (45)–(52) of the mode-signature paper (LMP mode detection with
+Gold-code signatures, IEEE CDC 2008): the prediction-error decomposition.
 
 A *bank* is C filters that share the measurement record but have their own time-varying
 transition matrices F_k^c (C, n, n). Their Riccati recursions do not depend on the measurements,
@@ -8,6 +9,9 @@ of measurement records (trials). Nothing loops over filters or trials; the only 
 Conventions: the filter starts from the predicted prior (x0, P0) at k = 0 and processes y_0 first;
 after the update at k it predicts with F_k to k + 1. Updates use the Joseph form and the
 covariance is re-symmetrised after each prediction, so P stays symmetric positive definite.
+
+The loops over time take an optional ``progress`` callback, called with the number of time steps done
+once per block of :data:`PROGRESS_BLOCK` steps (and at the end): a long single record shows a bar.
 """
 
 from __future__ import annotations
@@ -18,6 +22,21 @@ from dataclasses import dataclass
 import numpy as np
 
 TransitionFn = Callable[[int], np.ndarray]
+Progress = Callable[[int], None] | None
+PROGRESS_BLOCK = 64  # time steps between two progress reports
+
+
+def step_reporter(progress: Progress, n_steps: int, block: int = PROGRESS_BLOCK) -> Callable[[int], None]:
+    """A hook to call after time step k (0-based) of ``n_steps``: it calls ``progress`` with the steps done
+    since its last call, once per ``block`` steps and after the last step (nothing without ``progress``)."""
+    if progress is None:
+        return lambda k: None
+
+    def done(k: int) -> None:
+        if (k + 1) % block == 0 or k + 1 == n_steps:
+            progress(k + 1 - (k // block) * block)
+
+    return done
 
 
 @dataclass(frozen=True)
@@ -52,6 +71,8 @@ def riccati(
     P0: np.ndarray,
     n_steps: int,
     n_filters: int,
+    *,
+    progress: Progress = None,
 ) -> BankGains:
     """Run the covariance recursion of C filters for N steps.
 
@@ -63,6 +84,7 @@ def riccati(
         P0: Prior covariance (n, n) or (C, n, n).
         n_steps: N, the number of measurements.
         n_filters: C.
+        progress: Called with the number of steps done, per block of steps (see the module docstring).
 
     Returns:
         Gains, inverse innovation covariances and log det(2πS) for every filter and step.
@@ -82,6 +104,7 @@ def riccati(
     S_inv_all = np.empty((n_filters, n_steps, m, m))
     logdet_all = np.empty((n_filters, n_steps))
     scalar = m == 1
+    tick = step_reporter(progress, n_steps)
     for k in range(n_steps):
         PHt = P @ H.T  # (C, n, m)
         S = H @ PHt + R  # innovation covariance, eq (47)
@@ -99,6 +122,7 @@ def riccati(
             F = F_at(k)
             P = F @ P @ np.swapaxes(F, -1, -2) + Q
             P = 0.5 * (P + np.swapaxes(P, -1, -2))
+        tick(k)
     return BankGains(K_all, S_inv_all, logdet_all)
 
 
@@ -111,6 +135,7 @@ def innovation_costs(
     horizons: Sequence[int],
     *,
     include_logdet: bool = False,
+    progress: Progress = None,
 ) -> np.ndarray:
     """Cumulative innovation costs J(n) of every filter on every record, read at the horizons.
 
@@ -124,6 +149,7 @@ def innovation_costs(
         x0: Prior mean (n,) or (C, n).
         y: Measurement records, (B, N) for m = 1 or (B, N, m).
         horizons: Sample counts n at which to read J (1 ≤ n ≤ N), any order.
+        progress: Called with the number of steps done, per block of steps.
 
     Returns:
         J of shape (C, B, len(horizons)).
@@ -147,6 +173,7 @@ def innovation_costs(
     out = np.empty((C, B, hz.size))
     read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
     scalar = m == 1
+    tick = step_reporter(progress, N)
     for k in range(N):
         nu = yT[k][None] - H @ x  # innovation ν_k, (C, m, B)
         if scalar:  # m = 1: S⁻¹ is a number per filter
@@ -160,6 +187,7 @@ def innovation_costs(
             out[:, :, read_at[k + 1]] = J[:, :, None]
         if k + 1 < N:
             x = np.broadcast_to(F_at(k), (C, n, n)) @ x  # prediction x_{k+1} = F_k x_k
+        tick(k)
     return out
 
 
@@ -170,6 +198,8 @@ def expected_costs_white_noise(
     R_true: np.ndarray,
     n_steps: int,
     horizons: Sequence[int],
+    *,
+    progress: Progress = None,
 ) -> np.ndarray:
     """E[J(n)] of every filter when the measurements are zero-mean white noise of covariance R_true.
 
@@ -190,6 +220,7 @@ def expected_costs_white_noise(
     out = np.empty((C, hz.size))
     read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
     eye = np.eye(n)
+    tick = step_reporter(progress, n_steps)
     for k in range(n_steps):
         Enu = H @ Sig @ H.T + R_true  # E[ν νᵀ], (C, m, m)
         EJ += 0.5 * np.einsum("cij,cji->c", gains.S_inv[:, k], Enu)
@@ -201,6 +232,7 @@ def expected_costs_white_noise(
         if k + 1 < n_steps:
             F = np.broadcast_to(F_at(k), (C, n, n))
             Sig = F @ Sig @ np.swapaxes(F, -1, -2)
+        tick(k)
     return out
 
 

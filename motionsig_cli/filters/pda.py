@@ -1,11 +1,12 @@
 """The local node update of the track-existence test: an EKF step over all hypotheses "measurement j is
 the target" (j = 1..m) and "no target detection" (j = 0), with the likelihood-ratio increment and a
-moment-matched (PDA-style) posterior (seed 001; spec §2.3).
+moment-matched (PDA-style) posterior (Govaers, *Evaluation of Distributed Detection Methods for Agile
+Targets*: the local likelihood-ratio update).
 
 For a prior N(x; m, P), linearised measurement ẑ = h(m), H = ∂h/∂x, S = HPHᵀ + R, K = PHᵀS⁻¹:
 
     log p*⁰ = log(1 − p_D),   log p*ʲ = log(p_D/ρ_F) + log N(νⱼ; 0, S),  νⱼ = zⱼ − ẑ (bearing wrapped)
-    log p̄  = logsumexp_{j=0..m} log p*ʲ                          (the sum includes j = 0: spec [FIX])
+    log p̄  = logsumexp_{j=0..m} log p*ʲ                          (j = 0, the missed detection, included: the slides sum j = 1..m here but j = 0..m in the normalisation)
     m⁺ = m + K ν̄,   ν̄ = Σ pⱼνⱼ  (pⱼ = p*ʲ/p̄, ν₀ = 0)
     P⁺ = p₀P + (1 − p₀)P₁ + K(Σ pⱼνⱼνⱼᵀ − ν̄ν̄ᵀ)Kᵀ,   P₁ = (I − KH)P(I − KH)ᵀ + KRKᵀ (Joseph)
 
@@ -46,7 +47,7 @@ def local_update(
     pd: float,
     log_rho: float,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """One sensor's update of a batch of filters (spec §2.3).
+    """One sensor's update of a batch of filters (the local update of the module docstring).
 
     Args:
         m, P: priors (R, 4), (R, 4, 4).

@@ -1,4 +1,5 @@
-"""Unscented (sigma-point) Kalman filters, batched — seed 000 §IV.B (eqs 59–62), spec §1.7.
+"""Unscented (sigma-point) Kalman filters, batched — the radar example of the mode-signature paper (LMP mode
+detection with Gold-code signatures, IEEE CDC 2008, §IV.B, eqs 59–62).
 
 The scaled unscented transform (Julier 2002; Van der Merwe's parametrisation, the one FilterPy's
 ``MerweScaledSigmaPoints`` uses) with n states, λ = α²(n + κ) − n and c = √(n + λ)::
@@ -17,7 +18,7 @@ P_xy and add 2(n − p) copies of e_0e_0ᵀ to S. Only the first p columns of L 
 the first p steps of a left-looking Cholesky factorisation. For the radar (h reads x and y, state
 [x, ẋ, y, …]) p = 3: three of ten columns, 7 of 21 evaluations of h, the same numbers.
 
-The prediction is linear and exact (x ← F x, P ← F P Fᵀ + Q), as the spec allows; it uses the
+The prediction is linear and exact (x ← F x, P ← F P Fᵀ + Q: the models are linear in the state); it uses the
 structure of the LMP banks, F_k^c = F_0 + Σ_r g_r[c, k] e_{row_r} e_{col_r}ᵀ, so the shared F_0 is
 one matrix product over every filter and trial and the time-varying entries are rank-one terms.
 
@@ -30,12 +31,15 @@ R + PSD) and is *counted*; a non-finite number stops the run with an error inste
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError
+from motionsig_cli.filters.kalman import Progress, step_reporter
 from motionsig_cli.models.radar import wrap_angle
 
 JITTER_START = 1e-12  # first relative jitter tried by a repair (× the mean diagonal), then ×100 per retry
@@ -43,12 +47,14 @@ JITTER_START = 1e-12  # first relative jitter tried by a repair (× the mean dia
 
 @dataclass(frozen=True, slots=True)
 class SigmaPointParams:
-    """Scaled unscented-transform parameters (spec §1.7 default α = 1, β = 2, κ = 0 [A]).
+    """Scaled unscented-transform parameters (assumed: α = 1, β = 2, κ = 0; the paper does not state them).
 
     Attributes:
-        alpha: Spread of the sigma points (0 < α).
-        beta: Prior-knowledge term in W^c_0 (2 is optimal for Gaussians).
-        kappa: Secondary scaling; n + λ = α²(n + κ) must be > 0.
+        alpha: Spread of the sigma points, finite and > 0 (and not so small that the centre weight
+            cancels the others: see :meth:`weights`).
+        beta: Prior-knowledge term in W^c_0, finite (2 is optimal for Gaussians).
+        kappa: Secondary scaling, finite; n + λ = α²(n + κ) must be > 0 for the filter's n states
+            (checked by :meth:`weights`, which knows n).
     """
 
     alpha: float = 1.0
@@ -56,26 +62,38 @@ class SigmaPointParams:
     kappa: float = 0.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.alpha) and self.alpha > 0):
-            raise ValueError(f"alpha must be > 0 and finite, got {self.alpha}")
+        if not (_finite(self.alpha) and self.alpha > 0):
+            raise ConfigError("alpha", self.alpha, "is not a finite number > 0")
         for name in ("beta", "kappa"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name} must be finite, got {getattr(self, name)}")
+            if not _finite(getattr(self, name)):
+                raise ConfigError(name, getattr(self, name), "is not a finite number")
 
     def weights(self, n: int) -> tuple[float, float, float, float]:
-        """(W^m_0, W^c_0, W_j, c) for n states."""
-        n_lam = self.alpha**2 * (n + self.kappa)  # n + λ, formed without the cancellation of λ + n
-        if not (n_lam > 0 and math.isfinite(n_lam)):
-            raise ValueError(
-                f"alpha^2 (n + kappa) must be finite and > 0 (n = {n}, alpha = {self.alpha}, kappa = {self.kappa})"
+        """(W^m_0, W^c_0, W_j, c) for n states (a :class:`ConfigError` names the parameter that does not
+        suit n)."""
+        try:
+            n_lam = self.alpha**2 * (n + self.kappa)  # n + λ, formed without the cancellation of λ + n
+        except OverflowError:
+            n_lam = math.inf
+        if not math.isfinite(n_lam):
+            raise ConfigError("alpha", self.alpha, f"makes alpha^2 (n + kappa) overflow (n = {n} states)")
+        if not n_lam > 0:
+            raise ConfigError(
+                "kappa", self.kappa, f"makes alpha^2 (n + kappa) <= 0 for the filter of n = {n} states"
             )
         wm0 = 1.0 - n / n_lam  # λ / (n + λ)
         if abs(wm0) > 1e8:
-            raise ValueError(
-                f"alpha = {self.alpha} gives a centre weight of {wm0:.3g}: the weighted sums would cancel "
-                "to fewer than 8 significant digits; use alpha >= 1e-4"
+            raise ConfigError(
+                "alpha",
+                self.alpha,
+                f"gives a centre weight of {wm0:.3g} (n = {n} states): the weighted sums would cancel to "
+                "fewer than 8 significant digits; use alpha >= 1e-4",
             )
         return wm0, wm0 + 1 - self.alpha**2 + self.beta, 0.5 / n_lam, math.sqrt(n_lam)
+
+
+def _finite(value: float) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
 
 
 def _wrap_where(d: np.ndarray, angular: np.ndarray) -> np.ndarray:
@@ -350,6 +368,8 @@ def ukf_bank_costs(
     y: np.ndarray,
     horizons: Sequence[int],
     params: SigmaPointParams,
+    *,
+    progress: Progress = None,
 ) -> BankCosts:
     """Run C unscented filters on B records at once and read their innovation costs at the horizons.
 
@@ -364,6 +384,8 @@ def ukf_bank_costs(
         y: Records (B, N) for m = 1 or (B, N, m).
         horizons: Sample counts at which to read the costs (1 ≤ n ≤ N).
         params: Sigma-point parameters.
+        progress: Called with the number of time steps done, once per block of steps (see
+            :func:`motionsig_cli.filters.kalman.step_reporter`).
     """
     y = np.asarray(y, dtype=float)
     if y.ndim == 2:
@@ -394,6 +416,7 @@ def ukf_bank_costs(
     rep_P = rep_S = 0
     half_log2pi = 0.5 * m * math.log(2 * math.pi)
     w_e0 = wc0 + 2 * (n - p) * wj  # χ_0 and the 2(n − p) points that move nothing h reads
+    tick = step_reporter(progress, N)
     for k in range(N):
         # --- sigma points along the first p columns of chol(P) ------------------------------------
         L, P, nb = _repaired_cholesky(P, p)  # (n, p, C, B)
@@ -436,6 +459,7 @@ def ukf_bank_costs(
             LD_out[:, :, read_at[k + 1]] = LD[..., None]
         if k + 1 < N:
             x, P = trans.predict(x, P, k, Q)
+        tick(k)
     if not (np.all(np.isfinite(J_out)) and np.all(np.isfinite(LD_out))):
         raise FloatingPointError("the sigma-point bank produced a non-finite cost")
     return BankCosts(J_out, LD_out, rep_P, rep_S)
@@ -443,7 +467,7 @@ def ukf_bank_costs(
 
 def linear_measurement(H: np.ndarray, R: np.ndarray) -> SigmaMeasurement:
     """A linear measurement y = H x + v as a :class:`SigmaMeasurement` (the UT is then exact: the bank
-    equals a Kalman filter, the check of issue 4)."""
+    equals a Kalman filter, the cross-check of the two banks)."""
     H = np.atleast_2d(np.asarray(H, float))
     nz = np.flatnonzero(np.any(H != 0, axis=0))
     lead = int(nz.max()) + 1 if nz.size else 1

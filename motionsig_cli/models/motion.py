@@ -1,15 +1,16 @@
-"""Motion models of the maneuvering-target paper (seed 002, spec §3.1–§3.4).
+"""Motion models of Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK Modulated JRC System* ("the
+paper").
 
 Two state layouts:
 
-* **Input model** (GLR/MLR, spec §3.2): x = [x, ẋ, y, ẏ], nearly constant velocity with a piecewise-constant
+* **Input model** (GLR/MLR, §II): x = [x, ẋ, y, ẏ], nearly constant velocity with a piecewise-constant
   acceleration input u = [u_x, u_y]: x_{k+1} = F x_k + G_u u_k + w_k, G_u = [[T²/2, 0], [T, 0], [0, T²/2],
   [0, T]], w continuous white-noise acceleration of psd q̃₀.
-* **IMM model set** (eqs 7–8, spec §3.4): X = [x, ẋ, y, ẏ, ẍ, ÿ]; model 1 is constant velocity with the
+* **IMM model set** (eqs 7–8, §IV): X = [x, ẋ, y, ẏ, ẍ, ÿ]; model 1 is constant velocity with the
   acceleration rows of Φ₁ zero and Q₁ = 0; models 2 and 3 are constant acceleration with an acceleration
   increment of covariance Q₂ = 0.001 I, Q₃ = 0.0144 I through G₂ = G₃.
 
-The seed prints G₂ with T (not T/2) in the ẏ row; the x column (T²/4, T/2, 1) is the trapezoidal model
+The paper prints G₂ with T (not T/2) in the ẏ row; the x column (T²/4, T/2, 1) is the trapezoidal model
 x⁺ = x + vT + (T²/2)(a_k + a_{k+1})/2 with a_{k+1} = a_k + w, so the y column is (T²/4, T/2, 1) too
 (``paper-fixed``, the default). ``standard`` is the common discrete white-noise-jerk form (T²/2, T, 1).
 """
@@ -18,52 +19,98 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+
+from motionsig_cli.config import ConfigError, in_range, one_of, positive
 
 __all__ = [
     "G2_FORMS",
     "H_POS4",
     "H_POS6",
+    "Q0_RANGE",
     "ModelSet",
+    "check_distribution",
+    "check_transition",
     "cv_input_model",
     "imm_models",
     "two_point_init",
 ]
 
 G2_FORMS = ("paper-fixed", "standard")
-"""Forms of the maneuvering models' noise gain G₂ = G₃ (spec §3.4 [FIX])."""
+"""Forms of the maneuvering models' noise gain G₂ = G₃ (``paper-fixed``: the printed form, corrected)."""
 
 H_POS4 = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]])
 """Position measurement of the 4-D state [x, ẋ, y, ẏ]."""
 H_POS6 = np.array([[1.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0, 0.0]])
-"""Position measurement of the 6-D state [x, ẋ, y, ẏ, ẍ, ÿ] (spec §3.4: H)."""
+"""Position measurement of the 6-D state [x, ẋ, y, ẏ, ẍ, ÿ] (H of eq 8)."""
 
 PI_PAPER = ((0.95, 0.025, 0.025), (0.025, 0.95, 0.025), (0.025, 0.025, 0.95))
-"""Markov transition matrix of the seed, p_ij = P(model j at k | model i at k − 1) (§IV)."""
+"""Markov transition matrix of the paper, p_ij = P(model j at k | model i at k − 1) (§IV)."""
 MU0_PAPER = (0.8, 0.1, 0.1)
-"""Initial model probabilities (§IV; the seed calls them "transition probabilities")."""
+"""Initial model probabilities (§IV; the paper calls them "transition probabilities")."""
 Q_PAPER = (0.0, 0.001, 0.0144)
 """Per-model acceleration-increment variances: Q₁ = 0, Q₂ = 0.001 I, Q₃ = 0.0144 I (§IV)."""
 
 
+Q0_RANGE = (0.0, 1e6)
+"""Acceleration psd q̃₀ of the input model accepted [m²/s³]: 0 is the exact constant-velocity model; 1e6 m²/s³
+(a velocity random walk of 1 km/s in one second) is far beyond any vehicle, and keeps Q far from overflow."""
+
+PROB_TOL = 1e-9
+"""Tolerance of a probability vector's sum."""
+
+
 def _check_T(T: float) -> None:
-    if not (math.isfinite(T) and T > 0):
-        raise ValueError(f"scan period T = {T:g} must be a finite number > 0")
+    positive("T", T, unit="s")
+
+
+def check_transition(field_name: str, Pi: Any, r: int | None = None) -> np.ndarray:
+    """``Pi`` as a float array if it is a Markov transition matrix (r × r when ``r`` is given): finite, every
+    row non-negative and summing to 1; else :class:`~motionsig_cli.config.ConfigError` on ``field_name``."""
+    try:
+        a = np.asarray(Pi, float)
+    except (TypeError, ValueError):
+        raise ConfigError(field_name, Pi, "is not a matrix of numbers") from None
+    k = a.shape[0] if a.ndim == 2 else -1
+    if a.shape != (k, k) or (r is not None and k != r):
+        want = f"{r} rows of {r} probabilities (one per model)" if r is not None else "a square matrix"
+        raise ConfigError(field_name, a.tolist(), f"is not {want}")
+    for i, row in enumerate(a):
+        if not (np.all(np.isfinite(row)) and np.all(row >= 0) and abs(row.sum() - 1.0) <= PROB_TOL):
+            raise ConfigError(
+                field_name, row.tolist(), f"is row {i + 1}: its entries must be non-negative and sum to 1"
+            )
+    return a
+
+
+def check_distribution(field_name: str, p: Any, r: int | None = None) -> np.ndarray:
+    """``p`` as a float array if it is a probability vector (of ``r`` entries when given): finite,
+    non-negative, summing to 1; else :class:`~motionsig_cli.config.ConfigError` on ``field_name``."""
+    try:
+        a = np.asarray(p, float)
+    except (TypeError, ValueError):
+        raise ConfigError(field_name, p, "is not a vector of numbers") from None
+    if a.ndim != 1 or (r is not None and a.size != r):
+        want = f"{r} probabilities (one per model)" if r is not None else "a vector"
+        raise ConfigError(field_name, a.tolist(), f"is not {want}")
+    if not (np.all(np.isfinite(a)) and np.all(a >= 0) and abs(a.sum() - 1.0) <= PROB_TOL):
+        raise ConfigError(field_name, a.tolist(), "is not a probability vector (non-negative, summing to 1)")
+    return a
 
 
 def cv_input_model(T: float, q0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """F, G_u and Q of the GLR/MLR input model (spec §3.2).
+    """F, G_u and Q of the GLR/MLR input model (§II).
 
     Returns:
         F (4, 4), G_u (4, 2) and Q = q̃₀ blockdiag([[T³/3, T²/2], [T²/2, T]]) (4, 4), state [x, ẋ, y, ẏ].
     """
     _check_T(T)
-    if not (math.isfinite(q0) and q0 >= 0):
-        raise ValueError(f"q0 = {q0:g} must be a finite number >= 0")
+    in_range("q0", q0, *Q0_RANGE, unit="m²/s³")
     F = np.eye(4)
     F[0, 1] = F[2, 3] = T  # per axis [[1, T], [0, 1]]
-    G = np.array([[T * T / 2, 0.0], [T, 0.0], [0.0, T * T / 2], [0.0, T]])  # G_u of §3.2
+    G = np.array([[T * T / 2, 0.0], [T, 0.0], [0.0, T * T / 2], [0.0, T]])  # G_u
     qa = q0 * np.array([[T**3 / 3, T**2 / 2], [T**2 / 2, T]])  # continuous white-noise acceleration
     Q = np.zeros((4, 4))
     Q[:2, :2] = qa
@@ -72,7 +119,7 @@ def cv_input_model(T: float, q0: float) -> tuple[np.ndarray, np.ndarray, np.ndar
 
 
 def _phi_cv6(T: float) -> np.ndarray:
-    """Φ₁: constant velocity on the 6-D state, acceleration rows zero (spec §3.4)."""
+    """Φ₁: constant velocity on the 6-D state, acceleration rows zero (§IV)."""
     P = np.zeros((6, 6))
     P[0, 0] = P[1, 1] = P[2, 2] = P[3, 3] = 1.0
     P[0, 1] = P[2, 3] = T
@@ -80,7 +127,7 @@ def _phi_cv6(T: float) -> np.ndarray:
 
 
 def _phi_ca6(T: float) -> np.ndarray:
-    """Φ₂ = Φ₃: constant acceleration (spec §3.4)."""
+    """Φ₂ = Φ₃: constant acceleration (§IV)."""
     P = np.eye(6)
     P[0, 1] = P[2, 3] = T
     P[0, 4] = P[2, 5] = T * T / 2
@@ -89,13 +136,12 @@ def _phi_ca6(T: float) -> np.ndarray:
 
 
 def _g_ca6(T: float, form: str) -> np.ndarray:
-    """G₂ = G₃ (spec §3.4): ``paper-fixed`` (T²/4, T/2, 1) per axis, or ``standard`` (T²/2, T, 1)."""
+    """G₂ = G₃ (§IV): ``paper-fixed`` (T²/4, T/2, 1) per axis, or ``standard`` (T²/2, T, 1)."""
+    one_of("g2", form, G2_FORMS)
     if form == "paper-fixed":
         a, b = T * T / 4, T / 2
-    elif form == "standard":
-        a, b = T * T / 2, T
     else:
-        raise ValueError(f"G2 form {form!r} is not one of {', '.join(G2_FORMS)}")
+        a, b = T * T / 2, T
     G = np.zeros((6, 2))
     G[0, 0] = G[2, 1] = a
     G[1, 0] = G[3, 1] = b
@@ -132,29 +178,25 @@ class ModelSet:
     def __post_init__(self) -> None:
         Phi, Qd = np.asarray(self.Phi, float), np.asarray(self.Qd, float)
         Pi, mu0 = np.asarray(self.Pi, float), np.asarray(self.mu0, float)
-        if Phi.ndim != 3 or Phi.shape[1] != Phi.shape[2] or Qd.shape != Phi.shape:
-            raise ValueError(f"Phi and Qd must both be (r, n, n); got {Phi.shape} and {Qd.shape}")
+        if Phi.ndim != 3 or Phi.shape[1] != Phi.shape[2]:
+            raise ConfigError("Phi", Phi.shape, "is not the shape (r, n, n) of r transition matrices")
+        if Qd.shape != Phi.shape:
+            raise ConfigError("Qd", Qd.shape, f"is not the shape {Phi.shape} of Phi")
         r = Phi.shape[0]
-        if Pi.shape != (r, r) or mu0.shape != (r,):
-            raise ValueError(f"the transition matrix must be {r}x{r} and mu0 have {r} entries")
-        for name, a in (("Phi", Phi), ("Qd", Qd), ("transition matrix", Pi), ("mu0", mu0)):
+        for name, a in (("Phi", Phi), ("Qd", Qd)):
             if not np.all(np.isfinite(a)):
-                raise ValueError(f"{name} has non-finite entries")
-        if np.any(Pi < 0) or np.any(np.abs(Pi.sum(axis=1) - 1.0) > 1e-9):
-            bad = int(np.argmax(np.abs(Pi.sum(axis=1) - 1.0) + (Pi < 0).any(axis=1)))
-            raise ValueError(
-                f"transition matrix row {bad + 1} = {Pi[bad].tolist()} must be non-negative and sum to 1"
-            )
-        if np.any(mu0 < 0) or abs(mu0.sum() - 1.0) > 1e-9:
-            raise ValueError(f"initial model probabilities {mu0.tolist()} must be non-negative and sum to 1")
-        if not np.allclose(Qd, np.swapaxes(Qd, 1, 2), atol=0, rtol=1e-12) or np.any(
-            np.linalg.eigvalsh(0.5 * (Qd + np.swapaxes(Qd, 1, 2)))[:, 0]
-            < -1e-12 * max(1.0, float(np.abs(Qd).max()))
-        ):
-            raise ValueError("every process-noise covariance must be symmetric positive semi-definite")
+                raise ConfigError(name, a.shape, "has non-finite entries")
+        Pi = check_transition("Pi", Pi, r)
+        mu0 = check_distribution("mu0", mu0, r)
+        tol = -1e-12 * max(1.0, float(np.abs(Qd).max()))
+        low = np.linalg.eigvalsh(0.5 * (Qd + np.swapaxes(Qd, 1, 2)))[:, 0]
+        for j in range(r):
+            if not np.allclose(Qd[j], Qd[j].T, atol=0, rtol=1e-12) or low[j] < tol:
+                reason = f"(model {j + 1}) is not symmetric positive semi-definite"
+                raise ConfigError("Qd", Qd[j].tolist(), reason)
         names = self.names or tuple(f"model {j + 1}" for j in range(r))
         if len(names) != r:
-            raise ValueError(f"{len(names)} names for {r} models")
+            raise ConfigError("names", tuple(names), f"has {len(names)} names for {r} models")
         for k, v in (("Phi", Phi), ("Qd", Qd), ("Pi", Pi), ("mu0", mu0)):
             v.setflags(write=False)
             object.__setattr__(self, k, v)
@@ -179,7 +221,7 @@ def imm_models(
     Pi: np.ndarray | tuple[tuple[float, ...], ...] = PI_PAPER,
     mu0: np.ndarray | tuple[float, ...] = MU0_PAPER,
 ) -> ModelSet:
-    """The seed's three models (§IV, spec §3.4): CV (Q₁ = 0) and two CA models (Q₂, Q₃) on X (6-D).
+    """The paper's three models (§IV): CV (Q₁ = 0) and two CA models (Q₂, Q₃) on X (6-D).
 
     Args:
         T: scan period [s].
@@ -189,7 +231,7 @@ def imm_models(
     """
     _check_T(T)
     if len(q) != 3 or not all(math.isfinite(v) and v >= 0 for v in q):
-        raise ValueError(f"q = {q} must be three finite variances >= 0")
+        raise ConfigError("q", tuple(q), "is not three finite variances >= 0")
     G1, G2 = _g_cv6(T), _g_ca6(T, g2)
     Phi = np.stack([_phi_cv6(T), _phi_ca6(T), _phi_ca6(T)])
     Qd = np.stack([q[0] * G1 @ G1.T, q[1] * G2 @ G2.T, q[2] * G2 @ G2.T])  # G_j Q_j G_jᵀ, Q_j = q_j I₂
@@ -205,10 +247,10 @@ def imm_models(
 def two_point_init(
     z1: np.ndarray, z2: np.ndarray, T: float, sigma: float, n: int = 6
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Two-point differencing initialisation at scan 2 (spec §3.4).
+    """Two-point differencing initialisation at scan 2 (§IV).
 
     X̂(2|2) = [z_x(2), (z_x(2) − z_x(1))/T, z_y(2), (z_y(2) − z_y(1))/T, 0, 0] and
-    P(2|2) = blockdiag over the axes of [[δ², δ²/T], [δ²/T, 2δ²/T²]] with δ = σ (the seed prints δ_x in the ẏ
+    P(2|2) = blockdiag over the axes of [[δ², δ²/T], [δ²/T, 2δ²/T²]] with δ = σ (the paper prints δ_x in the ẏ
     entry; fixed) and a zero acceleration block. ``n = 4`` gives the same for the state [x, ẋ, y, ẏ].
 
     Args:
@@ -218,8 +260,7 @@ def two_point_init(
         x (..., n) and P (n, n).
     """
     _check_T(T)
-    if n not in (4, 6):
-        raise ValueError("n must be 4 or 6")
+    one_of("n", n, (4, 6))
     z1, z2 = np.asarray(z1, float), np.asarray(z2, float)
     x = np.zeros((*np.broadcast_shapes(z1.shape, z2.shape)[:-1], n))
     x[..., 0] = z2[..., 0]

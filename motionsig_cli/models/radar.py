@@ -1,7 +1,8 @@
-"""Planar target motion and sensor measurement models for the track-existence test (seed 001; spec §2.2, §2.5).
+"""Planar target motion and sensor measurement models for the track-existence test of Govaers, *Evaluation
+of Distributed Detection Methods for Agile Targets* (Fraunhofer FKIE, slides).
 
 State x = [x, ẋ, y, ẏ] (m, m/s). Nearly constant velocity with continuous white-noise acceleration of
-power spectral density q̃ (spec §2.5: q̃ = 10 m²/s³): per axis F = [[1, T], [0, 1]],
+power spectral density q̃ (the scenario's default q̃ = 10 m²/s³): per axis F = [[1, T], [0, 1]],
 Q = q̃ [[T³/3, T²/2], [T²/2, T]].
 
 Measurements from a sensor at position s: range–bearing z = [‖p − s‖, atan2(dy, dx)] (the default,
@@ -16,7 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["MeasurementModel", "cv_model", "wrap_angle"]
+from motionsig_cli.config import ConfigError, in_range, one_of, positive
+
+__all__ = ["MEASUREMENT_KINDS", "MeasurementModel", "cv_model", "wrap_angle"]
+
+MEASUREMENT_KINDS = ("range_bearing", "cartesian")
 
 
 def wrap_angle(a: np.ndarray) -> np.ndarray:
@@ -25,9 +30,13 @@ def wrap_angle(a: np.ndarray) -> np.ndarray:
 
 
 def cv_model(T: float, q: float) -> tuple[np.ndarray, np.ndarray]:
-    """F and Q of the nearly-constant-velocity model, state [x, ẋ, y, ẏ] (spec §2.5)."""
-    if not (math.isfinite(T) and T > 0 and math.isfinite(q) and q >= 0):
-        raise ValueError("scan period T must be > 0 and the acceleration psd q >= 0")
+    """F and Q of the nearly-constant-velocity model, state [x, ẋ, y, ẏ].
+
+    Raises:
+        ConfigError: the scan period T not a finite number > 0, or the acceleration psd q not finite ≥ 0.
+    """
+    positive("T", T, unit="s")
+    in_range("q", q, 0.0, unit="m²/s³")
     f = np.array([[1.0, T], [0.0, 1.0]])
     qa = q * np.array([[T**3 / 3.0, T**2 / 2.0], [T**2 / 2.0, T]])
     F = np.zeros((4, 4))
@@ -44,7 +53,7 @@ class MeasurementModel:
 
     Attributes:
         kind: ``range_bearing`` or ``cartesian``.
-        R: (2, 2) measurement noise covariance (m², rad² for range–bearing).
+        R: (2, 2) measurement noise covariance (m², rad² for range–bearing), symmetric positive definite.
         fov_range: field-of-view radius [m]: a polar box r ∈ [0, fov_range], φ ∈ [−π, π) for range–bearing,
             a square of half-width fov_range about the sensor for Cartesian.
     """
@@ -54,13 +63,16 @@ class MeasurementModel:
     fov_range: float = 26_000.0
 
     def __post_init__(self) -> None:
-        if self.kind not in ("range_bearing", "cartesian"):
-            raise ValueError(f"unknown measurement model {self.kind!r}")
+        one_of("kind", self.kind, MEASUREMENT_KINDS)
         R = np.asarray(self.R, dtype=float)
-        if R.shape != (2, 2) or not np.allclose(R, R.T) or np.any(np.linalg.eigvalsh(R) <= 0):
-            raise ValueError("measurement noise R must be a symmetric positive definite 2x2 matrix")
-        if not (math.isfinite(self.fov_range) and self.fov_range > 0):
-            raise ValueError("field of view must be > 0")
+        if (
+            R.shape != (2, 2)
+            or not np.all(np.isfinite(R))
+            or not np.allclose(R, R.T)
+            or np.any(np.linalg.eigvalsh(R) <= 0)
+        ):
+            raise ConfigError("R", R.tolist(), "is not a symmetric positive definite 2x2 matrix")
+        positive("fov_range", self.fov_range, unit="m")
         object.__setattr__(self, "R", R)
 
     @property

@@ -1,11 +1,12 @@
-"""The 1-D closed-loop vehicle of seed 000 §IV.A (eqs 53–55) and its augmented filter models (eq 44).
+"""The 1-D closed-loop vehicle of the mode-signature paper (LMP mode detection with Gold-code signatures,
+IEEE CDC 2008), §IV.A, eqs 53–55, and its augmented filter models (eq 44).
 
-Truth (spec §1.6)::
+Truth::
 
     x_{k+1} = [[1, T], [0, 1]] x_k + [0, T]ᵀ u_k + [T²/2, T]ᵀ w_k          eq (53), w ~ N(0, σ_a²)
     u_k     = K (−x_k + r_k + a_sig [z_k, ż_k]ᵀ)                              controller, eq (54)
     y_k     = [1, 0] x_k + v_k,   v ~ N(0, R)                               eq (55)
-    r_k     = [a_r sin(2π f_r t_k), 2π f_r a_r cos(2π f_r t_k)]ᵀ            nominal reference
+    r_k     = [a_r sin(2π f_r t_k), 2π f_r a_r cos(2π f_r t_k)]ᵀ            nominal reference [A]
 
 Filter models (eq 44 with true-state feedback, A_r a constant-velocity random walk)::
 
@@ -15,45 +16,114 @@ Filter models (eq 44 with true-state feedback, A_r a constant-velocity random wa
                 [0, 0, 1, T, 0], [0, 0, 0, 1, 0], [0, 0, 0, 0, 1]]
     F^{H0} = upper-left 4×4 block;  H = [1, 0, 0, 0(, 0)]
     Q^{H0} = diag(1e-3, 1e2, 1e-1, 1e1) (eq 56);  Q^{H1} = diag(…, Q_a = 1) (eq 57, "10⁰")
+
+[A] = our assumption: the paper does not state it.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError, in_range, one_of, positive
+
 Q0_DIAG = (1e-3, 1e2, 1e-1, 1e1)  # eq (56), per step
 QA_DEFAULT = 1.0  # eq (57) last entry, read as 10^0
+DEFAULT_R = 1e-5  # the best ANR of Figs 4–6 (label 94.3)
+DB_CONVENTIONS = ("paper-ln", "log10")  # the paper's "dB" is 10·ln; log10: true decibels
 
 
 def pole_placement_gain(T: float, wn: float = 4 * math.pi, zeta: float = 0.7) -> tuple[float, float]:
-    """K = [k1, k2] placing the poles of A − BK at e^{sT}, s = −ζω_n ± jω_n√(1−ζ²) (spec §1.8).
+    """K = [k1, k2] placing the poles of A − BK at e^{sT}, s = −ζω_n ± jω_n√(1−ζ²) [A: ω_n = 4π rad/s,
+    ζ = 0.7 by default].
 
     det(zI − (A − BK)) = z² + (T k2 − 2) z + (1 − T k2 + T² k1) = z² + α1 z + α0 with
     α1 = −2 e^{−ζω_nT} cos(ω_d T), α0 = e^{−2ζω_nT}  ⇒  k2 = (2 + α1)/T, k1 = (1 + α1 + α0)/T².
+
+    Raises:
+        ConfigError: T or wn not a finite number > 0, zeta not in (0, 1) (an underdamped pole pair),
+            or T so small that T² underflows.
     """
-    if not (T > 0 and wn > 0 and 0 < zeta < 1):
-        raise ValueError("pole placement needs T > 0, wn > 0 and 0 < zeta < 1")
+    positive("T", T, unit="s")
+    positive("wn", wn, unit="rad/s")
+    in_range("zeta", zeta, 0.0, 1.0, lo_open=True, hi_open=True)
+    if T**2 == 0:
+        raise ConfigError("T", T, "is too small for pole placement (T² underflows)")
     wd = wn * math.sqrt(1 - zeta**2)
     a1 = -2 * math.exp(-zeta * wn * T) * math.cos(wd * T)
     a0 = math.exp(-2 * zeta * wn * T)
     return (1 + a1 + a0) / T**2, (2 + a1) / T
 
 
+def check_gain(name: str, K: Any) -> None:
+    """A feedback gain: two finite numbers (k1, k2), else :class:`ConfigError` naming ``name``."""
+    ok = isinstance(K, Sequence) and len(K) == 2
+    try:
+        ok = ok and all(math.isfinite(float(k)) for k in K)
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ConfigError(name, K, "is not two finite gains k1, k2")
+
+
+def measurement_variance(
+    R: float | None, anr_db: float | None, db_convention: str = "paper-ln", a_sig: float = 0.5
+) -> float:
+    """The measurement-noise variance R given itself or an ANR in dB (ANR = a_sig²/(2R), eq 58).
+
+    ``db_convention`` ``"paper-ln"`` reads the dB value as the paper's 10·ln(ANR), ``"log10"`` as true
+    decibels. Neither given: R = 1e-5. R itself is checked by :class:`Vehicle1D`.
+
+    Raises:
+        ConfigError: both given, an unknown convention, a_sig ≤ 0 with an ANR (no R gives it), or an ANR
+            whose R is not a positive finite number.
+    """
+    one_of("db_convention", db_convention, DB_CONVENTIONS)
+    if anr_db is None:
+        return DEFAULT_R if R is None else R
+    if R is not None:
+        raise ConfigError("anr_db", anr_db, "is given together with the variance R: give one, not both")
+    if not math.isfinite(anr_db):
+        raise ConfigError("anr_db", anr_db, "is not a finite number")
+    if not a_sig > 0:
+        raise ConfigError("a_sig", a_sig, "is not > 0, so no measurement variance gives the ANR")
+    try:
+        anr = math.exp(anr_db / 10) if db_convention == "paper-ln" else 10 ** (anr_db / 10)
+        R = a_sig**2 / (2 * anr)
+    except OverflowError:
+        raise ConfigError("anr_db", anr_db, "is too large: the measurement variance R underflows") from None
+    except ZeroDivisionError:
+        raise ConfigError("anr_db", anr_db, "is too small: the measurement variance R overflows") from None
+    if not (math.isfinite(R) and R > 0):
+        raise ConfigError(
+            "anr_db", anr_db, f"gives a measurement variance R = {R:g}, not a finite number > 0"
+        )
+    return R
+
+
 @dataclass(frozen=True, slots=True)
 class Vehicle1D:
-    """Parameters of the 1-D example (defaults: spec §1.8; [A] = assumption, seed silent).
+    """Parameters of the 1-D example ([A] = our assumption: the paper does not state it).
+
+    Checked here, once: T and R finite and > 0; a_sig, a_r, f_r and sigma_a finite and ≥ 0 (a zero
+    amplitude, frequency or noise is a legitimate degenerate case: a_sig = 0 carries no signature);
+    K two finite gains.
 
     Attributes:
-        T: Sample interval [s] [A].
+        T: Sample interval [s] [A: 0.05 s].
         K: Feedback gain (k1, k2); default pole placement ω_n = 4π, ζ = 0.7 [A].
-        a_sig: Signature amplitude (0.5, seed).
-        a_r: Nominal reference amplitude (10, seed).
-        f_r: Nominal reference frequency [Hz] (0.01, 0.1 or 1, seed).
-        sigma_a: True white-acceleration noise [m/s²] [A].
-        R: Measurement-noise variance (1e-1 … 1e-5, derived from the seed's ANR labels).
+        a_sig: Signature amplitude (0.5 in the paper).
+        a_r: Nominal reference amplitude (10 in the paper).
+        f_r: Nominal reference frequency [Hz] (0.01, 0.1 or 1 in the paper).
+        sigma_a: True white-acceleration noise [m/s²] [A: 0.01].
+        R: Measurement-noise variance (1e-1 … 1e-5, derived from the paper's ANR labels).
+
+    Raises:
+        ConfigError: naming the first bad field.
     """
 
     T: float = 0.05
@@ -62,19 +132,14 @@ class Vehicle1D:
     a_r: float = 10.0
     f_r: float = 0.01
     sigma_a: float = 0.01
-    R: float = 1e-5
+    R: float = DEFAULT_R
 
     def __post_init__(self) -> None:
-        for name in ("T", "R"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"{name} must be positive and finite, got {v}")
+        positive("T", self.T, unit="s")
+        check_gain("K", self.K)
         for name in ("a_sig", "a_r", "f_r", "sigma_a"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be finite and >= 0, got {v}")
-        if len(self.K) != 2 or not all(math.isfinite(k) for k in self.K):
-            raise ValueError(f"K must be two finite gains, got {self.K}")
+            in_range(name, getattr(self, name), 0.0)
+        positive("R", self.R)
 
     @property
     def anr(self) -> float:

@@ -1,4 +1,5 @@
-"""The 2-D closed-loop vehicle observed by a radar — seed 000 §IV.B, eqs (59)–(62), spec §1.7.
+"""The 2-D closed-loop vehicle observed by a radar: the mode-signature paper (LMP mode detection with
+Gold-code signatures, IEEE CDC 2008), §IV.B, eqs (59)–(62).
 
 Truth (eq 59, per axis α ∈ {x, y}, the 1-D loop of eq 53 on each axis)::
 
@@ -6,7 +7,7 @@ Truth (eq 59, per axis α ∈ {x, y}, the 1-D loop of eq 53 on each axis)::
     u^α_k = K (−[α, α̇]_k + r^α_k + a_α [z_k, ż_k]ᵀ)                        same K on both axes [A]
     r^x_k = [x_0 + a_r sin(2π f_r t_k), 2π f_r a_r cos(2π f_r t_k)],  r^y likewise about y_0  [A]
 
-Radar at the origin (eq 60, with the spec's fix: atan2 instead of tan⁻¹(y/x))::
+Radar at the origin (eq 60, with atan2 in place of the printed tan⁻¹(y/x), which loses the quadrant)::
 
     y_k = [κ, χ]ᵀ + v_k,  κ = √(x² + y²),  χ = atan2(y, x) wrapped to (−π, π],  v ~ N(0, diag(R_κ, R_χ))
 
@@ -17,7 +18,7 @@ Filter models (eq 44 per axis; the layouts follow from the 8 and 10 entries of e
     Q^{H0} = diag(1e-1, 1e-3, 1e-1, 1e-3, 1e-1, 1e4, 1e-1, 1e4)                         eq (61)
     Q^{H1} = diag(1e-1, 1e2, 1e-1, 1e1, 1e-2, 1e2, 1e2, 1e3, 1e-1, 1e0)                 eq (62)
 
-[A] = assumption (the seed is silent); the x/y asymmetry of eq (62) is as printed.
+[A] = our assumption (the paper does not state it); the x/y asymmetry of eq (62) is as printed.
 """
 
 from __future__ import annotations
@@ -28,8 +29,9 @@ from typing import Literal
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
 from motionsig_cli.models.radar import wrap_angle
-from motionsig_cli.models.vehicle import pole_placement_gain
+from motionsig_cli.models.vehicle import check_gain, pole_placement_gain
 
 Q0_2D = (1e-1, 1e-3, 1e-1, 1e-3, 1e-1, 1e4, 1e-1, 1e4)  # eq (61), per step
 Q1_2D = (1e-1, 1e2, 1e-1, 1e1, 1e-2, 1e2, 1e2, 1e3, 1e-1, 1e0)  # eq (62); last entry "100" read as 10^0
@@ -37,42 +39,79 @@ Q1_2D = (1e-1, 1e2, 1e-1, 1e1, 1e-2, 1e2, 1e2, 1e3, 1e-1, 1e0)  # eq (62); last 
 # State indices (H0 layout; H1 appends a_x = 8, a_y = 9).
 IX, IXD, IY, IYD, IRX, IRXD, IRY, IRYD, IAX, IAY = range(10)
 
-# Fig 7 (angle, range) ANR pairs in the seed's 10·ln "dB" (seed 000 §IV.B text and Fig 7 axis).
+# Fig 7 (angle, range) ANR pairs in the paper's 10·ln "dB" (its §IV.B text and the Fig 7 axis).
 SEED_ANR_PAIRS: tuple[tuple[float, float], ...] = ((9.2, 37.1), (32.2, 60.2), (55.2, 83.2), (101.3, 129.2))
 # Bearing variances behind the angle labels: round 5·10⁻ⁿ (10·ln(0.125/R_χ) = 9.16, 32.19, 55.21, 101.27).
 SEED_R_BEARING: tuple[float, ...] = (5e-2, 5e-3, 5e-4, 5e-6)
+SIG_AXES = ("both", "x", "y")
 
 
-def anr_pair_variances(pair: int, a_sig: float = 0.5) -> tuple[float, float]:
-    """(R_κ, R_χ) of Fig 7's ANR pair 1–4 (spec §1.7 table; [derived]).
+def anr_pair_variances(anr_pair: int, a_sig: float = 0.5) -> tuple[float, float]:
+    """(R_κ, R_χ) of Fig 7's ANR pair 1–4 (derived from the printed labels).
 
-    R_χ is the round 5·10⁻ⁿ that reproduces the angle label at the seed's a_sig = 0.5; R_κ has no
+    R_χ is the round 5·10⁻ⁿ that reproduces the angle label at the paper's a_sig = 0.5; R_κ has no
     visible rule, so it is inverted from the printed range label, R_κ = (a²/2) e^{−label/10} (±0.5 % from
     the label's rounding). Both scale with a_sig², so a pair keeps its ANRs (a²/(2R)) for any a_sig.
+
+    Raises:
+        ConfigError: anr_pair not 1–4, or a_sig not > 0 (no variance gives an ANR then).
     """
+    pair = integer("anr_pair", anr_pair)
     if pair not in (1, 2, 3, 4):
-        raise ValueError(f"Fig 7 has ANR pairs 1-4, got {pair}")
+        raise ConfigError("anr_pair", anr_pair, "is not one of Fig 7's ANR pairs 1-4")
     if not (math.isfinite(a_sig) and a_sig > 0):
-        raise ValueError(f"a_sig must be > 0 to define an ANR, got {a_sig}")
+        raise ConfigError("a_sig", a_sig, "is not > 0, so no noise variance gives an ANR pair")
     range_label = SEED_ANR_PAIRS[pair - 1][1]
     return a_sig**2 / 2 * math.exp(-range_label / 10), SEED_R_BEARING[pair - 1] * (a_sig / 0.5) ** 2
 
 
+def radar_noise(
+    anr_pair: int | None, R_range: float | None, R_bearing: float | None, a_sig: float = 0.5
+) -> tuple[float, float, int | None]:
+    """(R_κ, R_χ, the pair they came from) given a Fig 7 ANR pair or the variances themselves.
+
+    A variance not given comes from ``anr_pair`` (default pair 4, the best); the pair is reported only
+    when both variances came from it. The variances themselves are checked by :class:`Vehicle2D`.
+
+    Raises:
+        ConfigError: a pair together with a variance, or a bad pair (see :func:`anr_pair_variances`).
+    """
+    if anr_pair is not None and (R_range is not None or R_bearing is not None):
+        raise ConfigError("anr_pair", anr_pair, "is given together with a noise variance: give one, not both")
+    if R_range is not None and R_bearing is not None:
+        return R_range, R_bearing, None
+    pair = 4 if anr_pair is None else anr_pair
+    pr, pb = anr_pair_variances(pair, a_sig)
+    both = R_range is None and R_bearing is None
+    return (
+        (pr if R_range is None else R_range),
+        (pb if R_bearing is None else R_bearing),
+        (pair if both else None),
+    )
+
+
 @dataclass(frozen=True, slots=True)
 class Vehicle2D:
-    """Parameters of the 2-D radar example (defaults: spec §1.7–1.8; [A] = assumption).
+    """Parameters of the 2-D radar example ([A] = our assumption: the paper does not state it).
+
+    Checked here, once: T, R_range and R_bearing finite and > 0; a_sig, a_r, f_r and sigma_a finite and
+    ≥ 0; K two finite gains; start two finite coordinates away from the radar (the origin, where the
+    bearing is undefined); sig_axes one of both, x, y.
 
     Attributes:
-        T: Sample interval [s] [A].
+        T: Sample interval [s] [A: 0.05 s].
         K: Feedback gain (k1, k2), the same on both axes [A].
-        a_sig: Signature amplitude a_x = a_y = a_sig on the axes in ``sig_axes`` (0.5, seed).
-        a_r: Reference amplitude (10, seed).
-        f_r: Reference frequency [Hz] (0.01, seed Fig 7).
-        sigma_a: True white-acceleration noise per axis [m/s²] [A].
+        a_sig: Signature amplitude a_x = a_y = a_sig on the axes in ``sig_axes`` (0.5 in the paper).
+        a_r: Reference amplitude (10 in the paper).
+        f_r: Reference frequency [Hz] (0.01 in the paper's Fig 7).
+        sigma_a: True white-acceleration noise per axis [m/s²] [A: 0.01].
         R_range: Range-noise variance R_κ [m²].
         R_bearing: Bearing-noise variance R_χ [rad²].
-        start: Initial position (x_0, y_0) [m], zero velocity (seed: (70, −20)).
+        start: Initial position (x_0, y_0) [m], zero velocity ((70, −20) in the paper).
         sig_axes: Axes carrying the signature: ``"both"`` [A], ``"x"`` or ``"y"``.
+
+    Raises:
+        ConfigError: naming the first bad field.
     """
 
     T: float = 0.05
@@ -87,22 +126,23 @@ class Vehicle2D:
     sig_axes: Literal["both", "x", "y"] = "both"
 
     def __post_init__(self) -> None:
-        for name in ("T", "R_range", "R_bearing"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"{name} must be positive and finite, got {v}")
+        positive("T", self.T, unit="s")
+        check_gain("K", self.K)
         for name in ("a_sig", "a_r", "f_r", "sigma_a"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v >= 0):
-                raise ValueError(f"{name} must be finite and >= 0, got {v}")
-        if len(self.K) != 2 or not all(math.isfinite(k) for k in self.K):
-            raise ValueError(f"K must be two finite gains, got {self.K}")
-        if len(self.start) != 2 or not all(math.isfinite(s) for s in self.start):
-            raise ValueError(f"start must be two finite coordinates, got {self.start}")
+            in_range(name, getattr(self, name), 0.0)
+        positive("R_range", self.R_range, unit="m²")
+        positive("R_bearing", self.R_bearing, unit="rad²")
+        try:
+            ok = len(self.start) == 2 and all(math.isfinite(float(s)) for s in self.start)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ConfigError("start", self.start, "is not two finite coordinates x, y [m]")
         if math.hypot(*self.start) == 0:
-            raise ValueError("start must not be the radar's position (the origin): the bearing is undefined")
-        if self.sig_axes not in ("both", "x", "y"):
-            raise ValueError(f"sig_axes must be both|x|y, got {self.sig_axes!r}")
+            raise ConfigError(
+                "start", self.start, "is the radar's position (the origin): the bearing is undefined"
+            )
+        one_of("sig_axes", self.sig_axes, SIG_AXES)
 
     @property
     def amplitudes(self) -> tuple[float, float]:
@@ -200,6 +240,6 @@ AMPLITUDE_ENTRIES_2D = ((IXD, IAX), (IYD, IAY))  # (row, column) of the two time
 
 
 def prior_mean_2d(start: tuple[float, float], with_amplitudes: bool) -> np.ndarray:
-    """Filter prior mean [x_0, 0, y_0, 0, x_0, 0, y_0, 0 (, 0, 0)] (spec §1.7 [A])."""
+    """Filter prior mean [x_0, 0, y_0, 0, x_0, 0, y_0, 0 (, 0, 0)] [A]."""
     m = [start[0], 0.0, start[1], 0.0, start[0], 0.0, start[1], 0.0]
     return np.array(m + ([0.0, 0.0] if with_amplitudes else []))

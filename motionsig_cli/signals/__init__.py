@@ -1,5 +1,6 @@
-"""Signals (seed 000 §II.A): LFSR m-sequences, Gold codes, GPS C/A codes, mode signatures.
+"""Signals (§II.A of the mode-signature paper, LMP mode detection with Gold-code signatures, IEEE CDC 2008):
+LFSR m-sequences, Gold codes, GPS C/A codes, mode signatures.
 
-Bits are ``uint8`` arrays of 0/1, chip 0 first. Bipolar chips follow the seed's BPSK mapping
+Bits are ``uint8`` arrays of 0/1, chip 0 first. Bipolar chips follow the paper's BPSK mapping
 (ρ0 = −1 for bit 0, ρ1 = +1 for bit 1).
 """

@@ -1,4 +1,5 @@
-"""Periodic auto- and cross-correlation of bipolar codes (seed 000 §II.A; Sarwate & Pursley 1980).
+"""Periodic auto- and cross-correlation of bipolar codes (§II.A of the mode-signature paper, LMP mode detection
+with Gold-code signatures, IEEE CDC 2008; Sarwate & Pursley 1980).
 
 R_xy[ℓ] = Σ_t x_t y_{(t+ℓ) mod N},  ℓ = 0 … N−1,  x, y ∈ {−1, +1}ᴺ.
 
@@ -15,7 +16,7 @@ import numpy as np
 
 
 def to_bipolar(bits: np.ndarray) -> np.ndarray:
-    """BPSK chips of the seed (eq 3 text): bit 0 → ρ0 = −1, bit 1 → ρ1 = +1."""
+    """BPSK chips of the mode-signature paper (eq 3 text): bit 0 → ρ0 = −1, bit 1 → ρ1 = +1."""
     bits = np.asarray(bits)
     return (2 * bits.astype(np.int8) - 1).astype(np.int8)
 

@@ -13,6 +13,8 @@ from __future__ import annotations
 import re
 from functools import cache
 
+from motionsig_cli.config import ConfigError, integer
+
 MAX_DEGREE = 32
 
 _TERM = re.compile(r"^(?:1|x|x\^(\d+)|x\*\*(\d+))$")
@@ -23,21 +25,22 @@ def degree(poly: int) -> int:
     return poly.bit_length() - 1
 
 
-def parse_polynomial(text: str | int) -> int:
+def parse_polynomial(text: str | int, field: str = "poly") -> int:
     """Parse a polynomial written in octal (``"45"``, ``"0o45"``) or exponent form.
 
     Exponent form is a ``+``-separated sum of ``1``, ``x``, ``x^k`` or ``x**k`` terms, in any
     order: ``"x^5+x^2+1"``, ``"1 + x^3 + x^10"``.
 
     Raises:
-        ValueError: malformed text, a repeated term, or a polynomial of degree < 1.
+        ConfigError: (naming ``field``) malformed text, a repeated term, or a polynomial of degree < 1
+            or > :data:`MAX_DEGREE`.
     """
     if isinstance(text, int):
         poly = text
     else:
         s = text.strip().replace(" ", "").lower()
         if not s:
-            raise ValueError("empty polynomial")
+            raise ConfigError(field, text, "is empty: write octal like 45 or exponents like x^5+x^2+1")
         if re.fullmatch(r"(0o)?[0-7]+", s):
             poly = int(s.removeprefix("0o"), 8)
         else:
@@ -45,18 +48,20 @@ def parse_polynomial(text: str | int) -> int:
             for term in s.split("+"):
                 m = _TERM.match(term)
                 if m is None:
-                    raise ValueError(
-                        f"malformed polynomial {text!r}: term {term!r} is not 1, x or x^k "
-                        "(write octal like 45 or exponents like x^5+x^2+1)"
+                    raise ConfigError(
+                        field,
+                        text,
+                        f"is malformed: term {term!r} is not 1, x or x^k "
+                        "(write octal like 45 or exponents like x^5+x^2+1)",
                     )
                 k = 0 if term == "1" else 1 if term == "x" else int(m.group(1) or m.group(2))
                 if poly >> k & 1:
-                    raise ValueError(f"malformed polynomial {text!r}: term x^{k} appears twice")
+                    raise ConfigError(field, text, f"is malformed: term x^{k} appears twice")
                 poly |= 1 << k
     if poly < 0 or degree(poly) < 1:
-        raise ValueError(f"polynomial {text!r} has degree < 1")
+        raise ConfigError(field, text, "has degree < 1")
     if degree(poly) > MAX_DEGREE:
-        raise ValueError(f"polynomial {text!r} has degree {degree(poly)} > {MAX_DEGREE}")
+        raise ConfigError(field, text, f"has degree {degree(poly)} > {MAX_DEGREE}")
     return poly
 
 
@@ -132,21 +137,25 @@ def is_primitive(poly: int) -> bool:
     return all(powmod_x(period // r, poly) != 1 for r in _prime_factors(period))
 
 
-def require_primitive(poly: int) -> int:
-    """Return ``poly`` if primitive, else raise ValueError naming it in both notations."""
+def not_primitive(poly: int) -> str:
+    """Why ``poly`` cannot be used (the reason of a :class:`ConfigError`; ``poly`` is not primitive)."""
+    return (
+        f"is not primitive ({to_exponents(poly)} = octal {to_octal(poly)}), so its LFSR does not produce "
+        "an m-sequence"
+    )
+
+
+def require_primitive(poly: int, field: str = "poly") -> int:
+    """Return ``poly`` if primitive, else raise :class:`ConfigError` naming ``field`` and the polynomial."""
     if not is_primitive(poly):
-        raise ValueError(
-            f"polynomial {to_exponents(poly)} (octal {to_octal(poly)}) is not primitive, "
-            "so its LFSR does not produce an m-sequence"
-        )
+        raise ConfigError(field, to_octal(poly), not_primitive(poly))
     return poly
 
 
 @cache
 def primitive_polynomials(n: int) -> tuple[int, ...]:
     """All primitive polynomials of degree ``n``, ascending (there are φ(2ⁿ−1)/n of them)."""
-    if not 1 <= n <= 20:
-        raise ValueError(f"degree must be in 1..20 to list primitive polynomials, got {n}")
+    integer("n", n, 1, 20)
     top = 1 << n
     # p(0) = 1 and an odd number of terms (p(1) = 1) are necessary for irreducibility (n > 1).
     cands = range(top | 1, top << 1, 2)

@@ -1,4 +1,5 @@
-"""Preferred pairs and Gold code families — seed 000 §II.A (ref [11]); Gold (1967), Sarwate & Pursley (1980).
+"""Preferred pairs and Gold code families — §II.A (ref [11]) of the mode-signature paper (LMP mode detection
+with Gold-code signatures, IEEE CDC 2008); Gold (1967), Sarwate & Pursley (1980).
 
 For degree n with n mod 4 ≠ 0, a *preferred pair* of m-sequences (u, v) has a three-valued periodic
 cross-correlation {−t(n), −1, t(n) − 2}, t(n) = 1 + 2^⌊(n+2)/2⌋ (n = 5: {−9, −1, 7}). Its Gold
@@ -7,6 +8,9 @@ cross-correlations all lie in the same three values.
 
 Indexing follows MATLAB ``comm.GoldSequence``: ``Index`` −2 → u, −1 → v, k ≥ 0 → u ⊕ (v advanced
 by k). A member with start offset a is ``code[t] = u[(t+a) mod N] ⊕ v[(t+a+k) mod N]``.
+
+:class:`GoldConfig` is the checked entry point (polynomials as text or bit masks, the preferred-pair test,
+initial states); the functions below take bit masks.
 """
 
 from __future__ import annotations
@@ -15,9 +19,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError, integer
 from motionsig_cli.signals.correlation import gold_bound, periodic_correlation, to_bipolar
 from motionsig_cli.signals.gf2 import degree, primitive_polynomials, require_primitive, to_octal
-from motionsig_cli.signals.lfsr import m_sequence
+from motionsig_cli.signals.lfsr import default_state, m_sequence, parse_state, primitive_polynomial
+
+MAX_PAIR_SEARCH_DEGREE = 13  # the exhaustive preferred-pair search (630 polynomials, ~200 000 pairs)
 
 
 def gold_values(n: int) -> tuple[int, int, int]:
@@ -26,13 +33,32 @@ def gold_values(n: int) -> tuple[int, int, int]:
     return (-t, -1, t - 2)
 
 
-def require_gold_degree(n: int) -> int:
-    """Raise ValueError unless preferred pairs exist for degree n (n ≥ 3, n mod 4 ≠ 0)."""
+def require_gold_degree(n: int, field: str = "degree") -> int:
+    """Raise :class:`ConfigError` (naming ``field``) unless preferred pairs exist for degree n
+    (n ≥ 3, n mod 4 ≠ 0)."""
     if n < 3:
-        raise ValueError(f"degree {n} < 3: Gold codes need degree >= 3")
+        raise ConfigError(field, n, "is < 3: Gold codes need degree >= 3")
     if n % 4 == 0:
-        raise ValueError(f"degree {n} is a multiple of 4: no preferred pairs of m-sequences exist")
+        raise ConfigError(field, n, "is a multiple of 4: no preferred pairs of m-sequences exist")
     return n
+
+
+def require_search_degree(n: int, field: str = "degree") -> int:
+    """:func:`require_gold_degree`, and n ≤ :data:`MAX_PAIR_SEARCH_DEGREE` (the exhaustive pair search grows
+    as the square of the number of primitive polynomials)."""
+    require_gold_degree(n, field)
+    if n > MAX_PAIR_SEARCH_DEGREE:
+        raise ConfigError(
+            field, n, f"is > {MAX_PAIR_SEARCH_DEGREE}: the exhaustive pair search is limited to n <= 13"
+        )
+    return n
+
+
+def _same_degree(poly1: int, poly2: int, field: str = "poly2") -> int:
+    n1, n2 = degree(poly1), degree(poly2)
+    if n1 != n2:
+        raise ConfigError(field, to_octal(poly2), f"has degree {n2}, not the degree {n1} of poly1")
+    return n1
 
 
 @dataclass(frozen=True)
@@ -53,11 +79,9 @@ def check_pair(poly1: int, poly2: int) -> PairCheck:
     The value set of a periodic cross-correlation over all lags does not depend on the initial
     states, so the default states are used.
     """
-    require_primitive(poly1)
-    require_primitive(poly2)
-    n1, n2 = degree(poly1), degree(poly2)
-    if n1 != n2:
-        raise ValueError(f"polynomials have different degrees ({n1} and {n2})")
+    require_primitive(poly1, "poly1")
+    require_primitive(poly2, "poly2")
+    n1 = _same_degree(poly1, poly2)
     u, v = to_bipolar(m_sequence(poly1)), to_bipolar(m_sequence(poly2))
     r = periodic_correlation(np.stack([u, v]))[0, 1]
     values = tuple(int(x) for x in np.unique(r))
@@ -66,17 +90,25 @@ def check_pair(poly1: int, poly2: int) -> PairCheck:
     return PairCheck(poly1, poly2, n1, values, expected, preferred)
 
 
-def require_preferred(poly1: int, poly2: int) -> PairCheck:
-    """check_pair, raising ValueError (with the values found) when the pair is not preferred."""
+def require_preferred(poly1: int, poly2: int, field: str = "poly2") -> PairCheck:
+    """check_pair, raising :class:`ConfigError` (naming ``field``, with the values found) when the pair is
+    not preferred."""
     n = degree(poly1)
-    require_gold_degree(n)
+    try:
+        require_gold_degree(n)
+    except ConfigError as exc:
+        raise ConfigError("poly1", to_octal(poly1), f"has degree {n}, which {exc.reason}") from None
     chk = check_pair(poly1, poly2)
     if not chk.preferred:
-        raise ValueError(
-            f"({to_octal(poly1)}, {to_octal(poly2)}) is not a preferred pair: cross-correlation takes "
-            f"{list(chk.values)}, not {list(gold_values(n))}"
-        )
+        raise ConfigError(field, to_octal(poly2), _not_preferred(chk))
     return chk
+
+
+def _not_preferred(chk: PairCheck) -> str:
+    return (
+        f"is not a preferred partner of {to_octal(chk.poly1)}: the cross-correlation takes {list(chk.values)}, "
+        f"not {list(gold_values(chk.degree))}"
+    )
 
 
 def preferred_pairs(n: int) -> list[tuple[int, int]]:
@@ -85,7 +117,7 @@ def preferred_pairs(n: int) -> list[tuple[int, int]]:
     One FFT per primitive polynomial and one inverse FFT per pair (degree 11: 176 polynomials,
     15 400 pairs, well under a second).
     """
-    require_gold_degree(n)
+    require_search_degree(n)
     polys = primitive_polynomials(n)
     seqs = np.stack([to_bipolar(m_sequence(p)) for p in polys]).astype(np.float64)
     spec = np.fft.rfft(seqs, axis=1)
@@ -126,15 +158,18 @@ def gold_code(
     """
     if verify:
         require_preferred(poly1, poly2)
-    elif degree(poly1) != degree(poly2):
-        raise ValueError(f"polynomials have different degrees ({degree(poly1)} and {degree(poly2)})")
+    else:
+        _same_degree(poly1, poly2)
     u = m_sequence(poly1, state1)
     v = m_sequence(poly2, state2)
+    return _member(u, v, index, shift)
+
+
+def _member(u: np.ndarray, v: np.ndarray, index: int, shift: int) -> np.ndarray:
     period = u.size
-    if not -2 <= index <= period - 1:
-        raise ValueError(f"index must be in -2..{period - 1} for degree {degree(poly1)}, got {index}")
+    integer("index", index, -2, period - 1)
     code = u if index == -2 else v if index == -1 else u ^ np.roll(v, -index)
-    return np.roll(code, -shift)
+    return np.roll(code, -integer("shift", shift))
 
 
 def gold_family(
@@ -142,13 +177,81 @@ def gold_family(
     poly2: int,
     state1: str | tuple[int, ...] | None = None,
     state2: str | tuple[int, ...] | None = None,
+    *,
+    verify: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """All 2ⁿ + 1 members: returns ``(indices, codes)`` with indices −2, −1, 0 … 2ⁿ − 2."""
-    require_preferred(poly1, poly2)
-    u = m_sequence(poly1, state1)
-    v = m_sequence(poly2, state2)
+    """All 2ⁿ + 1 members: returns ``(indices, codes)`` with indices −2, −1, 0 … 2ⁿ − 2.
+
+    ``verify=False`` skips the preferred-pair test (as in :func:`gold_code`).
+    """
+    if verify:
+        require_preferred(poly1, poly2)
+    else:
+        _same_degree(poly1, poly2)
+    return _family(m_sequence(poly1, state1), m_sequence(poly2, state2))
+
+
+def _family(u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     period = u.size
     k = np.arange(period)
     shifted_v = v[(np.arange(period)[None, :] + k[:, None]) % period]  # row k: v advanced by k
     codes = np.vstack([u, v, u[None, :] ^ shifted_v])
     return np.arange(-2, period), codes
+
+
+@dataclass(frozen=True)
+class GoldConfig:
+    """A Gold family: two primitive polynomials of one degree, their initial states, and whether the pair
+    must be preferred (each field checked; MATLAB ``comm.GoldSequence`` conventions).
+
+    Attributes:
+        poly1, poly2: The pair (``int`` bit masks, or text: octal ``"45"`` or exponents ``"x^5+x^2+1"``;
+            stored as bit masks). Degree ≤ 20, equal degrees.
+        init1, init2: Initial states of the two registers (MATLAB order, default ``0…01``; stored as
+            tuples of bits).
+        preferred: Require a preferred pair (default). ``False`` accepts any two primitive polynomials of
+            equal degree, as MATLAB does; the members are then not Gold codes.
+    """
+
+    poly1: int | str = 0o45
+    poly2: int | str = 0o75
+    init1: str | tuple[int, ...] | None = None
+    init2: str | tuple[int, ...] | None = None
+    preferred: bool = True
+
+    def __post_init__(self) -> None:
+        p1 = primitive_polynomial(self.poly1, "poly1")
+        p2 = primitive_polynomial(self.poly2, "poly2")
+        n = degree(p1)
+        if degree(p2) != n:
+            raise ConfigError("poly2", self.poly2, f"has degree {degree(p2)}, not the degree {n} of poly1")
+        if self.preferred:
+            try:
+                require_gold_degree(n)
+            except ConfigError as exc:
+                raise ConfigError("poly1", self.poly1, f"has degree {n}, which {exc.reason}") from None
+            chk = check_pair(p1, p2)
+            if not chk.preferred:
+                raise ConfigError("poly2", self.poly2, _not_preferred(chk))
+        object.__setattr__(self, "poly1", p1)
+        object.__setattr__(self, "poly2", p2)
+        for name in ("init1", "init2"):
+            value = getattr(self, name)
+            object.__setattr__(self, name, default_state(n) if value is None else parse_state(value, n, name))
+
+    @property
+    def degree(self) -> int:
+        """n: the codes have 2ⁿ − 1 chips."""
+        return degree(int(self.poly1))
+
+    def _sequences(self) -> tuple[np.ndarray, np.ndarray]:
+        return m_sequence(int(self.poly1), self.init1), m_sequence(int(self.poly2), self.init2)
+
+    def member(self, index: int = 0, shift: int = 0) -> np.ndarray:
+        """Member ``index`` (−2 → u, −1 → v, k ≥ 0 → u ⊕ Tᵏv) with start offset ``shift``: ``uint8`` bits
+        (:class:`ConfigError` naming ``index`` outside −2 … 2ⁿ − 2)."""
+        return _member(*self._sequences(), index, shift)
+
+    def family(self) -> tuple[np.ndarray, np.ndarray]:
+        """All 2ⁿ + 1 members: ``(indices, codes)`` with indices −2, −1, 0 … 2ⁿ − 2."""
+        return _family(*self._sequences())

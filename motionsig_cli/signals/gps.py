@@ -17,6 +17,7 @@ from functools import cache
 
 import numpy as np
 
+from motionsig_cli.config import integer
 from motionsig_cli.refdata import load
 
 CA_LENGTH = 1023
@@ -46,35 +47,42 @@ def g2_delays() -> dict[int, int]:
 
 @cache
 def _registers() -> tuple[np.ndarray, np.ndarray]:
-    """G1 output (stage 10) and the full G2 register history over one period."""
-    g1 = np.ones(10, dtype=np.uint8)
-    g2 = np.ones(10, dtype=np.uint8)
-    g1_out = np.empty(CA_LENGTH, dtype=np.uint8)
-    g2_hist = np.empty((CA_LENGTH, 10), dtype=np.uint8)
-    f1 = [s - 1 for s in G1_FEEDBACK]
-    f2 = [s - 1 for s in G2_FEEDBACK]
-    for t in range(CA_LENGTH):
-        g1_out[t] = g1[9]
-        g2_hist[t] = g2
-        fb1 = np.bitwise_xor.reduce(g1[f1])
-        fb2 = np.bitwise_xor.reduce(g2[f2])
-        g1 = np.concatenate(([fb1], g1[:-1]))
-        g2 = np.concatenate(([fb2], g2[:-1]))
-    return g1_out, g2_hist
+    """G1 output (stage 10) and the full G2 register history over one period.
+
+    A register is an ``int`` whose bit i − 1 is stage i; each clock shifts the stages up by one and feeds
+    the parity of the feedback stages into stage 1.
+    """
+    full = (1 << 10) - 1
+    mask1 = sum(1 << (s - 1) for s in G1_FEEDBACK)
+    mask2 = sum(1 << (s - 1) for s in G2_FEEDBACK)
+    g1 = g2 = full  # both registers start all ones
+    g1_out, g2_states = [], []
+    for _ in range(CA_LENGTH):
+        g1_out.append(g1 >> 9)
+        g2_states.append(g2)
+        g1 = ((g1 << 1) | ((g1 & mask1).bit_count() & 1)) & full
+        g2 = ((g2 << 1) | ((g2 & mask2).bit_count() & 1)) & full
+    g2_hist = (np.array(g2_states)[:, None] >> np.arange(10)) & 1  # column i: stage i + 1
+    return np.array(g1_out, dtype=np.uint8), g2_hist.astype(np.uint8)
+
+
+def _prn(prn: int) -> int:
+    taps = phase_selectors()
+    return integer("prn", prn, min(taps), max(taps))
 
 
 def ca_code(prn: int) -> np.ndarray:
-    """The 1023-chip C/A code of ``prn`` (1–32) as 0/1 bits, chip 0 first."""
-    taps = phase_selectors()
-    if prn not in taps:
-        raise ValueError(f"PRN must be in 1..32, got {prn}")
-    i, j = taps[prn]
+    """The 1023-chip C/A code of ``prn`` (1–32) as 0/1 bits, chip 0 first (:class:`ConfigError` naming
+    ``prn`` for another number)."""
+    i, j = phase_selectors()[_prn(prn)]
     g1_out, g2_hist = _registers()
     return g1_out ^ g2_hist[:, i - 1] ^ g2_hist[:, j - 1]
 
 
 def ca_codes(prns: Sequence[int]) -> np.ndarray:
-    """``(len(prns), 1023)`` array of C/A codes."""
+    """``(len(prns), 1023)`` array of C/A codes (every PRN checked before any code is built)."""
+    for p in prns:
+        _prn(p)
     return np.stack([ca_code(p) for p in prns])
 
 

@@ -1,4 +1,5 @@
-"""Table I of seed 000: the three mode signatures (n_ρ = 31), printed and corrected.
+"""Table I of the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008): the
+three mode signatures (n_ρ = 31), printed and corrected.
 
 The printed strings are copied verbatim in ``data/table1.csv``. Mode 1 is exactly a member of the
 Gold family of the preferred pair octal 45/75 (x⁵+x²+1, x⁵+x⁴+x³+x²+1; MATLAB's default pair);
@@ -16,12 +17,14 @@ from typing import Literal
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError, one_of
 from motionsig_cli.refdata import load
 from motionsig_cli.signals.gold import gold_code, gold_family
 
 TABLE1_PAIR = (0o45, 0o75)
 TABLE1_STATES = ("00001", "00001")
 Variant = Literal["corrected", "printed"]
+VARIANTS = ("corrected", "printed")
 
 
 def _bits(s: str) -> np.ndarray:
@@ -57,12 +60,18 @@ def corrected_codes() -> np.ndarray:
 
 
 def table1_codes(variant: Variant = "corrected") -> np.ndarray:
-    """Table I codes, ``variant`` ``"corrected"`` (default) or ``"printed"``."""
-    if variant == "corrected":
-        return corrected_codes()
-    if variant == "printed":
-        return printed_codes()
-    raise ValueError(f"variant must be 'corrected' or 'printed', got {variant!r}")
+    """Table I codes, ``variant`` ``"corrected"`` (default) or ``"printed"`` (:class:`ConfigError` naming
+    ``codes`` otherwise)."""
+    one_of("codes", variant, VARIANTS)
+    return corrected_codes() if variant == "corrected" else printed_codes()
+
+
+def table1_code(mode: int, variant: Variant = "corrected") -> np.ndarray:
+    """The code of one Table I mode (1, 2 or 3; :class:`ConfigError` naming ``mode`` otherwise)."""
+    numbers = [m for m, _ in modes()]
+    if isinstance(mode, bool) or mode not in numbers:
+        raise ConfigError("mode", mode, f"is not a Table I mode ({', '.join(map(str, numbers))})")
+    return table1_codes(variant)[numbers.index(mode)]
 
 
 def family_members() -> tuple[np.ndarray, np.ndarray, np.ndarray]:

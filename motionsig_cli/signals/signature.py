@@ -1,14 +1,15 @@
-"""Mode perturbation signatures — seed 000 §II.A, eqs (1)–(3); spec §1.2.
+"""Mode perturbation signatures: the mode-signature paper (LMP mode detection with Gold-code signatures,
+IEEE CDC 2008), §II.A, eqs (1)–(3).
 
 Sampling t_k = kT. A chip lasts m_ρ samples (T_c = m_ρT); with code phase τ (samples) the sample k
 carries chip j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ (floor division, so negative k − τ wraps correctly)::
 
     p_k[τ] = b_{j(k)}                                  eq (1), chips b ∈ {ρ0, ρ1} = {−1, +1}
-    z_k    = p_k[τ] cos(2π f_c t_k + 2π f_d t_k + θ)    eqs (2)–(3) (f_d = 0 in the seed)
+    z_k    = p_k[τ] cos(2π f_c t_k + 2π f_d t_k + θ)    eqs (2)–(3) (f_d = 0 in the paper)
     z_cos,k = p_k[τ] cos(2π f_c t_k),   z_sin,k = p_k[τ] sin(2π f_c t_k)   (replicas, θ removed)
 
 With f_d = 0, z = cos θ · z_cos − sin θ · z_sin exactly. Time derivatives (used by the closed
-loop, spec §1.6 eq 54): ``"analytic"`` differentiates the carrier inside a chip (chip edges
+loop, eq 54): ``"analytic"`` differentiates the carrier inside a chip (chip edges
 ignored): ż = −ω p sin(ωt + θ), ż_cos = −ω_c p sin(ω_c t), ż_sin = ω_c p cos(ω_c t);
 ``"finite-difference"`` is the backward difference (z_k − z_{k−1})/T, which spikes by up to 2/T at
 chip flips.
@@ -22,21 +23,32 @@ from typing import Literal
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError, in_range, integer, positive
+
 ZdotMethod = Literal["analytic", "finite-difference"]
 MAX_SAMPLES = 5_000_000  # one signature record; larger ones are refused before allocation
+MAX_TAU = 2**53  # |code phase| in samples: integers up to 2^53 are exact as floats (metadata, t = kT)
 
 
 @dataclass(frozen=True, slots=True)
 class SignatureConfig:
     """Sampling and carrier parameters of a mode signature.
 
+    Checked here, once: T finite and > 0; m_rho an integer ≥ 1; f_c finite and ≥ 0; theta and f_d
+    finite; tau an integer with |tau| ≤ 2^53. Any code phase is meaningful (the code repeats every
+    n_ρ m_ρ samples); the bound is where integers stop being exact as floats.
+
     Attributes:
-        T: Sample interval [s] (spec §1.8 default 0.05 s is an ASSUMPTION; the seed is silent).
-        m_rho: Samples per chip (default 20, ASSUMPTION: T_c = 1 s = one carrier cycle per chip).
-        f_c: Carrier frequency [Hz] (1.0, implicit in the seed's Fig 6 discussion).
+        T: Sample interval [s] (assumed: 0.05 s; the paper does not state it).
+        m_rho: Samples per chip (assumed: 20, so that T_c = 1 s is one carrier cycle per chip; the paper
+            does not state it).
+        f_c: Carrier frequency [Hz] (1.0, implicit in the paper's Fig 6 discussion).
         theta: Carrier phase [rad].
         tau: Code phase in samples (any integer; the code repeats every n_ρ m_ρ samples).
-        f_d: Frequency offset of eq (3) [Hz]; 0 in the seed.
+        f_d: Frequency offset of eq (3) [Hz]; 0 in the paper.
+
+    Raises:
+        ConfigError: naming the first bad field.
     """
 
     T: float = 0.05
@@ -47,18 +59,36 @@ class SignatureConfig:
     f_d: float = 0.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.T) and self.T > 0):
-            raise ValueError(f"T must be a positive sample interval, got {self.T}")
-        if isinstance(self.m_rho, bool) or int(self.m_rho) != self.m_rho or self.m_rho < 1:
-            raise ValueError(f"m_rho must be an integer >= 1 (samples per chip), got {self.m_rho}")
-        if not (math.isfinite(self.f_c) and self.f_c >= 0):
-            raise ValueError(f"f_c must be a finite frequency >= 0, got {self.f_c}")
-        if not math.isfinite(self.theta):
-            raise ValueError(f"theta must be finite, got {self.theta}")
-        if int(self.tau) != self.tau or abs(self.tau) > 2**53:
-            raise ValueError(f"tau must be an integer number of samples with |tau| <= 2^53, got {self.tau}")
-        if not math.isfinite(self.f_d):
-            raise ValueError(f"f_d must be finite, got {self.f_d}")
+        try:
+            positive("T", self.T, unit="s")
+        except ConfigError:
+            raise ConfigError("T", self.T, "is not a positive, finite sample interval [s]") from None
+        try:
+            integer("m_rho", self.m_rho, 1)
+        except ConfigError:
+            raise ConfigError("m_rho", self.m_rho, "is not an integer >= 1 (samples per chip)") from None
+        in_range("f_c", self.f_c, 0.0, unit="Hz")
+        finite("theta", self.theta)
+        if not _is_int(self.tau) or abs(self.tau) > MAX_TAU:
+            raise ConfigError("tau", self.tau, "is not an integer number of samples with |tau| <= 2^53")
+        finite("f_d", self.f_d)
+
+
+def finite(name: str, value: float) -> float:
+    """``value`` if it is a finite number, else :class:`ConfigError` naming ``name``."""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ConfigError(name, value, "is not a number") from None
+    if not math.isfinite(x):
+        raise ConfigError(name, value, "is not a finite number")
+    return x
+
+
+def _is_int(value: object) -> bool:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.integer | np.floating):
+        return False
+    return isinstance(value, int | np.integer) or (math.isfinite(value) and int(value) == value)
 
 
 @dataclass(frozen=True)
@@ -78,7 +108,7 @@ class Signature:
 
 
 def chip_index(k: np.ndarray, tau: int, m_rho: int, n_rho: int) -> np.ndarray:
-    """j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ (0-based chip index of sample k; spec §1.2)."""
+    """j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ (0-based chip index of sample k, eq 1)."""
     return np.floor_divide(np.asarray(k) - tau, m_rho) % n_rho
 
 
@@ -152,7 +182,8 @@ def replica_bank(
     n_samples: int,
     zdot: ZdotMethod = "analytic",
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """θ-free replicas of many candidates at once (spec §1.5.1 step 2a).
+    """θ-free replicas of many candidates at once (the replicas z_cos, z_sin of eqs 2–3 and their
+    derivatives, for the filter bank of eq 52).
 
     Args:
         chips: Bipolar codes of all modes, (M, n_ρ).

@@ -1,2 +1,3 @@
-"""The ATC-10 surveillance analyses (MIT Lincoln Lab, 1972): jamming bounds (§2), multiple-access
-noise (§3), satellite multilateration (§4)."""
+"""The surveillance analyses of ATC-10 (Schneider, Stiglitz & Eckberg, *Surveillance Aspects of the Advanced Air
+Traffic Management System*, MIT Lincoln Laboratory, 1972): jamming bounds (§2), multiple-access noise (§3),
+satellite multilateration (§4)."""

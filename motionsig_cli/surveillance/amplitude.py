@@ -1,5 +1,5 @@
 """Amplitude densities C(x) of one multiple-access-noise component, given overlap — ATC-10 §3.3 (3.3.8),
-§3.6 (Fig. 3.2), §3.7 (3.7.1); spec ``mac-roc.md`` §5.
+§3.6 (Fig. 3.2), §3.7 (3.7.1).
 
 An interfering aircraft j whose transmission overlaps the matched-filter window adds n_ij, drawn from
 C(x), to the sample of matched filter i. Every density here is parameterised by its second moment
@@ -13,32 +13,36 @@ b = ∫x²C(x)dx so that densities of equal power can be compared (the report's 
 | C₄ | gaussian    | N(0, b)                                            | 3        |
 |    | laplace     | scale β = √(b/2); MGF finite for |ρ| < 1/β          | 6        |
 |    | arcsine     | A cos φ, A = √(2b), φ uniform                      | 1.5      |
+|    | psk         | chip-level PSK signatures (:mod:`.psk_amplitude`)  |          |
 |    | discrete    | user-given atoms and weights                       |          |
 
 C₂ is pinned by the report (§3.7–3.8); C₁, C₃, C₄ are not described in the text (Fig. 3.2 is lost):
-uniform, triangular and Gaussian are an assumption (``../shared/README.md``), chosen by "peakiness"
-and consistent with the report's preference order C₂ ≻ C₁ ≻ C₃ ≻ C₄.
+uniform, triangular and Gaussian are an assumption, chosen by "peakiness" and consistent with the
+report's preference order C₂ ≻ C₁ ≻ C₃ ≻ C₄.
 
 Each density gives its cumulant-generating function g(ρ) = ln Φ(ρ) = ln ∫e^{ρx}C(x)dx with g′ and g″,
 evaluated in a log form that neither overflows (Φ reaches e^{700} and beyond) nor cancels near ρ = 0,
-a sampler and an exponentially tilted sampler C_ρ(x) ∝ e^{ρx}C(x) for importance sampling (spec §12.1).
+a sampler and, where one exists, an exponentially tilted sampler C_ρ(x) ∝ e^{ρx}C(x) for importance
+sampling and the tail of the sum of k draws for the exact ROC (``log_tail``).
+
+:data:`DENSITIES` is the registry of the densities a user can name (``--density``): each member
+(:class:`DensityKind`) says what it supports — an exact ROC, importance sampling, a closed-form second
+moment, its report id and figure — so that callers ask the member instead of testing types or names.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Protocol, runtime_checkable
+from typing import Literal, Protocol, runtime_checkable
 
 import numpy as np
-from scipy.special import expit, i0e, i1e, logsumexp
+from scipy.special import expit, gammaln, i0e, i1e, log_ndtr, logsumexp
+
+from motionsig_cli.config import ConfigError, positive
 
 LN2 = math.log(2.0)
-
-# names accepted by ``density`` (report ids map to the assumed shapes)
-DENSITY_NAMES = ("two-point", "uniform", "triangular", "gaussian", "laplace", "arcsine")
-REPORT_IDS = {"C1": "uniform", "C2": "two-point", "C3": "triangular", "C4": "gaussian"}
-FIGURE_OF = {"uniform": "3.3", "two-point": "3.4", "triangular": "3.5", "gaussian": "3.6"}
 
 
 @runtime_checkable
@@ -123,8 +127,35 @@ def _log_sinhc(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.where(small, g_s, g_big), np.where(small, d1_s, d1_big), np.where(small, d2_s, d2_big)
 
 
+def irwin_hall_tail(k: int, t: np.ndarray) -> np.ndarray:
+    """P(IH_k ≥ t) for an Irwin–Hall sum of k U(0, 1) (array t), as F_k(k − t) = Σ_j N_{k+1}(k − t − j).
+
+    F_k(u) = Σ_{j≥0} N_{k+1}(u − j) with N_m the cardinal B-spline of order m (d/du N_{k+1}(u) =
+    N_k(u) − N_k(u − 1) telescopes); N_m is evaluated by the Cox–de Boor recursion, a convex combination
+    at every step, so the tail has no cancellation.
+    """
+    t = np.asarray(t, dtype=float)
+    u = np.clip(k - t, 0.0, float(k))  # P(IH ≥ t) = P(IH ≤ k − t)
+    out = np.zeros_like(u)
+    live = (u > 0.0) & (u < k)
+    out[u >= k] = 1.0
+    if not live.any():
+        return out
+    uu = u[live]
+    n_shift = int(np.floor(uu.max())) + k + 2
+    i = np.arange(n_shift)[:, None]
+    y = uu[None, :] - i  # arguments u − i
+    T = ((y >= 0.0) & (y < 1.0)).astype(float)  # N₁(u − i)
+    for m in range(2, k + 2):  # Cox–de Boor: N_m(y) = [y N_{m−1}(y) + (m − y) N_{m−1}(y − 1)]/(m − 1)
+        shifted = np.vstack([T[1:], np.zeros((1, T.shape[1]))])  # N_{m−1}(y − 1) = row i + 1
+        T = (y * T + (m - y) * shifted) / (m - 1)
+    valid = y >= 0.0  # terms j = 0 … ⌊u⌋
+    out[live] = np.where(valid, T, 0.0).sum(axis=0)
+    return out
+
+
 def _tilted_uniform(rng: np.random.Generator, a: float, r: float, size: int) -> np.ndarray:
-    """Inverse-CDF draws from e^{rx} on [−a, a] (spec §12.1): x = a + ln(u + (1−u)e^{−2ra})/r."""
+    """Inverse-CDF draws from e^{rx} on [−a, a] (the tilt of U(−a, a)): x = a + ln(u + (1−u)e^{−2ra})/r."""
     u = rng.random(size)
     if r == 0.0:
         return a * (2.0 * u - 1.0)
@@ -134,9 +165,8 @@ def _tilted_uniform(rng: np.random.Generator, a: float, r: float, size: int) -> 
 
 
 def _check_scale(name: str, value: float) -> float:
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name} must be a finite number > 0; got {value!r}")
-    return float(value)
+    """A scale parameter: a finite number > 0 (:class:`ConfigError` naming the field otherwise)."""
+    return positive(name, value)
 
 
 @dataclass(frozen=True)
@@ -184,6 +214,16 @@ class TwoPoint:
     def atoms(self) -> tuple[np.ndarray, np.ndarray]:
         return np.array([-self.A, self.A]), np.array([0.5, 0.5])
 
+    def log_tail(self, k: int, x: np.ndarray, strict: bool) -> np.ndarray:
+        """ln P(S_k ≥ x) (> x when ``strict``) of S_k = A(2B − k), B ~ Bin(k, ½): a lattice."""
+        from scipy.stats import binom
+
+        tt = 0.5 * (k + x / self.A)  # S_k ≥ x ⇔ B ≥ tt
+        near = np.round(tt)
+        on_lattice = np.abs(tt - near) <= 1e-9 * np.maximum(1.0, tt)
+        j0 = np.where(on_lattice, near + (1 if strict else 0), np.ceil(tt))
+        return binom.logsf(j0 - 1, k, 0.5)
+
 
 @dataclass(frozen=True)
 class Uniform:
@@ -224,6 +264,10 @@ class Uniform:
 
     def pdf(self, x: np.ndarray) -> np.ndarray:
         return np.where(np.abs(x) <= self.a, 0.5 / self.a, 0.0)
+
+    def log_tail(self, k: int, x: np.ndarray, strict: bool) -> np.ndarray:
+        """ln P(S_k ≥ x) of S_k = a(2·IH_k − k), IH_k Irwin–Hall (continuous: ``strict`` is moot)."""
+        return np.log(irwin_hall_tail(k, 0.5 * (k + x / self.a)))
 
 
 @dataclass(frozen=True)
@@ -269,6 +313,10 @@ class Triangular:
         w = 2.0 * self.c
         return np.clip(w - np.abs(x), 0.0, None) / w**2
 
+    def log_tail(self, k: int, x: np.ndarray, strict: bool) -> np.ndarray:
+        """ln P(S_k ≥ x): the Irwin–Hall tail of 2k uniforms of half-width c."""
+        return np.log(irwin_hall_tail(2 * k, 0.5 * (2 * k + x / self.c)))
+
 
 @dataclass(frozen=True)
 class Gaussian:
@@ -278,7 +326,7 @@ class Gaussian:
     name: str = field(default="gaussian", init=False)
 
     def __post_init__(self) -> None:
-        _check_scale("variance", self.var)
+        _check_scale("var", self.var)
 
     @property
     def b(self) -> float:
@@ -308,6 +356,10 @@ class Gaussian:
 
     def pdf(self, x: np.ndarray) -> np.ndarray:
         return np.exp(-0.5 * np.asarray(x) ** 2 / self.var) / math.sqrt(2.0 * math.pi * self.var)
+
+    def log_tail(self, k: int, x: np.ndarray, strict: bool) -> np.ndarray:
+        """ln P(S_k ≥ x) = ln Q(x/√(kb)) (log_ndtr)."""
+        return log_ndtr(-x / math.sqrt(k * self.var))
 
 
 @dataclass(frozen=True)
@@ -352,12 +404,26 @@ class Laplace:
 
     def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
         if not abs(r) * self.beta < 1.0:
-            raise ValueError(f"the Laplace MGF is infinite at rho = {r:g} (needs |rho| < {1 / self.beta:g})")
+            raise ConfigError("r", r, f"is outside the Laplace MGF's domain |rho| < {1 / self.beta:g}")
         e = rng.exponential(1.0, (2, size))  # x = β(E₁ − E₂); the tilt rescales each exponential
         return self.beta * (e[0] / (1.0 - self.beta * r) - e[1] / (1.0 + self.beta * r))
 
     def pdf(self, x: np.ndarray) -> np.ndarray:
         return np.exp(-np.abs(x) / self.beta) / (2.0 * self.beta)
+
+    def log_tail(self, k: int, x: np.ndarray, strict: bool) -> np.ndarray:
+        """ln P(S_k ≥ x) of S_k = β(G₁ − G₂), G ~ Gamma(k, 1), y = x/β > 0:
+        P(G₁ − G₂ ≥ y) = e^{−y} Σ_{i<k} Σ_{l≤i} y^{i−l}/(i−l)! · Γ(k+l)/(Γ(k) l! 2^{k+l})."""
+        y = x / self.beta
+        i = np.arange(k)[:, None]
+        l_ = np.arange(k)[None, :]
+        ok = l_ <= i
+        c = gammaln(k + l_) - gammaln(k) - gammaln(l_ + 1) - (k + l_) * math.log(2.0) - gammaln(i - l_ + 1)
+        c = np.where(ok, c, -np.inf)
+        ly = np.log(np.maximum(y, 1e-300))[:, None, None]
+        pw = np.where(ok, i - l_, 0)[None]
+        terms = c[None] + np.where(pw > 0, pw * ly, 0.0)
+        return -y + logsumexp(terms.reshape(len(y), -1), axis=1)
 
 
 @dataclass(frozen=True)
@@ -401,7 +467,7 @@ class Arcsine:
         return self.A * np.cos(2.0 * math.pi * rng.random(size))
 
     def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
-        raise ValueError("importance sampling is not available for the arcsine density")
+        raise ConfigError("importance", True, "is not available for the arcsine density (no tilted sampler)")
 
     def pdf(self, x: np.ndarray) -> np.ndarray:
         x = np.asarray(x, dtype=float)
@@ -421,15 +487,15 @@ class Discrete:
     def __post_init__(self) -> None:
         x, w = np.asarray(self.x, float), np.asarray(self.w, float)
         if x.ndim != 1 or x.shape != w.shape or x.size == 0:
-            raise ValueError("atoms and weights must be non-empty and of equal length")
+            raise ConfigError("w", self.w, "must be non-empty and as long as the atoms x")
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(w)) and np.all(w >= 0.0)):
-            raise ValueError("atoms must be finite and weights non-negative")
+            raise ConfigError("x", self.x, "must be finite, with weights w >= 0")
         if abs(w.sum() - 1.0) > 1e-9:
-            raise ValueError(f"weights must sum to 1; they sum to {w.sum():.12g}")
+            raise ConfigError("w", self.w, f"must sum to 1; they sum to {w.sum():.12g}")
         if abs(np.dot(w, x)) > 1e-9 * max(1.0, np.abs(x).max()):
-            raise ValueError("the density must have zero mean (ATC-10 3.4.12)")
+            raise ConfigError("x", self.x, "must have zero mean (the density has mean 0, ATC-10 3.4.12)")
         if np.dot(w, x * x) <= 0.0:
-            raise ValueError("the density must have a positive second moment")
+            raise ConfigError("x", self.x, "must give the density a positive second moment")
 
     @property
     def b(self) -> float:
@@ -473,23 +539,90 @@ class Discrete:
         return np.asarray(self.x), np.asarray(self.w)
 
 
+def _psk(ref: tuple[int, ...], family: tuple[tuple[int, ...], ...] | None = None) -> AmplitudeDensity:
+    from motionsig_cli.surveillance.psk_amplitude import PSKAmplitude  # it imports this module
+
+    return PSKAmplitude(ref, family)
+
+
+@dataclass(frozen=True)
+class DensityKind:
+    """A member of the registry :data:`DENSITIES`: a density a user can name and what it supports.
+
+    Attributes:
+        name: The name (``--density``).
+        description: What it is, in a few words.
+        law: ``"atoms"`` (impulses: ``atoms()``), ``"pdf"`` (a density function: ``pdf(x)``) or
+            ``"mixture"`` (neither: a quadrature mixture, known through its CGF and sampler).
+        report_id: C1 … C4 of ATC-10 Fig. 3.2, or None.
+        figure: The ATC-10 figure of its ROC bounds (Figs 3.3–3.6), or None.
+        assumed: Its shape is our assumption (the report does not describe C₁, C₃, C₄).
+        exact_roc: The sum of k draws has a closed-form tail (``log_tail``): the exact ROC exists.
+        importance: A tilted sampler exists (``sample_tilted``): importance sampling works.
+        closed_form_b: b is a closed form of its parameter (psk: a quadrature of the CGF).
+        chip_level: Built from a reference code (``from_code``) and drawn at the chip level, not from b.
+        of_b: b → the density (None for a chip-level member).
+        from_code: (reference code, family codes or None) → the density (chip-level members only).
+    """
+
+    name: str
+    description: str
+    law: Literal["atoms", "pdf", "mixture"]
+    report_id: str | None = None
+    figure: str | None = None
+    assumed: bool = False
+    exact_roc: bool = False
+    importance: bool = False
+    closed_form_b: bool = True
+    chip_level: bool = False
+    of_b: Callable[[float], AmplitudeDensity] | None = None
+    from_code: Callable[..., AmplitudeDensity] | None = None
+
+
+DENSITIES: dict[str, DensityKind] = {
+    k.name: k
+    for k in (
+        DensityKind("two-point", "C₂, ±√b with probability ½ (quasi-optimal, 3.7.1)", "atoms", "C2", "3.4",
+                    exact_roc=True, importance=True, of_b=lambda b: TwoPoint(math.sqrt(b))),
+        DensityKind("uniform", "C₁ (assumed), U(−√(3b), √(3b))", "pdf", "C1", "3.3", assumed=True,
+                    exact_roc=True, importance=True, of_b=lambda b: Uniform(math.sqrt(3.0 * b))),
+        DensityKind("triangular", "C₃ (assumed), the sum of two U(−c, c), c = √(3b/2)", "pdf", "C3", "3.5",
+                    assumed=True, exact_roc=True, importance=True,
+                    of_b=lambda b: Triangular(math.sqrt(1.5 * b))),
+        DensityKind("gaussian", "C₄ (assumed), N(0, b)", "pdf", "C4", "3.6", assumed=True, exact_roc=True,
+                    importance=True, of_b=Gaussian),
+        DensityKind("laplace", "Laplace of scale √(b/2)", "pdf", exact_roc=True, importance=True,
+                    of_b=lambda b: Laplace(math.sqrt(0.5 * b))),
+        DensityKind("arcsine", "√(2b) cos φ, φ uniform (one constant-envelope interferer)", "pdf",
+                    of_b=lambda b: Arcsine(math.sqrt(2.0 * b))),
+        DensityKind("psk", "chip-level PSK signatures of a reference code (3.3.7)", "mixture",
+                    closed_form_b=False, chip_level=True, from_code=_psk),
+    )
+}  # fmt: skip
+"""The densities a user can name, in the order of the help text."""
+
+
+def density_kind(name: str, field: str = "density") -> DensityKind:
+    """The registry member ``name`` (a name, or a report id C1 … C4, in any case)."""
+    key = str(name).lower()
+    for kind in DENSITIES.values():
+        if key == kind.name or (kind.report_id is not None and key == kind.report_id.lower()):
+            return kind
+    raise ConfigError(field, name, f"is an unknown density; use one of {', '.join(DENSITIES)} or C1…C4")
+
+
+def kind_of(dens: AmplitudeDensity) -> DensityKind | None:
+    """The registry member of a density (None for one a user cannot name, e.g. :class:`Discrete`)."""
+    return DENSITIES.get(dens.name)
+
+
 def density(name: str, b: float) -> AmplitudeDensity:
     """The density ``name`` (or a report id C1…C4) with second moment ``b``."""
     b = _check_scale("b", b)
-    key = REPORT_IDS.get(name.upper(), name.lower())
-    if key == "two-point":
-        return TwoPoint(math.sqrt(b))
-    if key == "uniform":
-        return Uniform(math.sqrt(3.0 * b))
-    if key == "triangular":
-        return Triangular(math.sqrt(1.5 * b))
-    if key == "gaussian":
-        return Gaussian(b)
-    if key == "laplace":
-        return Laplace(math.sqrt(0.5 * b))
-    if key == "arcsine":
-        return Arcsine(math.sqrt(2.0 * b))
-    raise ValueError(f"unknown density {name!r}; use one of {', '.join(DENSITY_NAMES)} or C1…C4")
+    kind = density_kind(name)
+    if kind.of_b is None:
+        raise ConfigError("density", name, "is built from a reference code, not from a second moment b")
+    return kind.of_b(b)
 
 
 def b_of_ell(ell: float) -> float:

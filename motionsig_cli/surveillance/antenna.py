@@ -1,4 +1,5 @@
-"""The jammer's transmitter: a parabolic dish turning rf power into ERP (ATC-10 Table 1.1, spec §2.10).
+"""The jammer's transmitter: a parabolic dish turning rf power into ERP (Table 1.1 of ATC-10: Schneider,
+Stiglitz & Eckberg, MIT Lincoln Laboratory, 1972).
 
 The report gives only the results (Table 1.1 and "33 dBW ERP … 30 watts of rf power and an antenna
 with a 20° beamwidth"); the chain below is the standard one that reproduces them [A]:
@@ -17,27 +18,36 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from motionsig_cli.config import ConfigError, in_range, positive
+
 C_M_S = 299_792_458.0
 FOOT_M = 0.3048
 
 
 @dataclass(frozen=True, slots=True)
 class DishAntenna:
-    """Dish model [A: f = 1.6 GHz (L band, "the centre of 1535–1660 MHz"), η = 0.55, k = 70]."""
+    """Dish model (assumed, the report does not state it: f = 1.6 GHz, L band, "the centre of 1535–1660
+    MHz"; aperture efficiency η = 0.55; beamwidth constant k = 70 degrees).
+
+    Attributes:
+        freq_hz: Carrier frequency f [Hz], > 0 with a finite wavelength c/f.
+        efficiency: Aperture efficiency η in (0, 1] (a passive dish cannot exceed its aperture).
+        beamwidth_const_deg: k of θ_3dB = k λ/D [degrees], > 0.
+    """
 
     freq_hz: float = 1.6e9
     efficiency: float = 0.55
     beamwidth_const_deg: float = 70.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.freq_hz) and self.freq_hz > 0):
-            raise ValueError(f"freq_hz must be a finite number > 0, got {self.freq_hz}")
-        if not 0 < self.efficiency <= 1:
-            raise ValueError(f"efficiency must lie in (0, 1], got {self.efficiency}")
-        if not (math.isfinite(self.beamwidth_const_deg) and self.beamwidth_const_deg > 0):
-            raise ValueError(f"beamwidth_const_deg must be > 0, got {self.beamwidth_const_deg}")
+        positive("freq_hz", self.freq_hz, unit="Hz")
+        in_range("efficiency", self.efficiency, 0.0, 1.0, lo_open=True)
+        positive("beamwidth_const_deg", self.beamwidth_const_deg, unit="degrees")
         if not math.isfinite(C_M_S / self.freq_hz):
-            raise ValueError(f"freq_hz = {self.freq_hz:g} gives an infinite wavelength")
+            raise ConfigError("freq_hz", self.freq_hz, "gives an infinite wavelength")
+
+    def __str__(self) -> str:
+        return f"f = {self.freq_hz:g} Hz, η = {self.efficiency:g}, k = {self.beamwidth_const_deg:g}"
 
     @property
     def wavelength_m(self) -> float:
@@ -91,16 +101,21 @@ def jammer_antenna(
     """Complete the chain from the ERP and exactly one of the rf power or the dish diameter.
 
     Inverse chain (rf power given): G = ERP − P_rf, then D, then θ. Forward chain (D given): G from
-    D, then P_rf = ERP − G and θ.
+    D, then P_rf = ERP − G and θ. A bad argument, or a chain that leaves floating-point range or gives
+    no dish, is a :class:`~motionsig_cli.config.ConfigError` naming the argument given (``rf_dbw`` or
+    ``diameter_m``).
     """
-    if (rf_dbw is None) == (diameter_m is None):
-        raise ValueError("give exactly one of the rf power and the dish diameter")
+    if rf_dbw is not None and diameter_m is not None:
+        raise ConfigError("diameter_m", diameter_m, "is given with rf_dbw: give exactly one of the two")
+    if rf_dbw is None and diameter_m is None:
+        raise ConfigError("rf_dbw", None, "is missing, and so is diameter_m: give exactly one of the two")
     if not math.isfinite(erp_dbw):
-        raise ValueError(f"the ERP must be finite, got {erp_dbw}")
-    if diameter_m is not None and not (math.isfinite(diameter_m) and diameter_m > 0):
-        raise ValueError(f"the dish diameter must be > 0, got {diameter_m}")
+        raise ConfigError("erp_dbw", erp_dbw, "is not a finite number of dBW")
+    if diameter_m is not None:
+        positive("diameter_m", diameter_m, unit="m")
     if rf_dbw is not None and not math.isfinite(rf_dbw):
-        raise ValueError(f"the rf power must be finite, got {rf_dbw}")
+        raise ConfigError("rf_dbw", rf_dbw, "is not a finite number of dBW")
+    given, value = ("rf_dbw", rf_dbw) if rf_dbw is not None else ("diameter_m", diameter_m)
     try:
         if diameter_m is not None:
             gain = antenna.gain_dbi(diameter_m)
@@ -115,10 +130,12 @@ def jammer_antenna(
     except (OverflowError, ZeroDivisionError, ValueError):
         ok = False
     if not ok:
-        raise ValueError("the chain leaves floating-point range for these inputs")
+        raise ConfigError(given, value, "takes the antenna chain out of floating-point range")
     if tx.gain_dbi <= 0.0 or tx.beamwidth_deg > 180.0:
-        raise ValueError(
-            f"not a dish: gain {tx.gain_dbi:.3g} dBi, beamwidth {tx.beamwidth_deg:.3g} deg "
-            "(the rf power must be below the ERP, the dish larger than a wavelength)"
+        raise ConfigError(
+            given,
+            value,
+            f"gives no dish: gain {tx.gain_dbi:.3g} dBi, beamwidth {tx.beamwidth_deg:.3g} deg "
+            "(the rf power must be below the ERP, the dish larger than a wavelength)",
         )
     return tx

@@ -1,7 +1,7 @@
 """The aircraft clock model (ATC-10 App. G, §4.3) and the steady-state tracking gain ψ(α) (eqs 4.5.26–4.5.34).
 
 The transmitter sends pulse n at τ_n = τ_0 + nτ̄ + x_n, where the deviation x_n of its cheap
-oscillator has second-order statistics (App. G, spec §2.3)
+oscillator has second-order statistics (App. G)
 
     E[x_m x_n] = σ1² min(m, n) + ½σ2²(m^{2ρ} + n^{2ρ} − |m − n|^{2ρ}),   x_0 = 0,
 
@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy import integrate, special
+
+from motionsig_cli.config import in_range
 
 __all__ = [
     "ClockModel",
@@ -41,7 +43,7 @@ def psi(alpha: np.ndarray | float) -> np.ndarray:
     For α ≤ 1 the closed form (3/2)α^{1/3}{[1 + √(1+α)]^{1/3} + [1 − √(1+α)]^{1/3}} with real cube roots
     and 1 − √(1+α) rewritten as −α/(1 + √(1+α)) starts Newton's method on the cubic; for α > 1, where
     the two cube roots cancel, Newton starts at ψ = 1. Six steps reach working precision over the whole
-    range (spec §7: the raw closed form errs by 2·10⁻⁷ at α = 10⁻¹⁵ and exceeds 1 at α = 10¹²).
+    range (the raw closed form errs by 2·10⁻⁷ at α = 10⁻¹⁵ and exceeds 1 at α = 10¹²).
     ψ(0) = 0; ψ → 1 as α → ∞.
     """
     a = np.asarray(alpha, dtype=float)
@@ -117,12 +119,9 @@ class ClockModel:
     rho: float = 1.0
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.sigma1) and self.sigma1 >= 0):
-            raise ValueError("sigma1 must be a finite number >= 0")
-        if not (math.isfinite(self.sigma2) and self.sigma2 >= 0):
-            raise ValueError("sigma2 must be a finite number >= 0")
-        if not 0.5 < self.rho <= 1.0:
-            raise ValueError(f"rho = {self.rho:g} is outside (1/2, 1]")
+        in_range("sigma1", self.sigma1, 0.0, unit="ns")
+        in_range("sigma2", self.sigma2, 0.0, unit="ns")
+        in_range("rho", self.rho, 0.5, 1.0, lo_open=True)
 
     @classmethod
     def simplified(cls, sigma0: float) -> ClockModel:

@@ -1,7 +1,7 @@
 """Tracking the transmit time: the report's estimator, its exact error recursion, the steady state and
-the three-satellite outage (ATC-10 §4.5, App. H; spec ``track-sat`` §2.5–2.8).
+the three-satellite outage (ATC-10, Schneider, Stiglitz & Eckberg, MIT Lincoln Laboratory, 1972: §4.5, App. H).
 
-**Scalar reduction (spec §2.7, exact).** At an epoch with K ≥ 4 satellites the clock pseudo-measurement
+**Scalar reduction (exact).** At an epoch with K ≥ 4 satellites the clock pseudo-measurement
 
     y_n = 1'(I − P_n)(T̂_n − k_n)/β_n = τ_n + v_n,   Var v_n = R_n = σ²/β_n,
 
@@ -11,7 +11,7 @@ a level-only Kalman-type filter whose prior variance accounts for the correlatio
 error with the new increment (eqs 4.5.21–4.5.24, corrected). The position follows by (4.5.17):
 p̂_n = p* + (U'U)⁻¹U'(T̂_n − k_n − τ̂_n 1); with three satellites (4.5.28), p̂_n = p* + U⁻¹(…).
 
-**Error recursion (spec §2.7).** With V_n = Var ξ_τn and χ_n = −E[Δ_j ξ_τn] (j > n; the same for all
+**Error recursion.** With V_n = Var ξ_τn and χ_n = −E[Δ_j ξ_τn] (j > n; the same for all
 such j under ρ = 1):
 
     V⁻ = V_{n−1} + 2σ0² + 2χ_{n−1}                   (4.5.21/4.5.24: σ²_τn)
@@ -72,7 +72,7 @@ def clock_error_recursion(
     reinit: np.ndarray | None = None,
     gain: np.ndarray | float | None = None,
 ) -> ClockRecursion:
-    """The exact error recursion of the report's clock tracker (spec §2.7; eqs 4.5.5, 4.5.18–4.5.27).
+    """The exact error recursion of the report's clock tracker (eqs 4.5.5, 4.5.18–4.5.27).
 
     Args:
         sigma: TOA error σ [ns].
@@ -175,7 +175,7 @@ def table_4_3_values(
     b3: float,
     c_ft_per_ns: float,
 ) -> dict[str, np.ndarray]:
-    """Table 4.3's columns from the constellation constants (spec §2.6 "Formulas for Table 4.3"):
+    """Table 4.3's columns from the constellation constants:
     e0 = cσ√(tr + b/β), eN = cσ√(tr + (ψ/β)b), e_{N+1} = cσ√(tr3 + γ̃_{N+1}·b3) [ft]."""
     ss = steady_state(sigma, sigma0, beta)
     cs = c_ft_per_ns * sigma
@@ -189,7 +189,7 @@ def table_4_3_values(
 
 
 def pseudo_measurement(T: np.ndarray, sats: np.ndarray, p_star: np.ndarray) -> dict[str, np.ndarray]:
-    """Linearise at p* and reduce an epoch to its clock pseudo-measurement (spec §2.7).
+    """Linearise at p* and reduce an epoch to its clock pseudo-measurement.
 
     Args:
         T: (..., K) arrival times [ns], nominal epoch removed.
@@ -271,7 +271,7 @@ class ReportClock:
 
 
 class RateKalmanClock:
-    """Comparator ``kf2`` (spec §2.8 [A]): a Kalman filter on [phase, rate] driven by y_n, built for the
+    """Comparator ``kf2`` (our addition; the report has no such filter): a Kalman filter on [phase, rate] driven by y_n, built for the
     ρ = 1 model: Φ = [[1, 1], [0, 1]], Q = diag(σ0², q_r), H = [1 0], R_n = σ²/β_n; initial
     x̂ = [y_0, 0], P = diag(σ²/β_0, σ0²). Joseph-form update keeps P symmetric positive definite."""
 

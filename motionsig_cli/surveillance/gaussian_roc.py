@@ -1,5 +1,4 @@
-"""The Gaussian approximation to the ROC and its Chernoff bound — ATC-10 §3.8, eqs (3.8.1)–(3.8.8);
-spec ``mac-roc.md`` §7.1–7.2.
+"""The Gaussian approximation to the ROC and its Chernoff bound — ATC-10 §3.8, eqs (3.8.1)–(3.8.8).
 
 Theorem 3.1 (App. E): for a common density and fixed τ/α the MAN is asymptotically Gaussian with
 variance P. A Gaussian MAN of the same power gives ROC_g (Fig. 3.8):

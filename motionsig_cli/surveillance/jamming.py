@@ -1,5 +1,5 @@
-"""Jamming-vulnerability bounds of the air-to-satellite-to-ground surveillance link — ATC-10 §2 and
-Appendices A–D (spec ``jam-bound.md`` §2, §7).
+"""Jamming-vulnerability bounds of the air-to-satellite-to-ground surveillance link — Section 2 and
+Appendices A–D of ATC-10 (Schneider, Stiglitz & Eckberg, MIT Lincoln Laboratory, 1972).
 
 N_T aircraft own one signature each; N = N/N_T·N_T of them are airborne and send it every α seconds
 through S = 4 satellites. Per (aircraft, satellite) a matched filter sampled at 2B samples/s makes
@@ -22,6 +22,10 @@ Kullback–Leibler divergence E(t, q) = D(t‖q) for 0 < t < q, −ln(1−q) for
 Everything is evaluated in the log domain: the bounds span hundreds of decades (N̄_ADL/N_T ≈
 10⁻²²² at K = 10, x = −16 dB) and (1 − p_f)^{2·10⁷} must never be formed. All functions broadcast
 over their array arguments; the outputs are normalised by N_T (fractions of the population).
+
+A bad parameter is a :class:`~motionsig_cli.config.ConfigError` naming the field or argument. SciPy's
+root finder is imported only by the functions that solve for a root (it costs more to import than the
+rest of this module).
 """
 
 from __future__ import annotations
@@ -31,11 +35,12 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy.optimize import brentq
 from scipy.special import log_ndtr, ndtri, ndtri_exp
 
+from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
+
 MPH = 0.44704  # m/s per mile per hour (exact)
-C_MPH = 299_792_458.0 / MPH  # speed of light in mph [A: exact c; the report does not say]
+C_MPH = 299_792_458.0 / MPH  # speed of light in mph (assumed: the exact c; the report does not say)
 LOG_TINY = -745.0  # ln of the smallest positive double: below it p itself underflows
 
 Quantity = Literal["nfl", "nadl"]
@@ -44,7 +49,7 @@ PfForm = Literal["d17", "report"]
 
 @dataclass(frozen=True, slots=True)
 class JammingSystem:
-    """System constants of ATC-10 §2.7–2.8 ([R] stated, [A] assumed; spec §4).
+    """System constants of ATC-10 §2.7–2.8 ([R] stated in the report, [A] our assumption).
 
     Attributes:
         bandwidth_hz: B, signal and jammer bandwidth [R 10 MHz]; sampling at 2B samples/s.
@@ -59,6 +64,11 @@ class JammingSystem:
         satellites: S, satellites relaying each signature [R 4].
         pf_form: ``"d17"`` (default: √(P₀Bτ/2J), App. D re-derived) or ``"report"``: the misprinted
             ½√(P₀Bτ/J) of eqs 2.8.1/2.8.3, which the report uses for N̄_FL with K > 1 only.
+
+    Checked ranges: B, α, β, v, c and E finite and > 0 with v < c (no aircraft outruns the signal);
+    N/N_T in the open (0, 1) (some aircraft airborne, some on the ground: both bounds need N and N_T − N);
+    flight_factor and pick_factor in (0, 1] (a window tightening and a probability); S an integer ≥ 1.
+    The sample counts :attr:`n_alpha`, :attr:`n_beta` and :attr:`n_v` must be finite and positive too.
     """
 
     bandwidth_hz: float = 1.0e7
@@ -74,24 +84,28 @@ class JammingSystem:
     pf_form: PfForm = "d17"
 
     def __post_init__(self) -> None:
-        for name in ("bandwidth_hz", "alpha_s", "beta_s", "vmax_mph", "c_mph", "energy_j"):
-            value = getattr(self, name)
-            if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a finite number > 0, got {value}")
+        for name, unit in (
+            ("bandwidth_hz", "Hz"),
+            ("alpha_s", "s"),
+            ("beta_s", "s"),
+            ("vmax_mph", "mph"),
+            ("c_mph", "mph"),
+            ("energy_j", "J"),
+        ):
+            positive(name, getattr(self, name), unit=unit)
         if not self.vmax_mph < self.c_mph:
-            raise ValueError(f"vmax_mph must be below the speed of light ({self.c_mph:.6g} mph)")
-        if not 0 < self.airborne_frac < 1:
-            raise ValueError(f"airborne_frac N/N_T must lie in (0, 1), got {self.airborne_frac}")
-        if not 0 < self.flight_factor <= 1 or not 0 < self.pick_factor <= 1:
-            raise ValueError("flight_factor and pick_factor must lie in (0, 1]")
-        if int(self.satellites) != self.satellites or self.satellites < 1:
-            raise ValueError(f"satellites must be an integer >= 1, got {self.satellites}")
-        if self.pf_form not in ("d17", "report"):
-            raise ValueError(f"pf_form must be d17|report, got {self.pf_form!r}")
-        for name in ("n_alpha", "n_beta", "n_v"):
+            raise ConfigError(
+                "vmax_mph", self.vmax_mph, f"is not below the speed of light ({self.c_mph:.6g} mph)"
+            )
+        in_range("airborne_frac", self.airborne_frac, 0.0, 1.0, lo_open=True, hi_open=True)
+        in_range("flight_factor", self.flight_factor, 0.0, 1.0, lo_open=True)
+        in_range("pick_factor", self.pick_factor, 0.0, 1.0, lo_open=True)
+        integer("satellites", self.satellites, 1)
+        one_of("pf_form", self.pf_form, ("d17", "report"))
+        for name, formula in (("n_alpha", "2Bα"), ("n_beta", "4Bβ"), ("n_v", "(8B/3)vα/c")):
             n = getattr(self, name)
             if not (math.isfinite(n) and n > 0):
-                raise ValueError(f"the sample count {name} = {n:g} is not a finite positive number")
+                raise ConfigError(name, n, f"is not a finite positive sample count ({name} = {formula})")
 
     @property
     def n_alpha(self) -> float:
@@ -221,31 +235,32 @@ def p_dl(p_d: np.ndarray | float, K: int, t: np.ndarray | float = 0.0, *, satell
 
 
 def _check_design(K: int, t: float) -> None:
-    if int(K) != K or K < 1:
-        raise ValueError(f"K must be an integer >= 1, got {K}")
-    if not 0.0 <= t < 1.0:
-        raise ValueError(f"t must lie in [0, 1), got {t}")
+    integer("K", K, 1)
+    in_range("t", t, 0.0, 1.0, hi_open=True)
     if K == 1 and t != 0.0:
-        raise ValueError(
-            "with K = 1 the only meaningful rule is t = 0 (declare present iff the list is non-empty)"
+        raise ConfigError(
+            "t",
+            t,
+            "is not 0: with K = 1 the only meaningful rule is t = 0 (declare present iff the list is non-empty)",
         )
 
 
 def p_d_for(K: int, pdl: float, t: float = 0.0, *, satellites: int = 4) -> float:
-    """Invert P_DL(p_d, K, t) = pdl for the pulse detection probability p_d (spec §2.3, §7.4).
+    """Invert P_DL(p_d, K, t) = pdl for the pulse detection probability p_d (eqs 2.4.1, 2.4.2).
 
     Closed forms for K = 1 and t = 0; otherwise K·D(t‖q) = −ln(1 − P_DL) is solved for q ∈ (t, 1)
-    by Brent on w = ln(1 − q), which keeps resolution when q is within 1e−5 of 1.
+    by Brent on w = ln(1 − q), which keeps resolution when q is within 1e−5 of 1. The result is checked
+    by evaluating P_DL again; a target that double precision cannot meet is a ConfigError on ``pdl``.
     """
     _check_design(K, t)
-    if not 0.0 < pdl < 1.0:
-        raise ValueError(f"P_DL must lie in the open interval (0, 1), got {pdl}")
+    in_range("pdl", pdl, 0.0, 1.0, lo_open=True, hi_open=True)
     L = -math.log1p(-pdl)
     if K == 1:
         q = pdl  # eq 2.4.1
     elif t == 0.0:
         q = -math.expm1(-L / K)  # 1 − (1 − P_DL)^{1/K}
     else:
+        from motionsig_cli.roots import brentq
 
         def gap(w: float) -> float:
             q_ = -math.expm1(w)
@@ -253,41 +268,51 @@ def p_d_for(K: int, pdl: float, t: float = 0.0, *, satellites: int = 4) -> float
 
         w_hi = math.log1p(-t) - 1e-15
         if gap(w_hi) >= 0.0:
-            raise ValueError(
-                f"K = {K} needs q = p_d^S within double precision of t = {t}; use a smaller K or t = 0"
+            raise ConfigError(
+                "pdl",
+                pdl,
+                f"at K = {K} needs q = p_d^S within double precision of t = {t:g}; use a smaller K or t = 0",
             )
         if gap(-700.0) <= 0.0:
-            raise ValueError(f"P_DL = {pdl} with t = {t} needs p_d = 1 to double precision")
+            raise ConfigError("pdl", pdl, f"with t = {t:g} needs p_d = 1 to double precision")
         q = -math.expm1(brentq(gap, -700.0, w_hi, xtol=1e-15, rtol=4 * np.finfo(float).eps))
     p_d = q ** (1.0 / satellites)
     if not 0.0 < p_d < 1.0:
-        raise ValueError(
-            f"P_DL = {pdl} at K = {K}, t = {t} needs p_d = {p_d:g} (not in (0, 1) in double precision)"
+        raise ConfigError(
+            "pdl", pdl, f"at K = {K}, t = {t:g} needs p_d = {p_d:g} (not in (0, 1) in double precision)"
         )
     achieved = float(p_dl(p_d, K, t, satellites=satellites))
     if not abs(achieved - pdl) <= 1e-9 * pdl:
-        raise ValueError(
-            f"P_DL = {pdl} at K = {K}, t = {t} cannot be met in double precision "
-            f"(the nearest p_d gives {achieved:.10g})"
+        raise ConfigError(
+            "pdl",
+            pdl,
+            f"at K = {K}, t = {t:g} cannot be met in double precision (the nearest p_d gives {achieved:.10g})",
         )
     return p_d
 
 
 def t_for(K: int, p_d: float, pdl: float, *, satellites: int = 4) -> float:
-    """The rule parameter t ∈ [0, q) that gives P_DL = pdl at pulse probability p_d (spec §2.3).
+    """The rule parameter t ∈ [0, q) that gives P_DL = pdl at pulse probability p_d (eq 2.4.2 solved
+    for t).
 
-    Raises ValueError when even t = 0 falls short (1 − (1 − p_d^S)^K < P_DL).
+    Raises a ConfigError on ``pdl`` when even t = 0 falls short (1 − (1 − p_d^S)^K < P_DL).
     """
+    from motionsig_cli.roots import brentq
+
     _check_design(K, 0.0)
     if K == 1:
-        raise ValueError("with K = 1, P_DL = p_d^S is fixed and t must be 0: there is no t to solve for")
-    if not 0.0 < p_d < 1.0 or not 0.0 < pdl < 1.0:
-        raise ValueError("p_d and P_DL must lie in the open interval (0, 1)")
+        raise ConfigError(
+            "pdl", pdl, "cannot be met by a choice of t with K = 1: P_DL = p_d^S is fixed and t must be 0"
+        )
+    in_range("p_d", p_d, 0.0, 1.0, lo_open=True, hi_open=True)
+    in_range("pdl", pdl, 0.0, 1.0, lo_open=True, hi_open=True)
     q = p_d**satellites
     L = -math.log1p(-pdl)
     best = K * float(detection_exponent(q, 0.0))
     if best < L:
-        raise ValueError(f"infeasible: P_DL at t = 0 is {-math.expm1(-best):.6g} < {pdl}")
+        raise ConfigError(
+            "pdl", pdl, f"is infeasible at p_d = {p_d:g}: even t = 0 gives P_DL = {-math.expm1(-best):.6g}"
+        )
     return brentq(lambda t: K * float(detection_exponent(q, t)) - L, 0.0, q, xtol=1e-15)
 
 
@@ -323,7 +348,15 @@ def log_nadl_pf(lpf: np.ndarray | float, K: int, pdl: float, system: JammingSyst
 
 @dataclass(frozen=True, slots=True)
 class JammingDesign:
-    """A processor design (K, p_d, t) with its detection bound P_DL (eqs 2.4.1–2.4.2)."""
+    """A processor design (K, p_d, t) with its detection bound P_DL (eqs 2.4.1–2.4.2).
+
+    Attributes:
+        K: Tracking length in pulses, an integer ≥ 1.
+        p_d: Pulse detection probability in (0, 1), with q = p_d^S representable.
+        t: Rule parameter in [0, 1): declare present iff more than K·t lists are non-empty (A.11); 0 when
+            K = 1.
+        satellites: S, an integer ≥ 1 (the system's S, 4 in the report).
+    """
 
     K: int
     p_d: float
@@ -332,10 +365,10 @@ class JammingDesign:
 
     def __post_init__(self) -> None:
         _check_design(self.K, self.t)
-        if not 0.0 < self.p_d < 1.0:
-            raise ValueError(f"p_d must lie in the open interval (0, 1), got {self.p_d}")
+        integer("satellites", self.satellites, 1)
+        in_range("p_d", self.p_d, 0.0, 1.0, lo_open=True, hi_open=True)
         if not self.p_d**self.satellites > 0.0:
-            raise ValueError(f"p_d = {self.p_d:g} is so small that q = p_d^{self.satellites} underflows")
+            raise ConfigError("p_d", self.p_d, f"is so small that q = p_d^{self.satellites} underflows")
 
     @classmethod
     def from_pdl(cls, K: int, pdl: float, t: float = 0.0, *, satellites: int = 4) -> JammingDesign:
@@ -368,12 +401,13 @@ def log_bound_pf(
 ) -> np.ndarray:
     """ln(N̄/N_T) of ``quantity`` (``"nfl"`` or ``"nadl"``) as a function of ln p_f."""
     if design.satellites != system.satellites:
-        raise ValueError("design and system disagree on the number of satellites")
+        raise ConfigError(
+            "satellites", design.satellites, f"(the design's) is not the system's {system.satellites}"
+        )
+    one_of("quantity", quantity, ("nfl", "nadl"))
     if quantity == "nfl":
         return log_nfl_pf(lpf, design.K, design.t, system)
-    if quantity == "nadl":
-        return log_nadl_pf(lpf, design.K, design.pdl, system)
-    raise ValueError(f"quantity must be nfl|nadl, got {quantity!r}")
+    return log_nadl_pf(lpf, design.K, design.pdl, system)
 
 
 def log_bound(
@@ -385,13 +419,13 @@ def log_bound(
 
 
 def log_supremum(quantity: Quantity, design: JammingDesign, system: JammingSystem) -> float:
-    """ln of the bound's supremum, reached as J → ∞ where p_f → p_d (spec §2.5, §2.7)."""
+    """ln of the bound's supremum, reached as J → ∞ where p_f → p_d (eqs 2.5.5, 2.5.12 at p_f = p_d)."""
     return float(log_bound_pf(quantity, math.log(design.p_d), design, system))
 
 
 @dataclass(frozen=True, slots=True)
 class Threshold:
-    """The jammer level at which a bound reaches a target (spec §7.3).
+    """The jammer level at which a bound reaches a target (:func:`required_jamming`).
 
     Attributes:
         attainable: False when the target is at or above the bound's supremum (no jammer power
@@ -422,22 +456,33 @@ class Threshold:
         return self.attainable and (self.pf_over_pd > 0.9 or abs(self.dlog_per_db) < 1e-3)
 
 
+def check_level(quantity: Quantity, level: float, system: JammingSystem) -> None:
+    """A target level of ``quantity`` is a fraction of N_T in (0, 1]; an N̄_FL level must also be below
+    the bound's supremum N_T − N (a ConfigError on ``level`` otherwise)."""
+    in_range("level", level, 0.0, 1.0, lo_open=True)
+    if quantity == "nfl" and level >= 1.0 - system.airborne_frac:
+        raise ConfigError(
+            "level",
+            level,
+            f"is not below the N̄_FL supremum N_T − N = {1.0 - system.airborne_frac:g} N_T "
+            "(the report's 0.9 N_T is that supremum)",
+        )
+
+
 def required_jamming(
     quantity: Quantity, level: float, design: JammingDesign, system: JammingSystem
 ) -> Threshold:
-    """Solve N̄(x)/N_T = level for x: two-stage, in u = ln p_f (spec §7.3).
+    """Solve N̄(x)/N_T = level for x: two-stage, in u = ln p_f (the inversion of eqs 2.7.3, 2.8.3, 2.8.4).
 
     1. The supremum S = bound(p_f = p_d); level ≥ S is unattainable.
     2. Brent on g(u) = ln bound(u) − ln level over u ∈ [u_lo, ln p_d] (g increases in u).
     3. d* = (Φ⁻¹(p_d) − Φ⁻¹(p_f*))/scale, x* = −20·log10 d*, ERP = x* + 10·log10(E·B).
+
+    The level is checked by :func:`check_level`.
     """
-    if not 0.0 < level <= 1.0:
-        raise ValueError(f"the target level is a fraction of N_T and must lie in (0, 1], got {level}")
-    if quantity == "nfl" and level >= 1.0 - system.airborne_frac:
-        raise ValueError(
-            f"an N̄_FL target must be below its supremum N_T − N = {1.0 - system.airborne_frac:g} N_T "
-            f"(the report's 0.9 N_T is that supremum), got {level:g}"
-        )
+    from motionsig_cli.roots import brentq
+
+    check_level(quantity, level, system)
     log_level = math.log(level)
     log_sup = log_supremum(quantity, design, system)
     u_hi = math.log(design.p_d)

@@ -1,11 +1,12 @@
-"""Satellite multilateration geometry (ATC-10 §4.1–4.2, §4.5; spec ``track-sat`` §2.1–2.2, §7).
+"""Satellite multilateration geometry (ATC-10, Schneider, Stiglitz & Eckberg, MIT Lincoln Laboratory, 1972:
+§4.1–4.2, §4.5).
 
 An aircraft pulse sent at τ_n reaches satellite i at T_ni = τ_n + ‖p_n − S_i‖/c + ε_ni (eq 4.2.1).
 Linearised about p* (eq 4.2.3), T̂_n − k_n = τ_n·1 + F_n (p_n − p*) + ε_n with F = U/c, where the rows
 of U are the unit vectors u_i from satellite i to p*.
 
 Everything here works in "c = 1" units — times in ns, distances in light-nanoseconds — so that
-F = U and the clock column 1 of [1 ⋮ U] have the same scale (spec §7). Feet or metres appear only when
+F = U and the clock column 1 of [1 ⋮ U] have the same scale. Feet or metres appear only when
 a result is printed, through a speed of light: exact (0.299792458 m/ns = 0.98357 ft/ns) or the
 report's 1 ft/ns.
 
@@ -32,7 +33,8 @@ import numpy as np
 R_EARTH_KM = 6378.137
 """Spherical-Earth radius [km] (WGS-84 equatorial; the report states no Earth model)."""
 RSAT_REPORT_RE = 9.235
-"""Orbit radius in Earth radii that reproduces Table 4.2 (spec §4.2 finding; the report says "synchronous")."""
+"""Orbit radius in Earth radii that reproduces Table 4.2 (our fit to the printed constants; the report says
+"synchronous")."""
 RSAT_GEO_KM = 42164.17
 """Geosynchronous orbit radius [km]."""
 C_M_PER_NS = 0.299792458
@@ -41,7 +43,7 @@ FOOT_M = 0.3048
 C_FT_PER_NS_EXACT = C_M_PER_NS / FOOT_M
 """Speed of light [ft/ns], exact (0.983571…)."""
 C_FT_PER_NS_REPORT = 1.0
-"""The report's implied speed of light [ft/ns] (Tables 4.2/4.3 need it; spec §0 finding 1)."""
+"""The report's implied speed of light [ft/ns] (our finding: Tables 4.2/4.3 are reproduced only with it)."""
 
 COND_LIMIT = 1e8
 """cond(U) above this: the directions are (numerically) coplanar and the position is not observable."""
@@ -55,7 +57,7 @@ class GeometryError(ValueError):
 
 
 def ecef(lat_deg: np.ndarray | float, lon_deg: np.ndarray | float, radius: np.ndarray | float) -> np.ndarray:
-    """Earth-centred Cartesian position on a sphere: (r cos φ cos λ, r cos φ sin λ, r sin φ) (spec §4.2)."""
+    """Earth-centred Cartesian position on a sphere: (r cos φ cos λ, r cos φ sin λ, r sin φ)."""
     lat = np.radians(np.asarray(lat_deg, dtype=float))
     lon = np.radians(np.asarray(lon_deg, dtype=float))
     r = np.asarray(radius, dtype=float)
@@ -90,7 +92,7 @@ def directions(sats: np.ndarray, point: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 def zenith_deg(U: np.ndarray, up: np.ndarray) -> np.ndarray:
-    """Zenith angle of each satellite seen from the aircraft: arccos(−u_i · up) in degrees (spec §7)."""
+    """Zenith angle of each satellite seen from the aircraft: arccos(−u_i · up) in degrees."""
     return np.degrees(np.arccos(np.clip(-(U @ up), -1.0, 1.0)))
 
 
@@ -170,7 +172,7 @@ def qr_parts(U: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def metrics(U: np.ndarray) -> GeometryMetrics:
-    """β, tr, b, b_literal and cond(U) for directions U (..., K, 3), by QR (spec §7)."""
+    """β, tr, b, b_literal and cond(U) for directions U (..., K, 3), by QR."""
     U = np.asarray(U, dtype=float)
     K = U.shape[-2]
     if K < 3:
@@ -206,7 +208,7 @@ def ls_position_covariance(U: np.ndarray, sigma: float) -> np.ndarray:
 
 
 def check_geometry(U: np.ndarray, *, labels: str = "", need_clock: bool = True) -> GeometryMetrics:
-    """:func:`metrics` plus the observability checks of spec §7.
+    """:func:`metrics` plus the observability checks.
 
     Raises:
         GeometryError: fewer than three satellites; cond(U) > 10⁸ (coplanar or repeated directions:

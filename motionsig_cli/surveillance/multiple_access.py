@@ -1,5 +1,4 @@
-"""The multiple-access noise (MAN) at one matched filter — ATC-10 §3.3–3.4 and App. E; spec ``mac-roc.md``
-§2–3.
+"""The multiple-access noise (MAN) at one matched filter — ATC-10 §3.3–3.4 and App. E.
 
 N aircraft send unit-energy signatures of duration τ once per period α, uncoordinated. At the matched
 filter of aircraft i each of the M = N − 1 others overlaps the 2τ window with probability q = 2τ/α and
@@ -9,7 +8,7 @@ then adds an amplitude drawn from its density C_j (3.3.8); the components are in
     E n = 0,   E n² = P = q Σ_j b_j   (= (N−1) q b for a common C)         (3.4.12)–(3.4.13)
 
 Every bound uses the real log-MGF (3.5.6) Λ(ρ) = Σ_j ln[(1 − q) + qΦ_j(ρ)] and its derivatives in the
-cancellation-free "w-form" (spec §3): with w_j = qΦ_j/(1 − q + qΦ_j), the tilted probability that
+cancellation-free "w-form": with w_j = qΦ_j/(1 − q + qΦ_j), the tilted probability that
 interferer j is active,
 
     Λ′ = Σ_j w_j g_j′,    Λ″ = Σ_j [w_j g_j″ + w_j(1 − w_j) g_j′²].
@@ -23,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import expit
 
+from motionsig_cli.config import ConfigError, integer
 from motionsig_cli.surveillance.amplitude import AmplitudeDensity
 
 LOG_SWITCH = 30.0  # g above which ln(1 − q + qΦ) is formed by logaddexp instead of log1p(q expm1 g)
@@ -33,7 +33,9 @@ class MANModel:
     """N aircraft, signature duty τ/α, and the interferers' amplitude densities.
 
     ``components`` is a tuple of (density, multiplicity) whose multiplicities sum to N − 1; a common
-    density (the report's Secs 3.6–3.8) is ``MANModel.common(N, tau_over_alpha, C)``.
+    density (the report's Secs 3.6–3.8) is ``MANModel.common(N, tau_over_alpha, C)``. N ≥ 1 (N = 1 is
+    the trivial model without interferers) and 0 < τ/α < ½: q = 2τ/α < 1, or a window would overlap
+    itself.
     """
 
     N: int
@@ -41,17 +43,24 @@ class MANModel:
     components: tuple[tuple[AmplitudeDensity, int], ...]
 
     def __post_init__(self) -> None:
-        if isinstance(self.N, bool) or not isinstance(self.N, int | np.integer) or self.N < 1:
-            raise ValueError(f"N must be an integer >= 1; got {self.N!r}")
+        if isinstance(self.N, bool) or not isinstance(self.N, int | np.integer):
+            raise ConfigError("N", self.N, "is not an integer")
+        integer("N", int(self.N), 1)
         t = self.tau_over_alpha
         if not (math.isfinite(t) and t > 0.0):
-            raise ValueError(f"tau/alpha must be a finite number > 0; got {t!r}")
+            raise ConfigError("tau_over_alpha", t, "is not a finite number > 0")
         if not 2.0 * t < 1.0:
-            raise ValueError(f"q = 2 tau/alpha = {2 * t:g} must be < 1 (a window would overlap itself)")
-        if sum(m for _, m in self.components) != self.N - 1:
-            raise ValueError("the multiplicities of the component densities must sum to N - 1")
+            raise ConfigError(
+                "tau_over_alpha",
+                t,
+                f"gives q = 2 tau/alpha = {2 * t:g}, which must be < 1 (a window would overlap itself)",
+            )
         if any(m < 0 for _, m in self.components):
-            raise ValueError("multiplicities must be non-negative")
+            raise ConfigError("components", [m for _, m in self.components], "has negative multiplicities")
+        if sum(m for _, m in self.components) != self.N - 1:
+            raise ConfigError(
+                "components", [m for _, m in self.components], "has multiplicities that do not sum to N - 1"
+            )
 
     @classmethod
     def common(cls, N: int, tau_over_alpha: float, density: AmplitudeDensity) -> MANModel:
@@ -108,7 +117,7 @@ class MANModel:
         return all(d.max_abs <= 1.0 for d, m in self.components if m > 0)
 
     def log_mgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(Λ, Λ′, Λ″) at r (eq 3.5.6, w-form derivatives; spec §3 and §11)."""
+        """(Λ, Λ′, Λ″) at r (eq 3.5.6, w-form derivatives)."""
         r = np.asarray(r, dtype=float)
         lam = np.zeros_like(r)
         d1 = np.zeros_like(r)

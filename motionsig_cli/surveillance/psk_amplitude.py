@@ -1,10 +1,10 @@
-"""The amplitude density of one MAN component for PSK signatures at the chip level (spec ``mac-roc.md``
-§12.1 "Level B"; ATC-10 §3.3, eq 3.3.7, with real codes).
+"""The amplitude density of one MAN component for PSK signatures at the chip level (the Monte Carlo's
+"Level B"; ATC-10 §3.3, eq 3.3.7, with real codes).
 
 The reference aircraft i has a ±1 code c of L rectangular chips (unit energy: S_i = c_k/√τ on chip k,
 τ = Lτ_c). An overlapping interferer j arrives with a continuous delay δ ~ U(−τ, τ) relative to the
 matched-filter window, written δ = (k + f)τ_c, and a carrier phase φ ~ U(0, 2π); its code is either a
-fresh random ±1 code d (``family=None``, the spec's ensemble) or a member of a code family drawn
+fresh random ±1 code d (``family=None``, the random-code ensemble) or a member of a code family drawn
 uniformly (e.g. the Gold family of c). Its contribution (3.3.7) is exactly
 
     n_ij = cos φ · X,    X = (1/L)[(1 − f)C(k) + f C(k + 1)],    C(m) = Σ_n d_n c_{n+m}  (aperiodic)
@@ -34,6 +34,7 @@ from functools import cached_property
 import numpy as np
 from scipy.special import i0e, i1e, logsumexp
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.surveillance.amplitude import log_cosh, log_i0
 from motionsig_cli.surveillance.time_bandwidth import aperiodic_correlation, as_code
 
@@ -70,15 +71,23 @@ class PSKAmplitude:
     name: str = field(default="psk", init=False)
 
     def __post_init__(self) -> None:
-        c = as_code(np.asarray(self.ref))
+        try:
+            c = as_code(np.asarray(self.ref))
+        except ValueError as exc:
+            raise ConfigError("ref", self.ref, str(exc).replace("a code must", "must")) from None
         if c.size < 2:
-            raise ValueError("the reference code needs at least 2 chips")
+            raise ConfigError("ref", self.ref, "needs at least 2 chips")
         if self.family is not None:
             fam = np.atleast_2d(np.asarray(self.family))
-            if fam.shape[1] != c.size or fam.shape[0] < 1:
-                raise ValueError("family codes must have the reference code's length")
+            if fam.ndim != 2 or fam.shape[1] != c.size or fam.shape[0] < 1:
+                raise ConfigError("family", self.family, "must hold codes of the reference code's length")
             for row in fam:
-                as_code(row)
+                try:
+                    as_code(row)
+                except ValueError as exc:
+                    raise ConfigError(
+                        "family", self.family, str(exc).replace("a code must", "must")
+                    ) from None
 
     @cached_property
     def code(self) -> np.ndarray:
@@ -87,6 +96,12 @@ class PSKAmplitude:
     @property
     def L(self) -> int:
         return int(self.code.size)
+
+    @property
+    def draw_chips(self) -> int:
+        """Chips correlated per draw: L with random interferer codes, 0 for a family (its correlations
+        are tabulated once) — the Monte Carlo's cost model."""
+        return self.L if self.family is None else 0
 
     @cached_property
     def family_codes(self) -> np.ndarray | None:
@@ -234,4 +249,4 @@ class PSKAmplitude:
         return out
 
     def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
-        raise ValueError("importance sampling is not available for the psk density")
+        raise ConfigError("importance", True, "is not available for the psk density (no tilted sampler)")

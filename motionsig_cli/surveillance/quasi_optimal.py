@@ -1,5 +1,5 @@
 """The quasi-optimal two-point density and its exponent against the Gaussian one — ATC-10 §3.7–3.8,
-eqs (3.7.1), (3.7.20)–(3.7.27), (3.8.9)–(3.8.16); spec ``mac-roc.md`` §6 and §7.3.
+eqs (3.7.1), (3.7.20)–(3.7.27), (3.8.9)–(3.8.16).
 
 Theorem 3.2: among symmetric amplitude densities of fixed MAN power p, the common two-point density
 C*(x) = ½δ(x − A) + ½δ(x + A), A = √(p/(Mq)) (3.7.1), minimises the p_f upper bound and maximises the

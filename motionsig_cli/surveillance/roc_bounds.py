@@ -1,5 +1,5 @@
 """Upper and lower bounds to the ROC of the matched-filter detector under multiple-access noise —
-ATC-10 §3.5, eqs (3.5.7), (3.5.12)–(3.5.14); spec ``mac-roc.md`` §4 and §11.
+ATC-10 §3.5, eqs (3.5.7), (3.5.12)–(3.5.14).
 
 The detector declares "present" iff y = (signal) + n ≥ θ, 0 < θ < 1, with the signal 1 or 0, so
 
@@ -15,7 +15,7 @@ Upper bound to the ROC ("worst case", the report's solid contours, 3.5.13):
     p_f ≤ e^{−E_f(θ)},    p_m ≤ e^{−E_d(θ)}                                         (3.5.7), (3.5.12)
 
 Lower bound ("best case", broken contours, 3.5.14) with the sign of φ corrected (the printed
-φ₁ = −2ρ₁√(…) makes the "lower" bound exceed 1 at every tested point; spec §4.2):
+φ₁ = −2ρ₁√(…) makes the "lower" bound exceed 1 at every tested point):
 
     p_f ≥ ½ e^{−E_f(θ) − φ₁},   φ₁ = 2ρ₁√(2Λ″(ρ₁)),   ρ₁ = the smallest root of Λ′(r) − √(2Λ″(r)) = θ
     p_m ≥ ½ e^{−E_d(θ) − φ₂}    (the same with Λ₋(g) = Λ(−g) and 1 − θ)
@@ -164,7 +164,7 @@ def _illinois(
 
 
 def gallager_root(model: MANModel, x: np.ndarray, r_star: np.ndarray, sign: float = 1.0) -> np.ndarray:
-    """The smallest r > 0 with Λ_s′(r) − √(2Λ_s″(r)) = x (spec §4.2, §11); NaN where none exists.
+    """The smallest r > 0 with Λ_s′(r) − √(2Λ_s″(r)) = x (the lower bound's root); NaN where none exists.
 
     Below r* the residual is negative (Λ_s′ ≤ x there), so the scan starts at r*: a geometric grid
     (ratio 1.03 up to 10³r*, then 1.25 up to 10¹²r*; towards rho_max for a Laplace density), scanned in
@@ -285,7 +285,7 @@ def theta_for_pd(
 ) -> float:
     """The threshold at which a miss curve ln p_m(θ) (increasing in θ) equals ln(1 − p_d).
 
-    The default curve is the upper bound −E_d(θ) (spec §13 T5: the solid contour at fixed p_d).
+    The default curve is the upper bound −E_d(θ) (the report's solid contour at fixed p_d).
     NaN when the curve does not reach the target in (0, 1).
     """
     if not 0.0 < pd < 1.0:

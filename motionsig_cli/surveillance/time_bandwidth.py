@@ -1,5 +1,5 @@
 """Time–bandwidth of PSK signatures and the MAN power — ATC-10 §3.9 and App. F, eqs (F.5)–(F.8),
-(3.9.1)–(3.9.3); spec ``mac-roc.md`` §8.
+(3.9.1)–(3.9.3).
 
 With t_j uniform over the 2τ window and E cos² = ½, the second moment of one MAN component depends
 only on the two autocorrelations (F.5; ∫|R_ij|² = ∫R_ii R_jj for aperiodic correlations):
@@ -84,7 +84,7 @@ def b_from_autocorrelations(ref: np.ndarray, codes: np.ndarray) -> np.ndarray:
 
 def b_random_codes(ref: np.ndarray) -> float:
     """b for interferers with fresh random ±1 codes against a fixed code c: (1/(6L))(1 + r₁/2), r₁ the
-    lag-1 aperiodic autocorrelation of c over L (spec §8; E over codes of R_jj is the ideal triangle)."""
+    lag-1 aperiodic autocorrelation of c over L (the mean over codes of R_jj is the ideal triangle)."""
     c = as_code(ref)
     L = c.size
     r1 = float(np.dot(c[:-1], c[1:])) / L if L > 1 else 0.0
@@ -125,4 +125,4 @@ def ideal_autocorrelation(t_over_tauc: np.ndarray) -> np.ndarray:
 
 BARKER13 = np.array([1, 1, 1, 1, 1, -1, -1, 1, 1, -1, 1, -1, 1], dtype=float)
 MSEQ31 = np.array([1 if ch == "+" else -1 for ch in "++++-+-+---+--+++-----++--+-++-"], dtype=float)
-"""The length-31 m-sequence of spec §12.3 (LFSR x⁵ + x² + 1, seed 10000, bit 0 → +1)."""
+"""The length-31 m-sequence of the chip-level checks (LFSR x⁵ + x² + 1, initial state 10000, bit 0 → +1)."""

@@ -206,3 +206,9 @@ def test_demo_outputs_reads_every_motionsig_line_of_the_demo_target():
     text = (Path(__file__).resolve().parents[2] / "Makefile").read_text()
     demo = text.split("\ndemo:", 1)[1].split("\n\n", 1)[0]
     assert len(lines) == demo.count("\t$(BIN)/motionsig ") > 10
+
+
+def test_help_is_plain_text_and_keeps_bracketed_units(capsys):
+    rc, out, _ = run(capsys, "track-sat", "simulate", "--help")
+    assert rc == 0
+    assert "[ns]" in out and "╭" not in out

@@ -1,5 +1,6 @@
-"""``detect`` on the Monte Carlo engine (issue 9): identical output for 1 worker, 2 workers and Dask,
-checkpoint resume, Ctrl-C, bad engine input, ``--method fft`` and ``--calibrate``."""
+"""``detect`` on the Monte Carlo engine: identical output for 1 worker, 2 workers and Dask, checkpoint
+resume, Ctrl-C, bad engine input, ``--method fft`` and ``--calibrate``; every option range a configuration
+checks is refused naming the option; the progress bar of a single record."""
 
 import math
 import os
@@ -13,10 +14,7 @@ import numpy as np
 import pytest
 
 from motionsig_cli.detection.lmp import LMPConfig
-from motionsig_cli.experiments.lmp1d import MCSpec, mc_task, mc_tasks, task_cost, threshold_for
-from motionsig_cli.models.vehicle import Vehicle1D
-from motionsig_cli.signals.correlation import to_bipolar
-from motionsig_cli.signals.modes import table1_codes
+from motionsig_cli.experiments.lmp1d import LmpJob, threshold_for
 from tests.cli.helpers import engine_outputs, run, table
 
 MC_1D = ("detect", "--montecarlo", "--trials", "6", "--fr-list", "0.01,0.1", "--R-list", "1e-2,1e-3",
@@ -37,9 +35,8 @@ CAL = ("detect", "--calibrate", "--method", "fft", "--trials", "20", "--null-tri
        "--R-list", "1", "--horizons", "5,10")  # fmt: skip
 
 
-def _tasks(spec_kwargs, R_list, trials):
-    spec = MCSpec(Vehicle1D(), np.ones((3, 31)), 20, 1.0, LMPConfig(), **spec_kwargs)
-    return mc_tasks(spec, R_list, trials)
+def _tasks(job_kwargs, R_list, trials):
+    return LmpJob(chips=np.ones((3, 31)), R_list=R_list, trials=trials, **job_kwargs).tasks()
 
 
 @pytest.mark.parametrize(
@@ -64,15 +61,15 @@ def test_default_chunks_are_worth_four_times_their_fixed_cost(monkeypatch):
     for kwargs, trials in [
         (dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1), 450),
         (dict(fr_list=(0.01, 0.1, 1.0), horizons_s=(80.0,), seed=1), 100),
-        (dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1, method="fft"), 300),
-        (dict(fr_list=(0.01,), horizons_s=(5.0,), seed=1, method="fft"), 300),
+        (dict(fr_list=(0.01,), horizons_s=(80.0,), seed=1, method="fft", cfg=LMPConfig(Q_a=0.0)), 300),
+        (dict(fr_list=(0.01,), horizons_s=(5.0,), seed=1, method="fft", cfg=LMPConfig(Q_a=0.0)), 300),
     ]:
-        spec = MCSpec(Vehicle1D(), np.ones((3, 31)), 20, 1.0, LMPConfig(), **kwargs)
-        fixed, per_trial = task_cost(spec)
-        sizes = [len(t[1]) for t in mc_tasks(spec, [1e-3], trials)]
+        job = LmpJob(chips=np.ones((3, 31)), R_list=(1e-3,), trials=trials, **kwargs)
+        fixed, per_trial = job.cost()
+        sizes = [job.task_size(t) for t in job.tasks()]
         per = sizes[0]
         assert sum(sizes) == trials and all(n == per for n in sizes[:-1])
-        cap = 200 // len(spec.fr_list)
+        cap = 200 // len(job.fr_list)
         worth = max(0.1, 4 * fixed)
         assert per == cap or (
             per * per_trial >= worth * (1 - 1e-9) and (per - 1) * per_trial < worth * (1 - 1e-9)
@@ -210,9 +207,8 @@ def test_calibrated_threshold_holds_its_false_alarm_rate_on_fresh_seeds(capsys, 
     row = dict(zip(t.columns, t.rows[0], strict=True))
     thr = float(row["threshold"])
     assert float(row["pfa_in_sample"]) <= p
-    chips = to_bipolar(table1_codes("corrected")).astype(float)
-    spec = MCSpec(Vehicle1D(), chips, 20, 1.0, LMPConfig(Q_a=0.0), (0.01,), (10.0,), 12, False, "fft")
-    null = mc_task(spec, (1e-2, range(n2))).lam_max[0, :, 0]
+    job = LmpJob(LMPConfig(Q_a=0.0), (0.01,), (1e-2,), (10.0,), n2, 12, False, "fft")
+    null = job.run_task((1e-2, range(n2))).lam_max[0, :, 0]
     p_hat = float(np.mean(null > thr))
     assert abs(p_hat - p) <= 4 * math.sqrt(p * (1 - p) * (1 / n1 + 1 / n2)) + 1 / n1
 
@@ -261,3 +257,125 @@ def test_fewer_null_trials_than_one_over_pfa_is_warned(capsys):
     rc, _, err = run(capsys, "detect", "--calibrate", "--method", "fft", "--trials", "2", "--null-trials", "5",
                      "--pfa", "0.01", "--R-list", "1", "--horizons", "2")  # fmt: skip
     assert rc == 0 and "warning" in err and "largest null maximum" in err
+
+
+@pytest.fixture(scope="module")
+def short_records(tmp_path_factory):
+    """A 2 s 1-D record and a 2 s radar record."""
+    from motionsig_cli.cli.app import main
+
+    d = tmp_path_factory.mktemp("short")
+    one, two = d / "one.csv", d / "two.csv"
+    assert main(["simulate", "--duration", "2", "-q", "-o", str(one)]) == 0
+    assert main(["simulate", "--example", "2d", "--duration", "2", "-q", "-o", str(two)]) == 0
+    return one, two
+
+
+MC_1D_SMALL = (
+    "detect",
+    "--montecarlo",
+    "--trials",
+    "1",
+    "--fr-list",
+    "0.01",
+    "--R-list",
+    "1",
+    "--horizons",
+    "1",
+)
+MC_2D_SMALL = (
+    "detect",
+    "--montecarlo",
+    "--example",
+    "2d",
+    "--trials",
+    "1",
+    "--anr-pairs",
+    "4",
+    "--horizons",
+    "1",
+)
+CAL_SMALL = ("detect", "--calibrate", "--method", "fft", "--trials", "1", "--null-trials", "2", "--R-list", "1",
+             "--horizons", "1")  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("args", "option", "word"),
+    [
+        ((*MC_1D_SMALL, "--trials", "0"), "--trials", "0 is not in [1, inf]"),
+        ((*MC_1D_SMALL, "--fr-list=-1"), "--fr-list", "-1 is not in [0, inf) Hz"),
+        ((*MC_1D_SMALL, "--R-list", "0"), "--R-list", "0 is not a finite number > 0"),
+        ((*MC_1D_SMALL, "--horizons", "0.02"), "--horizons", "shorter than one sample"),
+        ((*MC_1D_SMALL, "--c-r", "0"), "--c-r", "> 0"),
+        ((*MC_1D_SMALL, "--P0", "-1"), "--P0", "> 0"),
+        ((*MC_1D_SMALL, "--Qa=-1"), "--Qa", "PSD"),
+        ((*MC_1D_SMALL, "--Q0", "1,1,1"), "--Q0", "4 variances"),
+        ((*MC_1D_SMALL, "--Q0", "1,1,-1,1"), "--Q0", "PSD"),
+        ((*MC_1D_SMALL, "--fc-grid=-1"), "--fc-grid", "-1 is not in [0, inf) Hz"),
+        ((*MC_1D_SMALL, "--method", "fft", "--zdot", "finite-difference"), "--method", "analytic"),
+        ((*CAL_SMALL, "--pfa", "0"), "--pfa", "0 is not in (0, 1)"),
+        ((*CAL_SMALL, "--null-trials", "0"), "--null-trials", "0 is not in [1, inf]"),
+        ((*CAL_SMALL, "--trials", "3000000"), "--trials", "at most"),
+        ((*MC_2D_SMALL, "--anr-pairs", "5"), "--anr-pairs", "is not one of 1, 2, 3, 4"),
+        ((*MC_2D_SMALL, "--horizons", "2e6"), "--horizons", "is not in [0.05, 1e+06] s"),
+        ((*MC_2D_SMALL, "--fr-list", "2e6"), "--fr-list", "is not in [0, 1e+06] Hz"),
+        ((*MC_2D_SMALL, "--Q1", "1,2"), "--Q1", "10 variances"),
+        ((*MC_2D_SMALL, "--Q0", "1,2"), "--Q0", "8 variances"),
+        ((*MC_2D_SMALL, "--kappa=-9"), "--kappa", "<= 0"),
+        ((*MC_2D_SMALL, "--alpha", "1e-8"), "--alpha", "centre weight"),
+        ((*MC_2D_SMALL, "--beta", "inf"), "--beta", "not a finite number"),
+        ((*MC_2D_SMALL, "--trials", "0"), "--trials", "0 is not in [1, inf]"),
+    ],
+)
+def test_core_checks_are_reported_as_the_option(capsys, args, option, word):
+    """A ConfigError of the configurations (the CLI checks no range itself) is one line naming the option."""
+    rc, out, err = run(capsys, *args)
+    assert rc == 2 and out == "", err
+    assert err.count("\n") == 1 and f"Invalid value for {option}: " in err and word in err, err
+
+
+@pytest.mark.parametrize(
+    ("which", "extra", "option", "word"),
+    [
+        (0, ("--threshold", "nan"), "--threshold", "is not a number"),
+        (0, ("--filter", "ukf", "--center", "h0-noise"), "--filter", "center none"),
+        (0, ("--filter", "ukf", "--kappa=-4.5"), "--kappa", "n = 4 states"),
+        (0, ("--horizons", "3"), "--horizons", "longer than the record"),
+        (1, ("--horizons", "0"), "--horizons", "> 0"),
+        (1, ("--alpha", "0"), "--alpha", "not a finite number > 0"),
+    ],
+)
+def test_record_checks_are_reported_as_the_option(capsys, short_records, which, extra, option, word):
+    rc, out, err = run(capsys, "detect", str(short_records[which]), *extra)
+    assert rc == 2 and out == "", err
+    assert err.count("\n") == 1 and f"Invalid value for {option}: " in err and word in err, err
+
+
+@pytest.mark.parametrize(("which", "extra"), [(0, ()), (0, ("--filter", "ukf")), (0, ("--center", "h0-noise")),
+                                              (1, ()), (0, ("--method", "fft", "--Qa", "0"))])  # fmt: skip
+def test_a_single_record_drives_a_progress_bar_to_its_total(capsys, monkeypatch, short_records, which, extra):
+    """The bar of a single record gets the bank's total of time steps and is advanced to it exactly (in
+    blocks of steps); the FFT path has no bank (total 0)."""
+    import contextlib
+
+    import motionsig_cli.cli.detect as cli_detect
+    import motionsig_cli.cli.detect_radar as cli_radar
+
+    bars = []
+
+    @contextlib.contextmanager
+    def fake_bar(label, total, quiet):
+        done = []
+        bars.append((label, total, done))
+        yield done.append
+
+    monkeypatch.setattr(cli_detect, "progress_bar", fake_bar)
+    monkeypatch.setattr(cli_radar, "progress_bar", fake_bar)
+    rc, _, err = run(capsys, "detect", str(short_records[which]), "-q", *extra)
+    assert rc == 0, err
+    ((label, total, done),) = bars
+    n = 40  # 2 s at T = 0.05 s
+    fft = "fft" in extra
+    expected = 0 if fft else 3 * n if "h0-noise" in extra else 2 * n if which == 0 and not extra else n
+    assert total == expected and sum(done) == total, (label, total, done)
+    assert fft or len(done) >= 1

@@ -124,21 +124,36 @@ BAD = [
     (["encode", "mseq", "--poly", "44"], "--poly", "not primitive"),
     (["encode", "mseq", "--poly", "x^5+y"], "--poly", "malformed"),
     (["encode", "mseq", "--init", "00000"], "--init", "all zeros"),
-    (["encode", "mseq", "--init", "0001"], "--init", "5 bits"),
-    (["encode", "pairs", "--degree", "8"], "--degree", "multiple of 4"),
-    (["encode", "gold", "--poly1", "45", "--poly2", "51"], "--poly1/--poly2", "not a preferred pair"),
+    (["encode", "mseq", "--init", "0001"], "--init", "'0001' has 4 bits; a degree-5 register needs 5 bits"),
+    (["encode", "pairs", "--degree", "8"], "--degree", "8 is a multiple of 4"),
+    (["encode", "pairs", "--degree", "5,15"], "--degree", "15 is > 13"),
+    (["encode", "pairs", "--degree", "2"], "--degree", "2 is < 3"),
+    (
+        ["encode", "gold", "--poly1", "45", "--poly2", "51"],
+        "--poly2",
+        "'51' is not a preferred partner of 45",
+    ),
     (
         ["encode", "gold", "--poly1", "x^8+x^4+x^3+x^2+1", "--poly2", "x^8+x^6+x^5+x^3+1"],
-        "--poly1/--poly2",
-        "multiple of 4",
+        "--poly1",
+        "has degree 8, which is a multiple of 4",
     ),
-    (["encode", "gold", "--index", "40"], "--index", "-2..30"),
+    (["encode", "gold", "--poly1", "45", "--poly2", "x^6+x+1"], "--poly2", "not the degree 5 of poly1"),
+    (["encode", "gold", "--index", "40"], "--index", "40 is not in [-2, 30]"),
+    (["encode", "gold", "--init2", "00000"], "--init2", "all zeros"),
+    (["encode", "gold", "--unchecked", "--poly2", "44"], "--poly2", "not primitive"),
+    (["encode", "check-pair", "--poly1", "44", "--poly2", "45"], "--poly1", "not primitive"),
+    (["encode", "check-pair", "--poly1", "45", "--poly2", "x^6+x+1"], "--poly2", "not the degree 5"),
     (["encode", "signature", "--T", "0"], "--T", "positive"),
     (["encode", "signature", "--T", "-0.1"], "--T", "positive"),
-    (["encode", "signature", "--mrho", "0"], "--mrho", "m_rho"),
+    (["encode", "signature", "--mrho", "0"], "--mrho", "integer >= 1"),
+    (["encode", "signature", "--fc", "-1"], "--fc", "-1 is not in [0, inf)"),
+    (["encode", "signature", "--fd", "nan"], "--fd", "nan is not a finite number"),
     (["encode", "signature", "--theta", "abc"], "--theta", "radians"),
-    (["encode", "signature", "--mode", "4"], "--mode", "modes 1, 2, 3"),
-    (["encode", "gps", "--prn", "33"], "--prn", "1..32"),
+    (["encode", "signature", "--theta", "inf"], "--theta", "finite"),
+    (["encode", "signature", "--mode", "4"], "--mode", "4 is not a Table I mode (1, 2, 3)"),
+    (["encode", "gps", "--prn", "33"], "--prn", "33 is not in [1, 32]"),
+    (["encode", "gps", "--prn", "0"], "--prn", "0 is not in [1, 32]"),
     (["encode", "gps", "--prn", "x"], "--prn", "expected a PRN"),
     (["encode", "pairs", "--degree", "3-x"], "--degree", "expected a degree"),
     (["encode", "signature", "--plot", "x.gif"], "--plot", "unsupported"),
@@ -149,10 +164,16 @@ BAD = [
     (["encode", "pairs", "--degree", "1_0"], "--degree", "expected a degree"),
     (["encode", "gps", "--prn", "1-1000000000"], "--prn", "more than 32"),
     (["encode", "mseq", "--init", "\u0660\u0660\u0660\u0660\u0661"], "--init", "only 0 and 1"),
-    (["encode", "signature", "--length", "1000000000"], "--length", "samples >"),
-    (["encode", "signature", "--mrho", "99999999999"], "--mrho", "samples >"),
+    (
+        ["encode", "signature", "--length", "1000000000"],
+        "--length",
+        "not a number of samples in [1, 5000000]",
+    ),
+    (["encode", "signature", "--length", "0"], "--length", "not a number of samples in [1, 5000000]"),
+    (["encode", "signature", "--mrho", "99999999999"], "--mrho", "samples per code period, more than"),
     (["encode", "signature", "--tau", "99999999999999999999"], "--tau", "2^53"),
     (["encode", "signature", "--T", "1e308"], "--T", "non-finite"),
+    (["encode", "table1", "--view", "bogus"], "--view", "'bogus' is not one of"),
     (["encode", "gold", "--all", "--index", "3"], "--all", "drop --index"),
     (["encode", "mseq", "--out", "/nonexistent-dir/x.csv"], "--out", "does not exist"),
 ]
@@ -205,12 +226,12 @@ def test_failed_run_keeps_existing_file(capsys, tmp_path, monkeypatch):
     """Atomic write: an error while rendering leaves the previous file intact and no temp file."""
     target = tmp_path / "keep.csv"
     target.write_text("old\n")
-    import motionsig_cli.cli.io as cio
+    import motionsig_cli.tables as tables
 
     def boom(*a, **k):
         raise RuntimeError("disk full")
 
-    monkeypatch.setattr(cio, "render", boom)
+    monkeypatch.setattr(tables, "render", boom)  # the command layer renders through tables.render
     rc = main(["encode", "mseq", "--out", str(target)])
     assert rc == 1 and "internal error: RuntimeError: disk full" in capsys.readouterr().err
     assert target.read_text() == "old\n" and [p.name for p in tmp_path.iterdir()] == ["keep.csv"]

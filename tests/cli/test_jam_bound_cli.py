@@ -1,7 +1,10 @@
-"""`motionsig jam-bound`: tables against the printed values, curves, conventions, bad input (issue 6)."""
+"""`motionsig jam-bound`: tables against the printed values, curves, conventions, bad input."""
 
 import json
 import math
+import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -155,3 +158,103 @@ def test_bad_input_one_line_exit_2(capsys, tmp_path, args, option):
     assert rc == 2, err
     assert len(err.strip().splitlines()) == 1 and option in err and "Traceback" not in err
     assert not target.exists() and out == ""
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["curves", "--B", "0"], "Invalid value for --B: 0 is not a finite number > 0 Hz"),
+        (["curves", "--alpha", "inf"], "Invalid value for --alpha: inf is not a finite number > 0 s"),
+        (["curves", "--beta", "-1"], "Invalid value for --beta: -1 is not a finite number > 0 s"),
+        (
+            ["curves", "--vmax-mph", "1e10"],
+            "Invalid value for --vmax-mph: 1e+10 is not below the speed of light",
+        ),
+        (["curves", "--c-mph", "0"], "Invalid value for --c-mph: 0 is not a finite number > 0 mph"),
+        (["curves", "--energy-j", "0"], "Invalid value for --energy-j: 0 is not a finite number > 0 J"),
+        (["curves", "--airborne-frac", "1"], "Invalid value for --airborne-frac: 1 is not in (0, 1)"),
+        (
+            ["threshold", "--B", "1e308"],
+            "Invalid value for --B/--alpha: inf is not a finite positive sample count",
+        ),
+        (["curves", "--K", "0"], "Invalid value for --K: 0 is not in [1, inf]"),
+        (["threshold", "--K", "0"], "Invalid value for --K: 0 is not in [1, inf]"),
+        (["design", "--K", "0", "--pdl", "0.9"], "Invalid value for --K: 0 is not in [1, inf]"),
+        (["curves", "--pdl", "0.9,1.5"], "Invalid value for --pdl: 1.5 is not in (0, 1)"),
+        (["curves", "--pd", "0"], "Invalid value for --pd: 0 is not in (0, 1)"),
+        (["curves", "--t", "1"], "Invalid value for --t: 1 is not in [0, 1)"),
+        (["curves", "--pdl", "x"], "Invalid value for --pdl: expected a comma-separated list of numbers"),
+        (
+            ["curves", "--figure", "2.4", "--K", "100"],
+            "Invalid value for --K: 100 is not the K = 10 of Fig. 2.4",
+        ),
+        (["curves", "--x-min", "-7000"], "Invalid value for --x-min: -7000 is not in [-1000, 1000] dB"),
+        (["curves", "--x-min", "5", "--x-max", "0"], "Invalid value for --x-max: 0 is below x_min = 5 dB"),
+        (["curves", "--step", "-1"], "Invalid value for --step: -1 is not a finite number > 0 dB"),
+        (["threshold", "--level", "0"], "Invalid value for --level: 0 is not in (0, 1]"),
+        (["table", "--level", "1.5"], "Invalid value for --level: 1.5 is not in (0, 1]"),
+        (["table", "--freq-hz", "-1"], "Invalid value for --freq-hz: -1 is not a finite number > 0 Hz"),
+        (["table", "--eta", "1.5"], "Invalid value for --eta: 1.5 is not in (0, 1]"),
+        (
+            ["antenna", "--rf-w", "30", "--bw-const", "0"],
+            "Invalid value for --bw-const: 0 is not a finite number > 0",
+        ),
+        (
+            ["table", "--which", "1.1", "--freq-hz", "1e3"],
+            "Invalid value for --freq-hz/--eta/--bw-const: f = 1000 Hz",
+        ),
+        (
+            ["antenna", "--erp-dbw", "inf", "--rf-w", "30"],
+            "Invalid value for --erp-dbw: inf is not a finite number",
+        ),
+        (["antenna", "--rf-dbw", "40"], "Invalid value for --rf-dbw: 40 gives no dish"),
+        (["antenna", "--rf-w", "1e5"], "Invalid value for --rf-w: 100000 gives no dish"),
+        (["antenna", "--diameter-ft", "0.001"], "Invalid value for --diameter-ft: 0.001 gives no dish"),
+        (["antenna", "--rf-w", "0"], "Invalid value for --rf-w: 0 is not a finite number > 0 W"),
+    ],
+)
+def test_config_errors_name_the_option(capsys, args, message):
+    rc, out, err = run(capsys, "jam-bound", *args)
+    assert rc == 2 and out == ""
+    assert err.startswith(f"motionsig jam-bound {args[0]}: error: {message}"), err
+
+
+def test_speed_of_light_default_is_the_core_constant():
+    from motionsig_cli.cli import jam_bound
+    from motionsig_cli.surveillance import jamming
+
+    assert jam_bound.C_MPH == jamming.C_MPH
+
+
+def _modules_after(code: str) -> set[str]:
+    probe = code + "\nimport sys\nprint(' '.join(sorted(sys.modules)))\n"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    return set(out.stdout.split())
+
+
+def test_cli_module_imports_no_numerical_library():
+    loaded = _modules_after("import motionsig_cli.cli.jam_bound")
+    assert not loaded & {"numpy", "scipy", "matplotlib", "motionsig_cli.experiments.jamming"}
+
+
+@pytest.mark.parametrize(
+    ("args", "absent"),
+    [
+        (["table", "-q"], {"matplotlib", "scipy.stats"}),
+        (["design", "--K", "10", "--pdl", "0.9", "-q"], {"matplotlib", "scipy.stats", "scipy.optimize"}),
+        (["curves", "--K", "10", "--t", "0", "--step", "1", "-q"], {"matplotlib", "scipy.optimize"}),
+    ],
+)
+def test_commands_import_only_what_they_use(args, absent):
+    code = (
+        "import contextlib, io\nfrom motionsig_cli.cli.app import main\n"
+        f"with contextlib.redirect_stdout(io.StringIO()):\n    assert main({['jam-bound', *args]!r}) == 0"
+    )
+    assert not _modules_after(code) & absent
+
+
+@pytest.mark.parametrize("name", ["curves", "threshold", "table", "design", "antenna"])
+def test_help_cites_no_internal_document(capsys, name):
+    rc, out, _ = run(capsys, "jam-bound", name, "--help")
+    assert rc == 0 and "Usage" in out
+    assert not re.search(r"\bspec\b|issue \d|seed 00\d", out, flags=re.IGNORECASE), out

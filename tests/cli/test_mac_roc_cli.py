@@ -1,4 +1,4 @@
-"""`motionsig mac-roc` (issue 7): figures' settings, CSV content, the printed values, bad input."""
+"""`motionsig mac-roc` (ATC-10 §3): figures' settings, CSV content, the printed values, bad input."""
 
 import json
 import math
@@ -42,7 +42,7 @@ def test_bounds_figure_3_3_rows_and_sandwich_with_exact(capsys, tmp_path):
     assert np.allclose(np.log10(pf_up), up, rtol=1e-12)
 
 
-def test_bounds_spec_t2_row(capsys, tmp_path):
+def test_bounds_two_point_reference_row(capsys, tmp_path):
     rc, out, _ = run(capsys, "mac-roc", "bounds", "--density", "C2", "--ell", "8", "--theta", "0.5", "-q")
     assert rc == 0
     t = table(out, tmp_path)
@@ -69,15 +69,15 @@ def test_bounds_spec_t2_row(capsys, tmp_path):
     assert float(r["pf_lo"]) == pytest.approx(1.158783e-10, rel=1e-6)
 
 
-def test_bounds_at_pd_spec_t5_and_t8(capsys, tmp_path):
+def test_bounds_at_pd_reference_values(capsys, tmp_path):
     rc, out, _ = run(
         capsys, "mac-roc", "bounds", "--density", "uniform", "--ell", "8", "--at-pd", "0.99", "--exact", "-q"
     )
     assert rc == 0
     t = table(out, tmp_path)
     r = dict(zip(t.columns, t.rows[0], strict=True))
-    assert float(r["pf_up"]) == pytest.approx(7.5054e-3, rel=1e-4)  # T5
-    assert float(r["pf_exact"]) == pytest.approx(4.8e-5, rel=0.05)  # T8(a)
+    assert float(r["pf_up"]) == pytest.approx(7.5054e-3, rel=1e-4)  # the upper contour at p_d = 0.99
+    assert float(r["pf_exact"]) == pytest.approx(4.8e-5, rel=0.05)  # the exact ROC at the same p_d
     assert float(r["pf_gauss"]) == pytest.approx(2.1e-6, rel=0.05)
 
 
@@ -328,8 +328,8 @@ def test_montecarlo_refuses_an_impossible_workload(capsys, tmp_path):
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
-        (("bounds", "--N", "1", "--theta", "0.5"), "N = 1"),
-        (("gaussian", "--N", "1", "--theta", "0.5"), "N = 1"),
+        (("bounds", "--N", "1", "--theta", "0.5"), "has no interferers"),
+        (("gaussian", "--N", "1", "--theta", "0.5"), "has no interferers"),
         (("bounds", "--tau-over-alpha", "1e-70", "--theta", "0.5"), "1e-50"),
         (("bounds", "--figure", "3.3", "--density", "two-point"), "uniform density"),
     ],
@@ -349,7 +349,7 @@ def test_exponent_has_no_cancellation():
     assert exp_of_gaussian_exponent(1e-14, 1e5, 1e-5) <= 1e-14
 
 
-# --- the Monte Carlo engine (issue 9): --workers, --scheduler, --checkpoint ------------------------------
+# --- the Monte Carlo engine: --workers, --scheduler, --checkpoint -----------------------------------------
 
 ENGINE_CASES = {
     "plain": ("montecarlo", "--ell", "6,8", "--theta", "0.3,0.5", "--trials", "2e5", "--seed", "4"),
@@ -404,3 +404,71 @@ def test_monte_carlo_checkpoint_resumes_to_the_uninterrupted_result(capsys, tmp_
     # the same directory for another command is refused too
     rc, _, err = run(capsys, "mac-roc", *ENGINE_CASES["bounds"], "--checkpoint", str(ckpt), "-q")
     assert rc == 2 and err.count("\n") == 1 and "another command" in err
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("bounds", "--at-pd", "1.5"), "Invalid value for --at-pd: 1.5 is not in (0, 1)"),
+        (("bounds", "--density", "psk", "--ell", "8"), "Invalid value for --ell: (8.0,) is not used"),
+        (("bounds", "--montecarlo", "1e3", "--at-pd", "0.9"), "Invalid value for --montecarlo: 1000 needs"),
+        (("bounds", "--b", "0"), "Invalid value for --b: 0 is not a finite number > 0"),
+        (("bounds", "--N", "1e16"), "Invalid value for --N: 1e+16 is not in [1, 1000000000000000]"),
+        (("bounds", "--N", "inf"), "Invalid value for --N: inf is not an integer"),
+        (("bounds", "--N", "many"), "Invalid value for --N: expected a number"),
+        (
+            ("bounds", "--density", "psk", "--code", "gold:45,75:99"),
+            "Invalid value for --code: 'gold:45,75:99'",
+        ),
+        (("bounds", "--theta", "0.2:0.8"), "Invalid value for --theta: expected start:stop:step"),
+        (("montecarlo", "--density", "arcsine", "--importance"), "Invalid value for --importance: True"),
+        (("montecarlo", "--trials", "1e11"), "Invalid value for --trials: 1e+11 is not in [1, 10000000000]"),
+        (("montecarlo", "--seed", "-1", "--trials", "10"), "--seed"),
+        (("exact", "--density", "arcsine"), "Invalid value for --density: 'arcsine' has no exact ROC"),
+        (
+            ("gaussian", "--figure", "3.3"),
+            "Invalid value for --figure: '3.3' is drawn by `motionsig mac-roc bounds`",
+        ),
+        (("gaussian", "--gauss-variance", "M"), "--gauss-variance"),
+        (
+            ("exponent", "--tau-over-alpha", "0.6"),
+            "Invalid value for --tau-over-alpha: 0.6 is not in (0, 0.5)",
+        ),
+        (("exponent", "--N", "1"), "Invalid value for --N: 1 is not in (1, inf)"),
+        (
+            ("exponent", "--expg", "0:1e6:100000", "--N", "1e3:1e6:100"),
+            "Invalid value for --expg: 100000 gives",
+        ),
+        (("densities", "--b", "0"), "Invalid value for --b: 0 is not a finite number > 0"),
+        (
+            ("densities", "--figure", "3.8"),
+            "Invalid value for --figure: '3.8' is drawn by `motionsig mac-roc gaussian`",
+        ),
+        (("bandwidth", "--alpha", "0"), "Invalid value for --alpha: 0 is not a finite number > 0 s"),
+        (("bandwidth", "--tau-c", "-1"), "Invalid value for --tau-c: -1 is not a finite number > 0 s"),
+        (("bandwidth", "--N", "0"), "Invalid value for --N: 0 is not in [1, 1000000000000000]"),
+        (("bandwidth", "--code", ";"), "Invalid value for --code: '' names no code"),
+    ],
+)
+def test_a_bad_configuration_value_names_its_option(capsys, args, message):
+    """The core's ConfigError names the configuration field; the command line names its option."""
+    rc, out, err = run(capsys, "mac-roc", *args)
+    assert rc == 2 and out == "" and err.count("\n") == 1, err
+    assert message in err
+
+
+def test_option_defaults_are_the_core_constants():
+    from motionsig_cli.cli import mac_roc as cli
+    from motionsig_cli.experiments import mac_roc as exp
+
+    assert cli.REPORT_TAU_OVER_ALPHA == exp.REPORT_TAU_OVER_ALPHA and cli.FIG32_B == exp.FIG32_B
+
+
+def test_the_command_module_imports_no_core_at_start():
+    """The mac-roc command module imports the core (scipy, the experiment) only when a command runs."""
+    import subprocess
+    import sys
+
+    code = "import sys, motionsig_cli.cli.mac_roc\nprint(any(m.startswith('scipy') or m.endswith('experiments.mac_roc') for m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

@@ -85,25 +85,33 @@ def _bad_record(tmp_path, body):
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
-        (("--sigma", "0"), "--sigma"),
+        (("--sigma", "0"), "Invalid value for --sigma: 0 is not in [0.001, 1e+07] m"),
         (("--sigma", "-5,100"), "--sigma"),
         (("--sigma", "1e-300"), "--sigma"),
         (("--transition", "0.9,0.05,0.05;0.025,0.95,0.025;0.025,0.025,0.9"), "row 3"),
         (("--transition", "1.1,-0.05,-0.05;0.025,0.95,0.025;0.025,0.025,0.95"), "row 1"),
         (("--transition", "0.5,0.5;0.5,0.5"), "3 rows of 3"),
         (("--mu0", "0.8,0.1,0.2"), "--mu0"),
-        (("--window", "0"), "--window"),
-        (("--method", "imm,kalman"), "--method"),
+        (("--window", "0"), "Invalid value for --window: 0 is not in [1, 200]"),
+        (("--method", "imm,kalman"), "Invalid value for --method: 'kalman' is not one of imm, glr, mlr, cv"),
         (("--plot-compare", "x.png"), "two methods"),
         (("--view", "events"), "glr or mlr"),
         (("--runs", "1000000", "--method", "all"), "estimated"),
         (("--glr-threshold", "nan"), "--glr-threshold"),
-        (("--glr-threshold", "-1"), "never negative"),
+        (("--glr-threshold", "-1"), "Invalid value for --glr-threshold: -1 is not a finite number >= 0"),
         (("--T", "1e-300"), "--T"),
-        (("--T", "3601"), "--T"),
+        (("--T", "3601"), "Invalid value for --T: 3601 is not in [0.001, 3600] s"),
         (("--q0", "nan"), "--q0"),
-        (("--mlr-sigma-u", "1e160"), "--mlr-sigma-u"),
-        (("--sigma", "1e-3", "--T", "3600", "--scans", "240"), "numerically singular"),
+        (("--mlr-sigma-u", "1e160"), "Invalid value for --mlr-sigma-u: 1e+160 is not in [0.001, 1e+06] m/s²"),
+        (("--q0", "1e7"), "Invalid value for --q0: 1e+07 is not in [0, 1e+06] m²/s³"),
+        (("--mlr-threshold", "inf"), "Invalid value for --mlr-threshold: inf is not in (-inf, inf)"),
+        (("--scans", "2"), "Invalid value for --scans: 2 is not in [3, 100000]"),
+        (("--runs", "0"), "Invalid value for --runs: 0 is not in [1, 1000000]"),
+        (("--response", "0"), "Invalid value for --response: 0 is not in [1, 10000]"),
+        (("--sigma", ",".join(str(10 * i) for i in range(1, 12))), "Invalid value for --sigma"),
+        (("--transition", "1,0;0,1"), "Invalid value for --transition"),
+        (("--mu0", "0.5,0.5"), "Invalid value for --mu0: [0.5, 0.5] is not 3 probabilities"),
+        (("--sigma", "1e-3", "--T", "3600", "--scans", "240"), "--sigma: 0.001 m is too small"),
         (("--view", "measurements", "--plot", "m.png"), "draws no figure"),
     ],
 )
@@ -176,7 +184,7 @@ def test_undefined_statistics_are_empty_cells_and_svg_is_reproducible(capsys, tm
     assert a.read_bytes() == b.read_bytes()
 
 
-# ------------------------------------------------------------------ the Monte Carlo engine (issue 9)
+# ------------------------------------------------------------------ the Monte Carlo engine
 ENGINE_ARGS = ("maneuver", "--runs", "3", "--scans", "215", "--method", "imm,glr", "--sigma", "100,150")
 
 
@@ -185,7 +193,7 @@ def test_same_bytes_on_one_worker_two_workers_and_dask(capsys, tmp_path, dask_ad
     assert outs["w1"] == outs["w2"] == outs["dask"]
     assert b"workers" not in outs["w1"] and b"scheduler" not in outs["w1"]
     # under many_tasks each σ's 3 runs are 3 tasks: 2 σ -> 6 tasks, partial sums added in task order
-    job = ex.MCJob(
+    job = ex.ManeuverJob(
         ex.ManeuverScenario(scans=215), (100.0, 150.0), 3, 2008, ("imm", "glr"), ex.TrackerConfig()
     )
     assert job.runs_per_task() == 1 and len(job.tasks()) == 6
@@ -194,7 +202,7 @@ def test_same_bytes_on_one_worker_two_workers_and_dask(capsys, tmp_path, dask_ad
 def test_chunking_depends_on_the_parameters_only(monkeypatch):
     monkeypatch.delenv("MOTIONSIG_MIN_TASK_SECONDS", raising=False)
     sc = ex.ManeuverScenario()
-    job = ex.MCJob(sc, (100.0, 200.0), 500, 1, ("imm",), ex.TrackerConfig())
+    job = ex.ManeuverJob(sc, (100.0, 200.0), 500, 1, ("imm",), ex.TrackerConfig())
     per_task = job.runs_per_task()
     assert 1 < per_task <= 250
     fixed = ex.cost(sc.scans, 0, ("imm",), 1)
@@ -267,3 +275,38 @@ def test_views_without_monte_carlo_ignore_the_engine_options(capsys, tmp_path):
     rc, _, err = run(capsys, "maneuver", "--input", str(rec), "--workers", "2", "--checkpoint", str(ck))
     assert rc == 0, err
     assert not ck.exists()
+
+
+def test_the_command_layer_copies_of_core_constants_agree():
+    """The command module imports no NumPy, so it spells out a few of the core's values: they must agree."""
+    from motionsig_cli.cli import maneuver as cli
+    from motionsig_cli.detection.glr import CHI2_2_999, CONTINUATIONS, CORRECTIONS
+    from motionsig_cli.models.motion import G2_FORMS
+
+    assert cli.CHI2_2_999 == CHI2_2_999
+    assert tuple(g.value for g in cli.G2) == G2_FORMS
+    assert tuple(p.value for p in cli.Preset) == ex.PRESETS
+    assert tuple(v.value for v in cli.View) == (*ex.VIEWS, "measurements")
+    assert tuple(c.value for c in cli.Correction) == CORRECTIONS
+    assert tuple(c.value for c in cli.Continuation) == CONTINUATIONS
+
+
+@pytest.mark.parametrize(
+    ("args", "meta", "needle"),
+    [
+        (("--sigma", "0"), "", "Invalid value for --sigma: 0 is not in [0.001, 1e+07] m"),
+        (("--sigma", "100,200"), "", "Invalid value for --sigma: give one σ with --input"),
+        (("--T", "0"), "# sigma: 100\n", "Invalid value for --T: 0 is not in [0.001, 3600] s"),
+        ((), "# sigma: 1e8\n", "r.csv: metadata 'sigma' = 1e+08 is not in [0.001, 1e+07] m"),
+        ((), "# sigma: 100\n# T: 7200\n", "r.csv: metadata 'T' = 7200 is not in [0.001, 3600] s"),
+        ((), "# sigma: -1\n", "r.csv: metadata 'sigma' must be a finite number > 0"),
+        (("--method", "ckf"), "# sigma: 100\n", "Invalid value for --method: 'ckf' is not one of"),
+        (("--view", "summary"), "# sigma: 100\n", "leave --view out"),
+    ],
+)
+def test_bad_record_options_and_metadata(capsys, tmp_path, args, meta, needle):
+    p = tmp_path / "r.csv"
+    p.write_text(meta + "scan,z_x,z_y\n1,0,0\n2,0,450\n3,0,900\n")
+    rc, out, err = run(capsys, "maneuver", "--input", str(p), *args)
+    assert rc == 2 and out == ""
+    assert needle in err and len(err.strip().splitlines()) == 1, err

@@ -182,10 +182,10 @@ def test_bad_detect_options(record, capsys, monkeypatch, args, option, text):
     [
         (["--R", "0"], "--R", "> 0"),
         (["--R", "-1e-3"], "--R", "> 0"),
-        (["--mode", "4"], "--mode", "modes 1, 2, 3"),
+        (["--mode", "4"], "--mode", "not a Table I mode: 1, 2 or 3"),
         (["--T", "0"], "--T", "> 0"),
         (["--duration", "-5"], "--duration", "> 0"),
-        (["--K", "1,2,3"], "--K", "two gains"),
+        (["--K", "1,2,3"], "--K", "two finite gains"),
         (["--R", "1e-3", "--anr-db", "40"], "--anr-db", "not both"),
         (["--montecarlo"], "No such option", ""),
     ],

@@ -1,8 +1,9 @@
-"""`motionsig slrt` (issue 10): outputs, figures, reproducibility and bad input."""
+"""`motionsig slrt`: outputs, figures, reproducibility, help, and bad input named by its option."""
 
 import numpy as np
 import pytest
 
+from motionsig_cli.detection.track_existence import FUSION_METHODS
 from motionsig_cli.experiments import slrt as exp
 from tests.cli.helpers import engine_outputs, run, table
 
@@ -59,11 +60,49 @@ def test_decisions_view_and_seed(capsys, tmp_path):
         (("--plot-scan", "same.png", "-o", "same.png"), "--plot-scan"),
         (("--plot", "b.png", "--plot-scan", "b.png"), "--plot-scan"),
         (("--plot-scan", "x.xyz"), "--plot-scan"),
+        (("--sensors", "65"), "--sensors"),
+        (("--clutter", "1001"), "--clutter"),
+        (("--scans", "0"), "--scans"),
+        (("--T", "0"), "--T"),
+        (("--q", "-1"), "--q"),
+        (("--sigma-phi-deg", "91"), "--sigma-phi-deg"),
+        (("--filter-pd", "1"), "--filter-pd"),
+        (("--pd", "0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,0.95,0.99"), "--pd"),
+        (("--methods", ","), "--methods"),
+        (("--runs", "0"), "--runs"),
     ],
 )
 def test_bad_input(capsys, args, needle):
     rc, _, err = run(capsys, "slrt", *args)
     assert rc == 2 and err.count("\n") == 1 and needle in err and "Traceback" not in err
+    assert err.startswith("motionsig slrt: error: ") and "Input should" not in err
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("--sigma-r", "0"), "--sigma-r: 0 is not in [0.001, 100000] m"),
+        (("--sensors", "0"), "--sensors: 0 is not in [1, 64]"),
+        (("--clutter", "-1"), "--clutter: -1 is not in [0, 1000]"),
+        (("--radius", "30000"), "--radius: 30000 is not in [0, 26000) m"),
+        (("--alpha", "0.5"), "--alpha: 0.5 is not in (0, 0.5)"),
+        (("--pd", "1.5"), "--pd: 1.5 is not in (0, 1]"),
+        (("--methods", "ckf,ukf"), "--methods: 'ukf' is not one of ckf, dkf, lkf"),
+        (("--runs", "100000"), "--runs: 100000 is too many runs for 4 case(s) x 30 scans x 4 sensors"),
+    ],
+)
+def test_a_core_check_is_reported_under_its_option(capsys, args, message):
+    rc, _, err = run(capsys, "slrt", *args)
+    assert rc == 2 and message in err, err
+
+
+def test_help_spells_out_every_fusion_method(capsys):
+    rc, out, _ = run(capsys, "slrt", "--help")
+    text = " ".join(out.replace("│", " ").split())
+    assert rc == 0
+    for name, method in FUSION_METHODS.items():
+        assert f"{name} ({method.abbreviation} = {method.title}" in text
+    assert "federated relaxed-" in text and "spec" not in text
 
 
 def test_stop_freezes_scores_and_pd_one_gives_minus_inf_not_nan(capsys, tmp_path):
@@ -82,7 +121,7 @@ def test_stop_freezes_scores_and_pd_one_gives_minus_inf_not_nan(capsys, tmp_path
     assert rc == 0 and set(nt) == {"-inf"} and "clutter_floor" in t.meta
 
 
-# ------------------------------------------------------------------ the Monte Carlo engine (issue 9)
+# ------------------------------------------------------------------ the Monte Carlo engine
 ENGINE_ARGS = ("slrt", "--runs", "5", "--scans", "6", "--pd", "0.9", "--clutter", "2")
 
 

@@ -1,5 +1,5 @@
 """`motionsig track-sat`: tables beside the printed values, curves, Monte Carlo, conventions and bad input
-(issue 8)."""
+(each bad value is one line naming the option)."""
 
 import json
 
@@ -19,7 +19,7 @@ def test_table_4_3_both_conventions(capsys, tmp_path):
     for col in ("deviation_e0_pct", "deviation_eN_pct", "deviation_eN1_pct"):
         assert np.all(np.abs(t.numeric(col)[rep]) <= 2.0)
     assert t.meta["constants"]["corrected I"].startswith("Table 4.1 geometry at 42164.2 km")
-    # corrected at the geosynchronous radius, Ex II sigma0 = 5: 825 / 195 / 252 ft (spec §6.2)
+    # corrected at the geosynchronous radius, Ex II sigma0 = 5: 825 / 195 / 252 ft (our reference values)
     i = next(k for k, (c, e, s) in enumerate(zip(conv, t.column("example"), t.numeric("sigma0_ns"), strict=True))
          if c == "corrected" and e == "II" and s == 5)  # fmt: skip
     np.testing.assert_allclose(
@@ -27,10 +27,12 @@ def test_table_4_3_both_conventions(capsys, tmp_path):
     )
 
 
-def test_table_4_3_params_table_reproduces_spec_corrected_column(capsys, tmp_path):
+def test_table_4_3_params_table_reproduces_the_corrected_column(capsys, tmp_path):
     _rc, out, _ = run(capsys, "track-sat", "table", "--convention", "corrected", "--params", "table", "-q")
     t = table(out, tmp_path)
-    np.testing.assert_allclose(t.numeric("eN1_ft"), [171, 252, 887, 264, 460, 1198], atol=1.5)  # spec §4.3
+    np.testing.assert_allclose(
+        t.numeric("eN1_ft"), [171, 252, 887, 264, 460, 1198], atol=1.5
+    )  # our corrected column
 
 
 def test_table_4_2(capsys, tmp_path):
@@ -50,7 +52,9 @@ def test_constellation_views(capsys, tmp_path):
     assert t.column("subset") == ["all", "1,2,3"] and t.column("gdop")[1] == ""
     rc, out, _ = run(capsys, "track-sat", "constellation", "--view", "satellites", "--rsat-re", "9.235", "-q")
     z = table(out, tmp_path).numeric("zenith_deg")
-    np.testing.assert_allclose(z, [45.2, 20.8, 18.0, 7.1, 11.9, 30.9, 31.5], atol=0.06)  # spec §4.2
+    np.testing.assert_allclose(
+        z, [45.2, 20.8, 18.0, 7.1, 11.9, 30.9, 31.5], atol=0.06
+    )  # zenith angles at 9.235 R_E
 
 
 def test_rms_figure_preset_and_plot(capsys, tmp_path):
@@ -70,7 +74,9 @@ def test_rms_figure_preset_and_plot(capsys, tmp_path):
 def test_psi_command(capsys, tmp_path):
     _rc, out, _ = run(capsys, "track-sat", "psi", "--alpha", "1e-5,0.1,10", "-q")
     t = table(out, tmp_path)
-    np.testing.assert_allclose(t.numeric("psi"), [0.04016, 0.62984, 0.98581], atol=1e-5)  # spec §5.1
+    np.testing.assert_allclose(
+        t.numeric("psi"), [0.04016, 0.62984, 0.98581], atol=1e-5
+    )  # exact roots of the cubic
 
 
 def test_simulate_small_run_and_seed_reproducibility(capsys, tmp_path):
@@ -123,6 +129,25 @@ TINY_SIM = ("--runs", "2", "--epochs", "4", "--outage-start", "2", "--outage-len
         (("simulate", "--workers", "0"), "--workers"),
         (("simulate", "--scheduler", " "), "--scheduler"),
         (("simulate", *TINY_SIM, "-q", "--scheduler", "tcp://127.0.0.1:1"), "--scheduler"),  # unreachable
+        (("rms", "--epochs", "-1", "--outage-length", "0"), "--epochs"),
+        (("rms", "--outage-start", "-1"), "--outage-start"),
+        (("rms", "--outage-length", "-1"), "--outage-length"),
+        (("rms", "--sigma0", ",".join(["5"] * 21)), "--sigma0"),
+        (("rms", "--rsat-km", "5e6", "--params", "geometry"), "--rsat-km"),
+        (("constellation", "--rsat-re", "1.001"), "--rsat-re"),
+        (("constellation", "--aircraft", "45,120,1,2"), "--aircraft"),
+        (("constellation", "--aircraft", "45,1000"), "--aircraft"),
+        (("constellation", "--rsat-km", "7000"), "--rsat-km/--rsat-re"),  # satellites below the horizon
+        (("simulate", "--sigma", "0"), "--sigma"),
+        (("simulate", "--sigma0", "-1"), "--sigma0"),
+        (("simulate", "--runs", "50001"), "--runs"),
+        (("simulate", "--estimators", ","), "--estimators"),
+        (("simulate", "--outage-sats", "1,2,2"), "--outage-sats"),
+        (("simulate", "--rsat-km", "6000"), "--rsat-km"),
+        (("simulate", "--epochs", "5001", "--rho", "0.9", "--runs", "1"), "--rho"),
+        (("psi", "--grid", "1:2"), "--grid"),
+        (("psi", "--grid", "0:2:5"), "--grid"),
+        (("table", "--which", "4.2", "--params", "table"), "--which"),
     ],
 )
 def test_bad_input_one_line_exit_2(capsys, args, needle):
@@ -132,6 +157,27 @@ def test_bad_input_one_line_exit_2(capsys, args, needle):
         return
     assert rc == 2, err
     assert err.count("\n") == 1 and needle in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize(
+    ("args", "option", "detail"),
+    [
+        (("rms", "--sigma", "0"), "--sigma", "0 is not in (0, 1e+09] ns"),
+        (("rms", "--sigma0", "5,-1"), "--sigma0", "-1 is not in [0, 1e+09] ns"),
+        (("rms", "--epochs", "1000000", "--outage-length", "0"), "--epochs", "1000000 is not in [0, 100000]"),
+        (("simulate", "--runs", "0"), "--runs", "0 is not in [1, 50000]"),
+        (("simulate", "--rho", "0.4"), "--rho", "0.4 is not in (0.5, 1]"),
+        (("simulate", "--estimators", "ukf"), "--estimators", "'ukf' is not one of none, report, kf2"),
+        (("constellation", "--rsat-km", "6000"), "--rsat-km", "6000 is not in (6478.14, 1e+06] km"),
+        (("constellation", "--outage-sats", "1,2,9"), "--outage-sats", "'1,2,9' is not three distinct"),
+        (("psi", "--alpha", "-1"), "--alpha", "-1 is not in [0, inf)"),
+    ],
+)
+def test_config_errors_name_the_option_without_validator_wording(capsys, args, option, detail):
+    """The core's ConfigError, mapped to the option: no pydantic-style 'Input should be ...' wording."""
+    rc, _out, err = run(capsys, "track-sat", *args)
+    assert rc == 2 and err.startswith(f"motionsig track-sat {args[0]}: error:"), err
+    assert option in err and detail in err and "Input should be" not in err
 
 
 def test_user_satellite_file_errors_name_file_and_line(capsys, tmp_path):
@@ -186,7 +232,7 @@ def test_user_file_duplicates_and_labels(capsys, tmp_path):
     assert rc == 2 and "distinct" in err
 
 
-# --- the Monte Carlo engine (issue 9): --workers, --scheduler, --checkpoint ------------------------------
+# --- the Monte Carlo engine: --workers, --scheduler, --checkpoint ------------------------------------------
 
 SIM = ("track-sat", "simulate", "--epochs", "20", "--outage-start", "10", "--outage-length", "5")
 

@@ -1,5 +1,6 @@
-"""GLR / MLR maneuver detection (seed 002 §II–III, spec §3.2–§3.3, P11–P12) against a brute-force oracle that
-re-runs Kalman filters with a known input (tests/detection/glr_oracle.py, helper-written from the spec: no
+"""GLR / MLR maneuver detection (§II–III of Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK
+Modulated JRC System*; properties P11–P12) against a brute-force oracle that re-runs Kalman filters with a
+known input (tests/detection/glr_oracle.py, helper-written from the paper's equations: no
 bias propagation, no closed-form statistic), exact recovery of noise-free steps, and the χ²₂ law under H0."""
 
 import math
@@ -8,6 +9,7 @@ import numpy as np
 import pytest
 from scipy import integrate, stats
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.glr import CHI2_2_999, GLRConfig, InputModel, input_tracker
 from motionsig_cli.models.motion import H_POS4, cv_input_model, two_point_init
 from tests.detection.glr_oracle import glr_brute, mlr_brute
@@ -148,7 +150,7 @@ def test_mlr_closed_form_by_quadrature_and_flat_prior_limit():
         assert closed == pytest.approx(math.log(quad), abs=1e-9)
 
 
-def test_continuation_known_reproduces_spec_step_six():
+def test_continuation_known_uses_the_estimate_as_a_known_input():
     """continuation='known': after the first declaration the input estimate is û exactly and carries no
     covariance; 'estimate' keeps refining it (its later value moves toward the truth)."""
     rng = np.random.default_rng(9)
@@ -165,9 +167,52 @@ def test_continuation_known_reproduces_spec_step_six():
     assert np.linalg.norm(est.u_cur[0, -1] - u) < np.linalg.norm(est.u_jump[0, k] - u) + 1e-9
 
 
-def test_bad_configuration_is_refused():
-    for kw, msg in (({"window": 0}, "window"), ({"method": "x"}, "method"), ({"sigma_u": 0.0}, "sigma_u"),
-                    ({"correction": "x"}, "correction"), ({"continuation": "x"}, "continuation")):  # fmt: skip
-        with pytest.raises(ValueError, match=msg):
-            GLRConfig(**kw)
+@pytest.mark.parametrize(
+    ("kw", "field"),
+    [
+        ({"method": "x"}, "method"),
+        ({"window": 0}, "window"),
+        ({"window": 201}, "window"),
+        ({"window": 2.5}, "window"),
+        ({"threshold": math.nan}, "threshold"),
+        ({"threshold": -math.inf, "method": "mlr"}, "threshold"),
+        ({"threshold": -1.0}, "threshold"),  # ΔJ is never negative
+        ({"sigma_u": 0.0}, "sigma_u"),
+        ({"sigma_u": 1e7}, "sigma_u"),
+        ({"correction": "x"}, "correction"),
+        ({"continuation": "x"}, "continuation"),
+    ],
+)
+def test_bad_configuration_is_refused_by_field(kw, field):
+    with pytest.raises(ConfigError) as info:
+        GLRConfig(**kw)
+    assert info.value.field == field
+
+
+def test_thresholds_of_each_method():
+    """The MLR statistic is a log-likelihood ratio (h may be negative); inf never declares."""
+    assert GLRConfig(method="mlr", threshold=-3.0).threshold == -3.0
+    assert GLRConfig(threshold=math.inf).threshold == math.inf
+    assert GLRConfig(method="none", threshold=math.inf).method == "none"
     assert CHI2_2_999 == pytest.approx(stats.chi2(2).ppf(0.999), rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("change", "field"),
+    [
+        ({"F": np.eye(3)}, "G"),
+        ({"G": np.zeros((3, 2))}, "G"),
+        ({"Q": np.eye(3)}, "Q"),
+        ({"H": np.eye(2, 3)}, "H"),
+        ({"R": np.eye(3)}, "R"),
+        ({"F": np.full((4, 4), np.nan)}, "F"),
+        ({"Q": np.full((4, 4), np.inf)}, "Q"),
+        ({"R": np.diag([1.0, 0.0])}, "R"),
+    ],
+)
+def test_bad_input_model_is_refused_by_field(change, field):
+    F, G, Q = cv_input_model(T, Q0)
+    kw = {"F": F, "G": G, "Q": Q, "H": H_POS4, "R": np.eye(2)} | change
+    with pytest.raises(ConfigError) as info:
+        InputModel(**kw)
+    assert info.value.field == field

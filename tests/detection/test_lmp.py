@@ -8,7 +8,8 @@ import numpy as np
 from scipy.stats import binom, chisquare
 
 from motionsig_cli.detection.lmp import LMPConfig
-from motionsig_cli.experiments.lmp1d import monte_carlo, simulate_trials
+from motionsig_cli.engine import run_job
+from motionsig_cli.experiments.lmp1d import LmpJob, simulate_trials
 from motionsig_cli.filters.kalman import innovation_costs, riccati
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.signals.correlation import to_bipolar
@@ -88,7 +89,7 @@ def _mc(**kw):
         seed=2008,
     )
     args.update(kw)
-    return monte_carlo(**args)
+    return run_job(LmpJob(**args)).cells
 
 
 def test_high_anr_detection_rate():

@@ -1,4 +1,4 @@
-"""The FFT fast path of the LMP detector (issue 9).
+"""The FFT fast path of the LMP detector.
 
 Oracles: (1) the filter bank itself with Q_a = 0 — the identity (★) J_H1 = J_H0 − ½ b²/(1/P0 + A) is
 exact, so ``lmp_detect_projection`` (time-varying filter, no FFT) must equal the bank to rounding;
@@ -10,6 +10,7 @@ bank's argmax on simulated records.
 import numpy as np
 import pytest
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.lmp import LMPConfig, candidate_grid, lmp_detect
 from motionsig_cli.detection.lmp_fft import (
     check_fft_config,
@@ -138,5 +139,6 @@ def test_fft_argmax_agrees_with_the_bank_where_the_bank_is_right():
     ],
 )
 def test_settings_outside_the_fft_path_are_refused(cfg, word):
-    with pytest.raises(ValueError, match=word):
+    with pytest.raises(ConfigError, match=word) as info:
         check_fft_config(cfg)
+    assert info.value.field == "method"

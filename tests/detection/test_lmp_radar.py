@@ -1,12 +1,14 @@
-"""The LMP detector with the sigma-point bank (issue 4): the bank's model against the oracle UKF, the
-KF = UKF cross-check on the linear example, and Fig 7's targets at fixed seeds."""
+"""The LMP detector with the sigma-point bank: the bank's model against the oracle UKF, the KF = UKF
+cross-check on the linear example, and Fig 7's targets at fixed seeds."""
 
 import numpy as np
 import pytest
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.lmp import LMPConfig, RadarLMPConfig, lmp_detect, lmp_detect_radar
+from motionsig_cli.engine import run_job
 from motionsig_cli.experiments.lmp1d import simulate_trials
-from motionsig_cli.experiments.lmp2d import monte_carlo_2d, simulate_trials_2d
+from motionsig_cli.experiments.lmp2d import RadarLmpJob, simulate_trials_2d
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.models.vehicle2d import Q0_2D, Q1_2D, Vehicle2D, anr_pair_variances, prior_mean_2d
 from motionsig_cli.signals.correlation import to_bipolar
@@ -19,7 +21,7 @@ CHIPS = to_bipolar(table1_codes("corrected")).astype(float)
 
 @pytest.mark.parametrize("logdet", [False, True])
 def test_ukf_bank_reproduces_the_kf_bank_on_the_linear_example(logdet):
-    """Issue 4 target: the sigma-point bank on a linear measurement reproduces the KF bank's statistics to
+    """Target: the sigma-point bank on a linear measurement reproduces the KF bank's statistics to
     1e-8 (the UT is exact for linear maps; the paths share nothing but the model)."""
     veh = Vehicle1D(R=1e-3)
     y, _ = simulate_trials(veh, CHIPS, 20, 1.0, 400, 5, [0, 1])
@@ -35,7 +37,7 @@ def test_ukf_bank_reproduces_the_kf_bank_on_the_linear_example(logdet):
 
 def test_radar_statistic_equals_the_oracle_filters():
     """J_H0 and J of two H1 candidates from lmp_detect_radar equal the oracle UKF run on matrices built
-    independently from the spec (8-state eq 61 and 10-state eq 62 models)."""
+    independently from the paper's equations (8-state eq 61 and 10-state eq 62 models)."""
     veh = Vehicle2D(R_range=3e-4, R_bearing=5e-3)
     N = 120
     sim, _ = simulate_trials_2d(veh, CHIPS, 20, 1.0, N, 3, [0])
@@ -63,28 +65,30 @@ def test_radar_statistic_equals_the_oracle_filters():
 
 
 def test_fig7_best_pair_and_fall_with_anr():
-    """Issue 4 targets at seed 2008, 20 trials, horizon 40 s: at the best ANR pair the true (i, τ) wins in
+    """Targets at seed 2008, 20 trials, horizon 40 s: at the best ANR pair the true (i, τ) wins in
     ≥ 90 % of trials (expected ~100 %; 18/20 leaves a binomial margin), and at the worst pair the rate is at
-    least 30 points lower (spec R5; measured ~0 % with c_r = 100)."""
+    least 30 points lower (measured ~0 % with c_r = 100)."""
     pairs = [anr_pair_variances(1), anr_pair_variances(4)]
-    cells = monte_carlo_2d(
-        Vehicle2D(), CHIPS, 20, 1.0, RadarLMPConfig(), [0.01], pairs, [40.0], 20, 2008, chunk=10
+    job = RadarLmpJob(
+        RadarLMPConfig(), [0.01], pairs=pairs, horizons_s=[40.0], trials=20, seed=2008, chunk=10
     )
-    worst, best = cells
+    worst, best = run_job(job).cells
     assert best.pct >= 90.0
     assert best.pct >= worst.pct + 30.0
     assert best.repairs == worst.repairs == 0
 
 
 def test_monte_carlo_does_not_depend_on_chunking():
-    args = (Vehicle2D(), CHIPS, 20, 1.0, RadarLMPConfig(), [0.01], [anr_pair_variances(2)], [3.0, 6.0], 4, 77)
-    assert monte_carlo_2d(*args, chunk=1) == monte_carlo_2d(*args, chunk=4)
+    args = dict(anr_pairs=(2,), horizons_s=(3.0, 6.0), trials=4, seed=77)
+    one, four = (run_job(RadarLmpJob(**args, chunk=c)).cells for c in (1, 4))
+    assert one == four
+    assert [c.pair for c in one] == [1, 1] and one[0].R_range == anr_pair_variances(2)[0]
 
 
 def test_radar_config_and_record_validation():
-    with pytest.raises(ValueError, match="Q0 needs 8"):
+    with pytest.raises(ConfigError, match=r"Q0 = .* is not 8 variances"):
         RadarLMPConfig(Q0=(1.0,) * 4)
-    with pytest.raises(ValueError, match="c_r"):
+    with pytest.raises(ConfigError, match="c_r"):
         RadarLMPConfig(c_r=0.0)
     y = np.ones((1, 10, 2))
     y[0, 4, 0] = np.inf

@@ -1,14 +1,26 @@
-"""Track-existence SLRT (seed 001; issue 10) against an independent loop-based oracle written from the spec
-(tests/detection/slrt_oracle.py), quadrature of the product of Gaussians, exactness properties P6/P7 and
-the Monte Carlo targets R7–R10 of the spec with statistical tolerances."""
+"""Track-existence SLRT (Govaers, *Evaluation of Distributed Detection Methods for Agile Targets*, Fraunhofer
+FKIE slides) against an independent loop-based oracle (tests/detection/slrt_oracle.py), quadrature of the
+product of Gaussians, exactness properties (one sensor; linear sensors without clutter), the Monte Carlo
+behaviour the slides show (with statistical tolerances), the registry of fusion methods and the checks of
+every configuration field."""
 
 import math
 
 import numpy as np
 import pytest
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.sprt import CONFIRM, DELETE, UNDECIDED, first_crossing, wald_thresholds
-from motionsig_cli.detection.track_existence import log_product_constant
+from motionsig_cli.detection.track_existence import (
+    FUSION_METHODS,
+    METHODS,
+    FusionOptions,
+    ScanData,
+    TrackExistenceModel,
+    check_methods,
+    log_product_constant,
+    run_methods,
+)
 from motionsig_cli.experiments import slrt
 from motionsig_cli.models.radar import cv_model, wrap_angle
 from tests.detection import slrt_oracle as orc
@@ -103,7 +115,7 @@ def test_p7_first_scan_exact_and_gap_afterwards():
 
 @pytest.fixture(scope="module")
 def default_runs():
-    """Spec R7–R10: 50 runs × 30 scans for p_D = 0.9, 0.5, 0.2 and no target (seed 2008)."""
+    """The slides' Monte Carlo: 50 runs × 30 scans for p_D = 0.9, 0.5, 0.2 and no target (seed 2008)."""
     res = {}
     for pd in (0.9, 0.5, 0.2):
         res[pd] = slrt.run(slrt.SlrtScenario(pd_true=pd, pd_filter=pd), 50, 2008)[0]
@@ -119,7 +131,7 @@ def test_r7_r8_dkf_close_to_ckf_and_far_above_lkf(default_runs):
 
 
 def test_r9_no_target_drift(default_runs):
-    """P9/R9: with no target every mean score falls, is negative after 5 scans, and DKF, CKF ≤ LKF."""
+    """With no target every mean score falls, is negative after 5 scans, and DKF, CKF ≤ LKF."""
     r = default_runs["none"]
     means = {m: r[m].mean(axis=0) for m in ("ckf", "dkf", "lkf")}
     for m, v in means.items():
@@ -129,7 +141,8 @@ def test_r9_no_target_drift(default_runs):
 
 
 def test_r10_decisions_and_wald_bounds(default_runs):
-    """R10 and Wald's bounds (false confirm ≤ α/(1−β), missed ≤ β/(1−α)) within 3 binomial standard errors."""
+    """Decisions within a few scans, and Wald's bounds (false confirm ≤ α/(1−β), missed ≤ β/(1−α)) within 3
+    binomial standard errors."""
     alpha, beta = 1e-3, 0.1
     n = 50
 
@@ -165,9 +178,15 @@ def test_wald_thresholds_and_first_crossing():
     d = first_crossing(x, log_a, log_b)
     np.testing.assert_array_equal(d.decision, [CONFIRM, DELETE, UNDECIDED])
     np.testing.assert_array_equal(d.time, [3, 2, 0])
-    for bad in ((0.0, 0.1), (0.5, 0.1), (0.1, 0.6)):
-        with pytest.raises(ValueError):
+    for bad, name in (
+        ((0.0, 0.1), "alpha"),
+        ((0.5, 0.1), "alpha"),
+        ((0.1, 0.6), "beta"),
+        ((0.1, 0.0), "beta"),
+    ):
+        with pytest.raises(ConfigError) as err:
             wald_thresholds(*bad)
+        assert err.value.field == name
 
 
 def test_long_run_stays_finite():
@@ -206,21 +225,147 @@ def test_models():
 
 
 @pytest.mark.parametrize(
-    ("kw", "match"),
+    ("field", "value"),
     [
-        ({"pd_true": 0.0}, "outside"),
-        ({"pd_filter": 1.2}, "outside"),
-        ({"clutter_rate": -1.0}, "clutter"),
-        ({"n_sensors": 0}, "sensor"),
-        ({"radius": 0.0}, "one point"),
-        ({"radius": 30_000.0}, "field of view"),
-        ({"sigma_r": 1e-170}, "positive definite"),
-        ({"sigma_r": 0.0}, "positive definite"),
+        ("n_sensors", 0),
+        ("n_sensors", 65),
+        ("n_sensors", 2.5),
+        ("radius", -1.0),
+        ("radius", 26_000.0),  # at the field of view
+        ("radius", 0.5),  # four sensors at one point
+        ("radius", math.inf),
+        ("target", "yes"),
+        ("pd_true", 0.0),
+        ("pd_true", 1.2),
+        ("pd_filter", 1.2),
+        ("pd_filter", 1.0),  # with the default clutter
+        ("clutter_rate", -1.0),
+        ("clutter_rate", 1001.0),
+        ("clutter_rate", math.nan),
+        ("sigma_r", 0.0),
+        ("sigma_r", 1e-170),
+        ("sigma_r", 1e6),
+        ("sigma_phi_deg", 0.0),
+        ("sigma_phi_deg", 91.0),
+        ("meas_model", "polar"),
+        ("q", -1.0),
+        ("q", math.inf),
+        ("T", 0.0),
+        ("T", 3601.0),
+        ("scans", 0),
+        ("scans", 100_001),
+        ("x0", (0.0, 1.0, 2.0)),
+        ("x0", (0.0, math.nan, 0.0, 0.0)),
+        ("p0_sd", (200.0,)),
+        ("p0_sd", (200.0, 0.0)),
+        ("fov_range", 0.0),
     ],
 )
-def test_scenario_validation(kw, match):
-    with pytest.raises(ValueError, match=match):
-        slrt.SlrtScenario(**kw)
+def test_scenario_rejects_each_bad_field_naming_it(field, value):
+    with pytest.raises(ConfigError) as err:
+        slrt.SlrtScenario(**{field: value})
+    assert err.value.field == field
+
+
+def test_scenario_accepts_the_edges_of_its_ranges():
+    slrt.SlrtScenario(n_sensors=1, radius=0.0)  # one sensor may stand at the centre
+    slrt.SlrtScenario(n_sensors=64, clutter_rate=1000.0, sigma_r=1e-3, sigma_phi_deg=90.0, q=0.0, T=3600.0)
+    slrt.SlrtScenario(pd_true=1.0, pd_filter=1.0, clutter_rate=0.0, scans=100_000)
+
+
+@pytest.mark.parametrize(
+    ("kw", "field"),
+    [
+        ({"pd": 0.0}, "pd"),
+        ({"clutter_rate": -1.0}, "clutter_rate"),
+        ({"sensors": np.zeros((0, 2))}, "sensors"),
+        ({"Q": -np.eye(4)}, "Q"),
+        ({"m0_cov": np.zeros((4, 4))}, "m0_cov"),
+    ],
+)
+def test_track_existence_model_rejects_each_bad_field(kw, field):
+    good = slrt.SlrtScenario().model()
+    fields = {k: getattr(good, k) for k in ("F", "Q", "sensors", "meas", "pd", "clutter_rate", "m0_cov")}
+    with pytest.raises(ConfigError) as err:
+        TrackExistenceModel(**{**fields, **kw})
+    assert err.value.field == field
+
+
+def test_fusion_options_and_method_names_are_checked():
+    assert FusionOptions("log").lkf_mean == "log"
+    with pytest.raises(ConfigError) as err:
+        FusionOptions("median")
+    assert err.value.field == "lkf_mean"
+    for bad in ((), ("ckf", "ukf")):
+        with pytest.raises(ConfigError) as err:
+            check_methods(bad)
+        assert err.value.field == "methods"
+    sc = slrt.SlrtScenario(scans=2)
+    gen = slrt.generate(sc, range(1), 0)
+    with pytest.raises(ConfigError, match="lkf_mean"):
+        run_methods(sc.model(), gen.m0, gen.scans, lkf_mean="mean")
+
+
+# ------------------------------------------------------------------ the registry of fusion methods
+@pytest.fixture(scope="module")
+def small_batch():
+    """6 runs × 8 scans of three sensors in clutter, with misses."""
+    sc = slrt.SlrtScenario(n_sensors=3, scans=8, pd_true=0.7, pd_filter=0.7, clutter_rate=4.0)
+    return sc, slrt.generate(sc, range(6), 11)
+
+
+def test_the_registry_is_the_method_list():
+    assert METHODS == tuple(FUSION_METHODS) == ("ckf", "dkf", "lkf")
+
+
+@pytest.mark.parametrize("name", list(FUSION_METHODS))
+def test_each_method_is_described(name):
+    method = FUSION_METHODS[name]
+    assert method.abbreviation == name.upper()
+    assert "Kalman filter" in method.title and method.description
+    assert method.help.startswith(f"{name.upper()} = {method.title}: ")
+
+
+@pytest.mark.parametrize("name", list(FUSION_METHODS))
+@pytest.mark.parametrize("lkf_mean", ["lr", "log"])
+def test_each_method_scores_every_run_and_scan_finitely(name, lkf_mean, small_batch):
+    sc, gen = small_batch
+    out = FUSION_METHODS[name].score(sc.model(), gen.m0, gen.scans, FusionOptions(lkf_mean))
+    assert out.shape == (6, 8) and out.dtype == np.float64
+    assert np.all(np.isfinite(out))
+    np.testing.assert_array_equal(
+        out, run_methods(sc.model(), gen.m0, gen.scans, [name], lkf_mean=lkf_mean)[name]
+    )
+
+
+@pytest.mark.parametrize("name", list(FUSION_METHODS))
+def test_each_method_scores_runs_independently(name, small_batch):
+    """A run's score depends on that run's data only: the first 3 of a 6-run batch equal a 3-run batch."""
+    sc, gen = small_batch
+    model, options = sc.model(), FusionOptions()
+    part = [ScanData(tuple(z[:3] for z in s.Z), tuple(v[:3] for v in s.valid)) for s in gen.scans]
+    full = FUSION_METHODS[name].score(model, gen.m0, gen.scans, options)
+    np.testing.assert_allclose(
+        FUSION_METHODS[name].score(model, gen.m0[:3], part, options), full[:3], rtol=1e-12
+    )
+
+
+@pytest.mark.parametrize("name", list(FUSION_METHODS))
+def test_each_method_equals_the_centralised_filter_with_one_sensor(name):
+    """With one sensor there is nothing to fuse: every method is the centralised filter."""
+    sc = slrt.SlrtScenario(n_sensors=1, scans=10, clutter_rate=3.0)
+    gen = slrt.generate(sc, range(4), 2)
+    model, options = sc.model(), FusionOptions()
+    ckf = FUSION_METHODS["ckf"].score(model, gen.m0, gen.scans, options)
+    np.testing.assert_allclose(FUSION_METHODS[name].score(model, gen.m0, gen.scans, options), ckf, rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", list(FUSION_METHODS))
+def test_each_method_falls_without_a_target(name):
+    sc = slrt.SlrtScenario(target=False, scans=10)
+    gen = slrt.generate(sc, range(20), 4)
+    out = FUSION_METHODS[name].score(sc.model(), gen.m0, gen.scans, FusionOptions())
+    assert np.all(np.diff(out.mean(axis=0)) < 0)
 
 
 def test_pd_one_without_measurements_is_impossible_not_nan():

@@ -1,4 +1,5 @@
-"""Batched IMM (seed 002 eqs 7–13, spec §3.4 and P10) against an independent textbook IMM (helper-written,
+"""Batched IMM (eqs 7–13 of Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK Modulated JRC System*;
+property P10) against an independent textbook IMM (helper-written,
 loop-based, linear-domain likelihoods: tests/filters/imm_oracle.py) and FilterPy's IMMEstimator."""
 
 import numpy as np
@@ -116,7 +117,7 @@ def test_identical_models_propagate_probabilities_by_the_chain():
 
 
 def test_probabilities_stay_finite_and_normalised_for_ten_thousand_scans_with_an_outlier():
-    """P10 and the issue's target: 10⁴ scans, and a 10⁶ m outlier whose likelihood exp(−5·10⁷) underflows a
+    """P10 and the robustness target: 10⁴ scans, and a 10⁶ m outlier whose likelihood exp(−5·10⁷) underflows a
     double for every model (a linear-domain IMM divides 0 by 0 there). Combined P stays symmetric PSD."""
     rng = np.random.default_rng(5)
     N = 10_000

@@ -1,4 +1,4 @@
-"""The batched sigma-point bank (issue 4) against an independent single-filter UKF (tests/filters/ukf_oracle.py,
+"""The batched sigma-point bank against an independent single-filter UKF (tests/filters/ukf_oracle.py,
 full 2n + 1 points, scipy Cholesky, Python loops), Monte Carlo moments, and the Kalman bank."""
 
 import numpy as np

@@ -1,13 +1,23 @@
-"""1-D closed loop (seed 000 eqs 53–55) and the pole-placement gain."""
+"""1-D closed loop of the mode-signature paper (eqs 53–55), the pole-placement gain, the ANR → R conversion
+(eq 58) and the checks of the vehicle's configuration."""
+
+import math
 
 import numpy as np
 import pytest
 
-from motionsig_cli.models.vehicle import Vehicle1D, pole_placement_gain, simulate_1d, transition_h0
+from motionsig_cli.config import ConfigError
+from motionsig_cli.models.vehicle import (
+    Vehicle1D,
+    measurement_variance,
+    pole_placement_gain,
+    simulate_1d,
+    transition_h0,
+)
 
 
 def test_pole_placement_matches_spec_and_places_poles():
-    """Spec §1.8: T = 0.05 → K ≈ [101.66, 16.78]; the closed-loop eigenvalues are e^{sT}."""
+    """T = 0.05 → K ≈ [101.66, 16.78]; the closed-loop eigenvalues are e^{sT}."""
     k1, k2 = pole_placement_gain(0.05)
     assert abs(k1 - 101.66) < 5e-3 and abs(k2 - 16.78) < 5e-3
     wn, zeta, T = 4 * np.pi, 0.7, 0.05
@@ -59,7 +69,88 @@ def test_h0_transition_is_upper_block_of_eq44():
     assert F[2, 3] == cfg.T and transition_h0(cfg, "identity")[2, 3] == 0
 
 
-@pytest.mark.parametrize("kw", [{"T": 0.0}, {"R": 0.0}, {"R": -1.0}, {"a_sig": float("nan")}, {"K": (1.0,)}])
-def test_config_validation(kw):
-    with pytest.raises(ValueError):
-        Vehicle1D(**kw)
+NAN, INF = float("nan"), float("inf")
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [
+        ("T", 0.0),
+        ("T", -0.05),
+        ("T", NAN),
+        ("T", INF),
+        ("K", (1.0,)),
+        ("K", (1.0, 2.0, 3.0)),
+        ("K", (1.0, NAN)),
+        ("K", (INF, 1.0)),
+        ("K", "ab"),
+        ("K", None),
+        ("a_sig", -0.5),
+        ("a_sig", NAN),
+        ("a_r", -1.0),
+        ("a_r", INF),
+        ("f_r", -0.01),
+        ("f_r", NAN),
+        ("sigma_a", -1.0),
+        ("sigma_a", INF),
+        ("R", 0.0),
+        ("R", -1e-3),
+        ("R", INF),
+        ("R", NAN),
+    ],
+)
+def test_every_field_is_checked(field, value):
+    with pytest.raises(ConfigError) as exc:
+        Vehicle1D(**{field: value})
+    assert exc.value.field == field
+
+
+@pytest.mark.parametrize("field", ["a_sig", "a_r", "f_r", "sigma_a"])
+def test_zero_amplitudes_and_noise_are_allowed(field):
+    assert getattr(Vehicle1D(**{field: 0.0}), field) == 0.0
+
+
+@pytest.mark.parametrize(
+    ("args", "field"),
+    [
+        ((0.0,), "T"),
+        ((-0.05,), "T"),
+        ((1e-300,), "T"),  # T² underflows
+        ((0.05, 0.0), "wn"),
+        ((0.05, NAN), "wn"),
+        ((0.05, 4.0, 0.0), "zeta"),
+        ((0.05, 4.0, 1.0), "zeta"),
+        ((0.05, 4.0, -0.1), "zeta"),
+    ],
+)
+def test_pole_placement_checks_its_arguments(args, field):
+    with pytest.raises(ConfigError) as exc:
+        pole_placement_gain(*args)
+    assert exc.value.field == field
+
+
+def test_measurement_variance_from_R_or_an_anr():
+    """ANR = a²/(2R) (eq 58): the paper's 10·ln label 94.335 is R ≈ 1e-5; 94.3 true dB is R ≈ 4.6e-11."""
+    assert measurement_variance(None, None) == 1e-5
+    assert measurement_variance(2e-3, None) == 2e-3
+    assert measurement_variance(None, 94.335) == pytest.approx(1e-5, rel=1e-3)
+    assert measurement_variance(None, 94.3, "log10") == pytest.approx(4.6e-11, rel=2e-2)
+    R = measurement_variance(None, 20.0, "log10", a_sig=2.0)
+    assert 10 * math.log10(2.0**2 / (2 * R)) == pytest.approx(20.0)
+
+
+@pytest.mark.parametrize(
+    ("args", "field"),
+    [
+        ((1e-3, 40.0), "anr_db"),  # both given
+        ((None, NAN), "anr_db"),
+        ((None, 1e6), "anr_db"),  # R underflows
+        ((None, -1e6), "anr_db"),  # R overflows
+        ((None, 40.0, "dB"), "db_convention"),
+        ((None, 40.0, "paper-ln", 0.0), "a_sig"),  # no R gives an ANR without a signature
+    ],
+)
+def test_measurement_variance_refuses(args, field):
+    with pytest.raises(ConfigError) as exc:
+        measurement_variance(*args)
+    assert exc.value.field == field

@@ -23,7 +23,7 @@ def test_matlab_gold_vectors_non_preferred_pair():
     pair; 45/51 is a reciprocal pair and not preferred, so our default refuses it."""
     assert _s(gold.gold_code(0o45, 0o51, 0, verify=False)) == "0000000111000101110111010001110"
     assert _s(gold.gold_code(0o45, 0o51, 1, verify=False)) == "1000111001011111100111111010011"
-    with pytest.raises(ValueError, match="not a preferred pair"):
+    with pytest.raises(ValueError, match="not a preferred partner of 45"):
         gold.gold_code(0o45, 0o51, 0)
 
 

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.refdata import load
 from motionsig_cli.signals import gf2, gold
 from motionsig_cli.signals.correlation import periodic_correlation, to_bipolar
@@ -49,6 +50,10 @@ def test_prn_1_to_32_correlations_three_valued():
     assert set(np.unique(off).tolist()) == {-65, -1, 63}
 
 
-def test_bad_prn():
-    with pytest.raises(ValueError, match="PRN"):
-        ca_code(33)
+@pytest.mark.parametrize("prn", [0, 33, 1.5, True])
+def test_bad_prn_names_the_field(prn):
+    with pytest.raises(ConfigError) as exc:
+        ca_code(prn)
+    assert exc.value.field == "prn"
+    with pytest.raises(ConfigError, match=r"prn = 33 is not in \[1, 32\]"):
+        ca_codes([1, 33])

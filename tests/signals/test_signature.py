@@ -1,4 +1,4 @@
-"""Signature waveform, eqs (1)–(3)."""
+"""Signature waveform of the mode-signature paper, eqs (1)–(3), and the checks of its configuration."""
 
 import math
 
@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
 from motionsig_cli.signals.signature import SignatureConfig, chip_index, mode_signature
@@ -15,7 +16,7 @@ CHIPS = to_bipolar(corrected_codes()[0])
 
 
 def test_chip_index_definition():
-    """j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ, including negative k − τ (spec §1.2)."""
+    """j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ, including negative k − τ."""
     k = np.arange(-50, 700)
     for tau in (-13, 0, 7, 45):
         expected = [math.floor((kk - tau) / 20) % 31 for kk in k]
@@ -30,7 +31,7 @@ def test_chip_index_definition():
     f_c=st.floats(0.0, 5.0),
 )
 def test_quadrature_identity(theta, tau, m_rho, f_c):
-    """With f_d = 0: z = cos θ · z_cos − sin θ · z_sin (spec §1.2), for any θ, τ, m_ρ, f_c."""
+    """With f_d = 0: z = cos θ · z_cos − sin θ · z_sin, for any θ, τ, m_ρ, f_c."""
     sig = mode_signature(CHIPS, SignatureConfig(T=0.05, m_rho=m_rho, f_c=f_c, theta=theta, tau=tau), 400)
     np.testing.assert_allclose(sig.z, math.cos(theta) * sig.z_cos - math.sin(theta) * sig.z_sin, atol=1e-12)
     np.testing.assert_allclose(
@@ -62,18 +63,45 @@ def test_finite_difference_option():
     np.testing.assert_allclose(sig.zdot[1:], np.diff(sig.z) / cfg.T, atol=1e-12)
 
 
+NAN, INF = float("nan"), float("inf")
+
+
 @pytest.mark.parametrize(
-    ("kwargs", "match"),
+    ("field", "value"),
     [
-        ({"T": 0.0}, "T must"),
-        ({"T": -1.0}, "T must"),
-        ({"m_rho": 0}, "m_rho"),
-        ({"f_c": float("nan")}, "f_c"),
+        ("T", 0.0),
+        ("T", -1.0),
+        ("T", NAN),
+        ("T", INF),
+        ("m_rho", 0),
+        ("m_rho", 2.5),
+        ("m_rho", True),
+        ("f_c", -1.0),
+        ("f_c", NAN),
+        ("theta", INF),
+        ("theta", NAN),
+        ("tau", 1.5),
+        ("tau", 2**53 + 1),
+        ("tau", -(2**53) - 1),
+        ("tau", NAN),
+        ("tau", 10**20),
+        ("f_d", INF),
+        ("f_d", NAN),
     ],
 )
-def test_config_validation(kwargs, match):
-    with pytest.raises(ValueError, match=match):
-        SignatureConfig(**kwargs)
+def test_every_field_is_checked(field, value):
+    with pytest.raises(ConfigError) as exc:
+        SignatureConfig(**{field: value})
+    assert exc.value.field == field
+
+
+def test_wording_of_the_checks():
+    """The sample interval must be positive; a code phase is bounded by 2^53 (exact as a float)."""
+    with pytest.raises(ConfigError, match="positive"):
+        SignatureConfig(T=0.0)
+    with pytest.raises(ConfigError, match=r"2\^53"):
+        SignatureConfig(tau=2**60)
+    assert SignatureConfig(tau=2**53).tau == 2**53 and SignatureConfig(tau=-(2**53)).tau == -(2**53)
 
 
 def test_non_bipolar_chips_rejected():

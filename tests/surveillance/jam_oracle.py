@@ -1,7 +1,8 @@
 """Independent high-precision oracle for the ATC-10 jammer-vulnerability bounds.
 
-Second implementation of spec ``jam-bound`` (sections 0-2, 7, 8.2), written from
-the spec/report equations only, without reference to ``motionsig_cli``.
+Second implementation of the bounds of ATC-10 Section 2 and Appendices A-D (Schneider,
+Stiglitz & Eckberg, MIT Lincoln Laboratory, 1972), written from the report's equations only,
+without reference to ``motionsig_cli``.
 
 Deliberate differences from a log-domain float implementation:
 
@@ -378,13 +379,13 @@ def threshold_x(quantity, level, p_d, K, t, form="d17", x_lo=-80, x_hi=300, tol=
 
 
 # ----------------------------------------------------------------------------
-# self-check against spec section 8.2 (and the 5 / 6.2 tables it refers to)
+# self-check against the reference values (regression values, p_d and x* tables)
 # ----------------------------------------------------------------------------
 
 
 def _main():
     # (section, label, spec, oracle, err, ok); section "5fig" = figure crossings
-    # printed to 0.01 dB in spec section 5: informational, not in the exit code
+    # printed to 0.01 dB in the reference: informational, not in the exit code
     rows = []
     fails = []
 

@@ -1,8 +1,8 @@
 """Independent test oracle for the multiple-access-noise (MAN) ROC bounds of ATC-10 Sec. 3.
 
-This is a second implementation of spec ``mac-roc`` (sections 0-8, 11, 12, 13), written
-from the spec / report equations only, and **not** from ``motionsig_cli`` (nothing is
-imported from the package).  It favours simple, direct formulas at high precision over
+This is a second implementation of the report's Sec. 3 (and of the exact ROC and the Monte
+Carlo levels beyond it), written from the equations only, and **not** from ``motionsig_cli``
+(nothing is imported from the package).  It favours simple, direct formulas at high precision over
 clever numerics:
 
 * all bound / exact computations run in ``mpmath`` at ``DPS`` (60) significant digits or
@@ -48,7 +48,8 @@ Public API (b = second moment, N = number of aircraft, theta in (0, 1)):
     zakai_W_numeric(code)                                     -> W tau_c
     code_from_string("++-+...")                               -> numpy +-1 array
 
-Run ``python tests/surveillance/mac_oracle.py`` for a self-check against spec Sec. 13.
+Run ``python tests/surveillance/mac_oracle.py`` for a self-check against the reference values
+T1 ... T12.
 """
 
 from __future__ import annotations

@@ -1,10 +1,11 @@
-"""ATC-10 §2 jamming bounds: the formulas against an independent mpmath implementation
-(``jam_oracle``, direct non-log form, numeric ν maximisation, bisection), the spec's §8.2
-regression values (its author's independent implementation), and the printed tables.
+"""ATC-10 §2 jamming bounds (Schneider, Stiglitz & Eckberg, MIT Lincoln Laboratory, 1972): the formulas
+against an independent mpmath implementation (``jam_oracle``, direct non-log form, numeric ν
+maximisation, bisection), reference values of a second independent implementation written from the
+report's equations, and the printed tables.
 
 Tolerances: float log-domain vs 50-digit direct evaluation — 1e-9 relative on ln N̄ (both are
 exact to double precision apart from ndtri/log_ndtr rounding, ~1e-14), 1e-6 dB on thresholds
-(the oracle bisects to 1e-9 dB). Spec §8.2 values are printed to 7–10 digits: 1e-6 relative.
+(the oracle bisects to 1e-9 dB). The reference values are printed to 7–10 digits: 1e-6 relative.
 """
 
 import math
@@ -13,6 +14,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq, minimize_scalar
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.surveillance.jamming import (
     JammingDesign,
     JammingSystem,
@@ -37,7 +39,7 @@ def design(K, pdl, t=0.0):
     return JammingDesign.from_pdl(K, pdl, t)
 
 
-# --- spec §8.2: system constants, P_DL, ν*, E ----------------------------------------------------
+# --- reference values: system constants, P_DL, ν*, E ----------------------------------------------------
 
 
 def test_sample_counts_and_eb():
@@ -57,7 +59,7 @@ def test_sample_counts_and_eb():
         (0.9, 1, 0.0, 0.6561, None, None),  # eq 2.4.1
     ],
 )
-def test_pdl_regression_spec_8_2(p_d, K, t, expected, nu, E):
+def test_pdl_reference_values(p_d, K, t, expected, nu, E):
     assert float(p_dl(p_d, K, t)) == pytest.approx(expected, rel=1e-9, abs=1e-12)
     if nu is not None:
         assert float(chernoff_nu(p_d**4, t)) == pytest.approx(nu, abs=6e-9)  # printed to 8 decimals
@@ -83,7 +85,7 @@ def test_pdl_against_mpmath_numeric_maximisation(p_d, K, t):
     assert float(p_dl(p_d, K, t)) == pytest.approx(float(oracle.p_dl(p_d, K, t)), rel=1e-12)
 
 
-P_D_TABLE = {  # spec §5: p_d solving K·D(t‖p_d⁴) = −ln(1 − P_DL), t = 0, 0.1, 0.2, 0.3, 0.5
+P_D_TABLE = {  # reference values: p_d solving K·D(t‖p_d⁴) = −ln(1 − P_DL), t = 0, 0.1, 0.2, 0.3, 0.5
     (10, 0.88): (0.661136, 0.789453, 0.847402, 0.887926, 0.943946),
     (10, 0.999): (0.840397, 0.901795, 0.933148, 0.954895, 0.982725),
     (100, 0.88): (0.380582, 0.644716, 0.733892, 0.794793, 0.880801),
@@ -99,7 +101,7 @@ def test_design_inversion_table_and_roundtrip(K, pdl):
     for t, expected in zip((0.0, 0.1, 0.2, 0.3, 0.5), P_D_TABLE[(K, pdl)], strict=True):
         p_d = p_d_for(K, pdl, t)
         assert p_d == pytest.approx(expected, abs=6e-7)  # printed to 6 decimals
-        assert float(p_dl(p_d, K, t)) == pytest.approx(pdl, rel=1e-12)  # spec §7.4 check
+        assert float(p_dl(p_d, K, t)) == pytest.approx(pdl, rel=1e-12)  # the round trip
         if t > 0:
             assert t_for(K, p_d, pdl) == pytest.approx(t, abs=1e-9)
 
@@ -112,7 +114,7 @@ def test_design_inversion_against_mpmath_bisection():
 def test_design_edges():
     with pytest.raises(ValueError, match="K = 1"):
         p_d_for(1, 0.9, 0.1)
-    with pytest.raises(ValueError, match="open interval"):
+    with pytest.raises(ConfigError, match=r"pdl = 1 is not in \(0, 1\)"):
         p_d_for(10, 1.0)
     with pytest.raises(ValueError, match="infeasible"):
         t_for(10, 0.3, 0.999)  # even t = 0 gives 1 − (1 − 0.0081)^10 ≈ 0.078
@@ -133,7 +135,7 @@ def test_design_edges():
         (-20, 0.99, 8.3583531e-15),
     ],
 )
-def test_pf_spec_values_and_erf_form(x, p_d, expected):
+def test_pf_reference_values_and_erf_form(x, p_d, expected):
     got = math.exp(float(log_pf(x, p_d)))
     assert got == pytest.approx(expected, rel=1e-7)
     assert got == pytest.approx(float(oracle.pf(x, p_d)), rel=1e-12)  # ½ − ½ erf(√(P₀Bτ/2J) − φ)
@@ -170,7 +172,7 @@ def test_log_window_matches_direct_formula_and_series():
     assert float(log_window(-2000.0, 2e7)) == pytest.approx(math.log(2e7) - 2000.0, rel=1e-15)
 
 
-BOUND_VALUES = [  # spec §8.2 (fractions of N_T, t = 0 unless given): (K, P_DL, t, x, quantity, value or log10)
+BOUND_VALUES = [  # reference values (fractions of N_T, t = 0 unless given): (K, P_DL, t, x, quantity, value or log10)
     (1, 0.9, 0.0, -18, "nfl", 1.488712e-11, False),
     (1, 0.9, 0.0, -18, "nadl", 7.443562e-13, False),
     (1, 0.9, 0.0, -16, "nfl", 0.8937342, False),
@@ -196,7 +198,7 @@ BOUND_VALUES = [  # spec §8.2 (fractions of N_T, t = 0 unless given): (K, P_DL,
 
 
 @pytest.mark.parametrize(("K", "pdl", "t", "x", "q", "value", "is_log10"), BOUND_VALUES)
-def test_bounds_spec_8_2(K, pdl, t, x, q, value, is_log10):
+def test_bounds_reference_values(K, pdl, t, x, q, value, is_log10):
     got = float(log_bound(q, x, design(K, pdl, t), S))
     if is_log10:
         assert got / LN10 == pytest.approx(value, abs=1.5e-6 * max(1.0, abs(value)))
@@ -235,12 +237,12 @@ def test_suprema(K, pdl, sup):
 
 # --- thresholds (§7.3) ----------------------------------------------------------------------------
 
-X_STAR = {  # spec §6.2 and §8.2: x* (dB) of N̄_ADL = 0.01 N_T
+X_STAR = {  # reference values: x* (dB) of N̄_ADL = 0.01 N_T
     (1, 0.88, 0.0): -16.413,
     (1, 0.9, 0.0): -16.525,
     (1, 0.999, 0.0): -18.331,
     (10, 0.88, 0.0): -4.1527,
-    (10, 0.999, 0.0): -6.8835,  # the spec prints −6.884; both implementations give −6.88349
+    (10, 0.999, 0.0): -6.8835,  # the reference prints −6.884; both implementations give −6.88349
     (100, 0.88, 0.0): 5.349,
     (100, 0.98, 0.0): 2.998,
     (100, 0.999, 0.0): 1.162,
@@ -254,7 +256,7 @@ X_STAR = {  # spec §6.2 and §8.2: x* (dB) of N̄_ADL = 0.01 N_T
 
 
 @pytest.mark.parametrize(("K", "pdl", "t"), list(X_STAR))
-def test_threshold_spec_values_and_oracle(K, pdl, t):
+def test_threshold_reference_values_and_oracle(K, pdl, t):
     d = design(K, pdl, t)
     th = required_jamming("nadl", 0.01, d, S)
     assert th.attainable
@@ -273,7 +275,7 @@ def test_threshold_spec_values_and_oracle(K, pdl, t):
     ],
 )
 def test_two_stage_solve_matches_direct_brent_in_x(K, pdl, t, q, level):
-    """Spec §7.3: a direct Brent solve in x on the log bound must agree to 1e−6 dB."""
+    """The two-stage solve in u = ln p_f against a direct Brent solve in x on the log bound must agree to 1e−6 dB."""
     d = design(K, pdl, t)
     th = required_jamming(q, level, d, S)
     x = brentq(lambda x: float(log_bound(q, x, d, S)) - math.log(level), -100.0, 200.0, xtol=1e-12)
@@ -298,7 +300,7 @@ def test_k1000_is_flagged_ill_conditioned():
     assert not required_jamming("nadl", 0.01, design(10, 0.88), S).ill_conditioned
 
 
-# --- the report's qualitative claims (§2.8 text; spec §5, §8.1) --------------------------------------
+# --- the report's qualitative claims (§2.8 text) -----------------------------------------------------
 
 FIG_SETS = [(10, 0.88), (10, 0.999), (100, 0.88), (100, 0.999), (1000, 0.999)]
 
@@ -353,7 +355,7 @@ def test_system_validation():
     ):
         with pytest.raises(ValueError):
             JammingSystem(**bad)
-    with pytest.raises(ValueError, match="fraction"):
+    with pytest.raises(ConfigError, match=r"level = 1.5 is not in \(0, 1\]"):
         required_jamming("nadl", 1.5, design(10, 0.88), S)
     with pytest.raises(ValueError, match="double precision"):
         p_d_for(10**29, 0.9, 0.3)  # q would need to be t + 1e-15: refused, not silently wrong

@@ -1,11 +1,11 @@
-"""Multiple-access noise and the ROC (ATC-10 §3, issue 7): densities, bounds, exact ROC, Gaussian
-comparison, exponents, time–bandwidth.
+"""Multiple-access noise and the ROC (ATC-10 §3): the density registry, densities, bounds, exact ROC,
+Gaussian comparison, exponents, time–bandwidth.
 
 Oracles: ``tests/surveillance/mac_oracle.py`` (an independent mpmath implementation written from the
-spec: quadrature MGFs, numerical derivatives, bisection, Irwin–Hall alternating sums at ≥ 90 digits,
-an RF-level matched-filter simulation), and the reference values of spec ``mac-roc.md`` §13, computed
-there by a third implementation (the seed prints no numbers for Figs 3.3–3.10, only the Reference [1]
-example, checked in the CLI tests).
+report's equations: quadrature MGFs, numerical derivatives, bisection, Irwin–Hall alternating sums at
+≥ 90 digits, an RF-level matched-filter simulation), and reference values T1 … T12 computed by a third
+implementation (the report prints no numbers for Figs 3.3–3.10, only the Reference [1] example, checked
+in the CLI tests).
 """
 
 import math
@@ -13,7 +13,16 @@ import math
 import numpy as np
 import pytest
 
-from motionsig_cli.experiments.mac_roc import REPORT_N, REPORT_TAU_OVER_ALPHA, pf_at_pm, report_model
+from motionsig_cli.config import ConfigError
+from motionsig_cli.experiments.mac_roc import (
+    DENSITY_OF_FIGURE,
+    REPORT_N,
+    REPORT_TAU_OVER_ALPHA,
+    figure_command,
+    pf_at_pm,
+    report_model,
+)
+from motionsig_cli.surveillance.amplitude import DENSITIES as REGISTRY
 from motionsig_cli.surveillance.amplitude import (
     Discrete,
     Laplace,
@@ -21,7 +30,9 @@ from motionsig_cli.surveillance.amplitude import (
     Uniform,
     b_of_ell,
     density,
+    density_kind,
     ell_of_b,
+    kind_of,
 )
 from motionsig_cli.surveillance.gaussian_roc import gaussian_power, gaussian_roc
 from motionsig_cli.surveillance.multiple_access import MANModel
@@ -46,7 +57,8 @@ from motionsig_cli.surveillance.time_bandwidth import (
 )
 from tests.surveillance import mac_oracle as oracle
 
-DENSITIES = ("two-point", "uniform", "triangular", "gaussian", "laplace")
+DENSITIES = tuple(k.name for k in REGISTRY.values() if k.exact_roc)  # two-point … laplace
+SCALAR = [k.name for k in REGISTRY.values() if not k.chip_level]  # the exact ones and arcsine
 N, TA = REPORT_N, REPORT_TAU_OVER_ALPHA  # ATC-10 §3.6: N = 1e5, τ/α = 2e-5
 
 
@@ -57,7 +69,7 @@ def rel(a, b):
 # --- densities ------------------------------------------------------------------------------------
 
 
-@pytest.mark.parametrize("name", [*DENSITIES, "arcsine"])
+@pytest.mark.parametrize("name", SCALAR)
 def test_cgf_matches_quadrature_and_derivatives(name):
     """g = ln Φ against the oracle's quadrature of e^{ρx}C(x); g′, g″ against central differences."""
     b = 0.01
@@ -99,7 +111,9 @@ def test_sampling_and_tilted_sampling_moments(name):
 
 def test_density_parameterisation_and_errors():
     assert ell_of_b(b_of_ell(8.0)) == pytest.approx(8.0)
-    assert Uniform(1 / 8).b == pytest.approx(b_of_ell(8.0))  # ℓ = 1/a for the uniform density (spec §1)
+    assert Uniform(1 / 8).b == pytest.approx(
+        b_of_ell(8.0)
+    )  # ℓ = 1/a for the uniform density (the report's ℓ)
     assert density("C2", 0.25) == TwoPoint(0.5)
     assert density("c1", 1 / 3) == Uniform(1.0)
     with pytest.raises(ValueError, match="unknown density"):
@@ -108,7 +122,7 @@ def test_density_parameterisation_and_errors():
         density("uniform", -1.0)
     with pytest.raises(ValueError, match="zero mean"):
         Discrete((0.0, 1.0), (0.5, 0.5))
-    with pytest.raises(ValueError, match="infinite"):
+    with pytest.raises(ValueError, match="domain"):
         Laplace(1.0).sample_tilted(np.random.default_rng(0), 1.5, 3)
 
 
@@ -121,9 +135,17 @@ def test_model_power_and_validation():
     assert report_model("two-point", 12.0).power == pytest.approx(0.0092591667, rel=1e-8)
     lam, d1, d2 = m.log_mgf(np.array([0.0]))
     assert lam[0] == 0.0 and d1[0] == 0.0 and d2[0] == pytest.approx(m.power, rel=1e-12)
-    for bad, match in (((0, TA), "N must be"), ((10, 0.5), "must be < 1"), ((10, -1.0), "> 0")):
-        with pytest.raises(ValueError, match=match):
+    for bad, name in (((0, TA), "N"), ((10, 0.5), "tau_over_alpha"), ((10, -1.0), "tau_over_alpha")):
+        with pytest.raises(ConfigError) as info:
             MANModel.common(bad[0], bad[1], Uniform(0.1))
+        assert info.value.field == name
+    for components, name in ((((Uniform(0.1), 8),), "components"), (((Uniform(0.1), -1),), "components")):
+        with pytest.raises(ConfigError) as info:
+            MANModel(10, TA, components)
+        assert info.value.field == name
+    with pytest.raises(ConfigError) as info:
+        MANModel(10.0, TA, ((Uniform(0.1), 9),))
+    assert info.value.field == "N"
     solo = MANModel.common(1, TA, Uniform(0.1))
     assert solo.trivial
     rb = roc_bounds(solo, [0.5])
@@ -132,7 +154,7 @@ def test_model_power_and_validation():
 
 
 def test_log_mgf_derivatives_against_finite_differences_and_mixtures():
-    """The w-form Λ′, Λ″ (spec §3) equal differences of Λ; a two-component model is the sum of its parts."""
+    """The w-form Λ′, Λ″ equal differences of Λ; a two-component model is the sum of its parts."""
     m = report_model("triangular", 6.0)
     r = np.array([0.5, 5.0, 40.0, 300.0])
     _, d1, d2 = m.log_mgf(r)
@@ -152,7 +174,7 @@ def test_log_mgf_derivatives_against_finite_differences_and_mixtures():
 
 # --- bounds ---------------------------------------------------------------------------------------
 
-# spec §13 T2 (ℓ = 8, θ = 0.5): ρ*, E_f, ρ₁, p_f UB, LB (report), LB (gallager), exact p_f
+# T2 (ℓ = 8, θ = 0.5): ρ*, E_f, ρ₁, p_f UB, LB (report), LB (gallager), exact p_f
 T2 = {
     "two-point": (18.248904, 5.124272, 25.141066, 5.950548e-3, 3.654699e-11, 1.158783e-10, 9.837969e-4),
     "uniform": (16.241929, 4.747922, 22.284389, 8.669689e-3, 1.323891e-11, 4.390116e-11, 8.236968e-4),
@@ -163,7 +185,7 @@ T2 = {
 
 @pytest.mark.parametrize("name", list(T2))
 def test_spec_t2_bounds_and_exact(name):
-    """T2 to the spec's printed 7 digits (rel. 1e-6); at θ = 0.5 the p_m side equals the p_f side."""
+    """T2 to the reference's 7 digits (rel. 1e-6); at θ = 0.5 the p_m side equals the p_f side."""
     m = report_model(name, 8.0)
     rho, E, rho1, up, lo_r, lo_g, ex = T2[name]
     rb = roc_bounds(m, [0.5])
@@ -240,7 +262,7 @@ def test_two_point_lattice_ties():
 
 @pytest.mark.parametrize("name", DENSITIES)
 def test_exact_roc_lies_between_the_bounds_on_a_grid(name):
-    """The issue's target: LB ≤ exact ≤ UB for both p_f and p_m, ℓ ∈ {2, 4, 8, 12, 20}, θ = 0.05 … 0.95."""
+    """LB ≤ exact ≤ UB for both p_f and p_m, ℓ ∈ {2, 4, 8, 12, 20}, θ = 0.05 … 0.95."""
     theta = np.linspace(0.05, 0.95, 19)
     for ell in (2.0, 4.0, 8.0, 12.0, 20.0):
         m = report_model(name, ell)
@@ -259,7 +281,7 @@ def test_exact_roc_lies_between_the_bounds_on_a_grid(name):
 
 
 def test_printed_lower_bound_sign_is_impossible():
-    """With the printed φ₁ = −2ρ₁√(2Λ″) the "lower" bound exceeds 1 (spec §4.2): the corrected sign is forced."""
+    """With the printed φ₁ = −2ρ₁√(2Λ″) the "lower" bound exceeds 1: the corrected sign is forced."""
     for name in ("uniform", "two-point", "gaussian"):
         rb = roc_bounds(report_model(name, 8.0), np.linspace(0.2, 0.8, 7))
         printed = math.log(0.5) - rb.E_f + rb.phi1  # exp(−E_f − φ₁) with φ₁ → −φ₁
@@ -276,7 +298,7 @@ def test_bounded_support_gives_exact_zeros():
     assert e.log_pf[1] == -np.inf and e.log_pf[0] > -np.inf
 
 
-# spec §13 T3: (density, ℓ, θ) → (p_f UB, p_f LB, exact p_f, p_m UB, exact p_m)
+# T3: (density, ℓ, θ) → (p_f UB, p_f LB, exact p_f, p_m UB, exact p_m)
 T3 = [
     ("uniform", 4.0, 0.3, 5.940872e-1, 1.404374e-5, 1.409319e-1, 7.870605e-2, 1.008608e-2),
     ("two-point", 4.0, 0.5, 2.411600e-1, 1.100145e-6, 3.899660e-2, None, None),
@@ -299,7 +321,7 @@ def test_spec_t3(row):
         assert math.exp(e.log_pm[0]) == pytest.approx(pm_ex, rel=1e-5)
 
 
-# spec §13 T5: upper-bound p_f at fixed p_d for C2, C1, C3, C4
+# T5: upper-bound p_f at fixed p_d for C2, C1, C3, C4
 T5 = {
     (8.0, 0.99): (3.4701e-3, 7.5054e-3, 1.1543e-2, 1.6997e-2),
     (10.0, 0.9): (3.9420e-7, 2.5413e-6, 6.7442e-6, 1.6260e-5),
@@ -340,7 +362,7 @@ def test_spec_t6_preference_order_and_monotonicity():
 def test_theorem_3_2_two_point_has_the_largest_exponent():
     """Among symmetric densities of equal b the two-point density maximises E_f (Jensen, Theorem 3.2);
     40 random symmetric discrete densities never exceed it. Exact-ROC optimality does not hold
-    (spec §14.8: uniform 8.24e-4 beats two-point 9.84e-4 at ℓ = 8, θ = 0.5)."""
+    (uniform 8.24e-4 beats two-point 9.84e-4 at ℓ = 8, θ = 0.5)."""
     b = b_of_ell(8.0)
     theta = np.array([0.2, 0.5, 0.8])
     best = chernoff(MANModel.common(N, TA, TwoPoint(math.sqrt(b))), theta)[1]
@@ -400,7 +422,7 @@ def test_spec_t4_gaussian_roc():
 
 def test_spec_t8_gaussian_approximation_is_optimistic_only_for_large_ell():
     """T8(a): at equal p_m the exact p_f exceeds ROC_g for ℓ ≥ 8 (all four densities, p_m = 0.1 … 0.001),
-    with the spec's values at ℓ = 8 (interpolated on a θ grid of step 0.005 as in the spec, rel. 5 %);
+    with the reference values at ℓ = 8 (interpolated on a θ grid of step 0.005, rel. 5 %);
     it fails at ℓ = 2 (p_m = 0.1) and for C₂ at ℓ = 6, p_m = 1e-3."""
     want = {0.1: (8.2e-9, (1.6e-6, 1.4e-6, 2.6e-6, 4.6e-6)), 0.01: (2.1e-6, (4.7e-5, 4.8e-5, 7.7e-5, 1.2e-4))}
     theta = np.round(np.arange(0.005, 0.9951, 0.005), 6)
@@ -479,7 +501,7 @@ def test_spec_t10_time_bandwidth():
 
 
 def test_psk_second_moment_is_the_quadrature_formula():
-    """The issue's target: PSK-level b from the quadrature MGF equals (1/(6L))(1 + r₁/2) to 1e-10 and the
+    """PSK-level b from the quadrature MGF equals (1/(6L))(1 + r₁/2) to 1e-10 and the
     oracle's exact rational enumeration; T11: b = 1/186, ℓ = √62, P = 0.02150516."""
     d = PSKAmplitude(tuple(int(v) for v in MSEQ31))
     assert d.b == pytest.approx(b_random_codes(MSEQ31), rel=1e-10)
@@ -518,7 +540,7 @@ def test_spec_t11_psk_bounds():
 
 @pytest.mark.parametrize("delay", [-30.3, -12.5, -0.4, 0.0, 3.75, 29.9])
 def test_chip_formula_against_rf_waveform(delay):
-    """Level C (spec §12.1): an RF waveform (carrier 128 cycles/chip, FFT brick-wall low-pass at f0,
+    """Level C: an RF waveform (carrier 128 cycles/chip, FFT brick-wall low-pass at f0,
     correlation over the window) gives cos φ · X(δ) to 1e-3 (the brick-wall's ringing at chip edges);
     X also equals the oracle's direct chip-overlap sum to 1e-12."""
     rng = np.random.default_rng(5)
@@ -542,7 +564,7 @@ def test_exact_roc_does_not_depend_on_the_other_thresholds(name):
     assert math.exp(alone.log_pf[0]) == pytest.approx(o["pf"], rel=1e-9)
 
 
-@pytest.mark.parametrize("name", [*DENSITIES, "arcsine"])
+@pytest.mark.parametrize("name", SCALAR)
 def test_cgf_has_relative_accuracy_near_zero(name):
     """ln Φ ≈ bρ²/2 at tiny ρ to full relative precision (ln cosh and ln I₀ without cancellation): the
     exponents of huge-N models depend on it (N = 1e15 gave E_f < 0 and p_f UB > 1 before)."""
@@ -559,3 +581,107 @@ def test_huge_n_exponent_tends_to_the_gaussian_one(name):
     m = MANModel.common(10**15, TA, density(name, b_of_ell(8.0)))
     _, E = chernoff(m, [0.5])
     assert E[0] == pytest.approx(0.25 / (2 * m.power), rel=1e-6)
+
+
+# --- the density registry: every member says what it supports ---------------------------------------
+
+KINDS = list(REGISTRY.values())
+B = 0.02
+
+
+def _member(kind):
+    """A density of the member: b = B, or the length-31 m-sequence for a chip-level member."""
+    if kind.chip_level:
+        assert kind.of_b is None and kind.from_code is not None
+        return kind.from_code(tuple(int(v) for v in MSEQ31))
+    assert kind.of_b is not None and kind.from_code is None
+    return kind.of_b(B)
+
+
+@pytest.mark.parametrize("kind", KINDS, ids=[k.name for k in KINDS])
+def test_registry_member_law_is_normalised_and_gives_its_second_moment(kind):
+    """Atoms sum to 1 and Σw x² = b; a pdf integrates to 1 and ∫x²C = b (adaptive quadrature over the
+    support, independent of the package's own check); a mixture's draws have E x² = b within 4 SE."""
+    from scipy.integrate import quad
+
+    d = _member(kind)
+    assert kind_of(d) is kind and density_kind(kind.name) is kind
+    if kind.law == "atoms":
+        x, w = d.atoms()
+        assert w.sum() == pytest.approx(1.0, abs=1e-15) and float(np.dot(w, x * x)) == pytest.approx(
+            d.b, rel=1e-14
+        )
+    elif kind.law == "pdf":
+        edge = d.max_abs if math.isfinite(d.max_abs) else np.inf
+        halves = ((-edge, 0.0), (0.0, edge))  # the pdfs have a kink or a peak at 0
+
+        def integral(f):
+            return sum(
+                quad(lambda x: f(x) * float(d.pdf(np.array([x]))[0]), a, c, limit=200)[0] for a, c in halves
+            )
+
+        assert integral(lambda x: 1.0) == pytest.approx(1.0, rel=1e-6)
+        assert integral(lambda x: x * x) == pytest.approx(d.b, rel=1e-6)
+    else:
+        assert kind.law == "mixture"
+        x = d.sample(np.random.default_rng(3), 400_000)
+        assert abs(np.mean(x * x) - d.b) < 4 * np.std(x * x) / math.sqrt(x.size)
+    if kind.closed_form_b:
+        assert d.b == pytest.approx(B, rel=1e-14)
+    else:
+        assert d.b == pytest.approx(b_random_codes(MSEQ31), rel=1e-10)  # the quadrature of g″(0)
+
+
+@pytest.mark.parametrize("kind", KINDS, ids=[k.name for k in KINDS])
+def test_exact_roc_exists_iff_the_member_says_so(kind):
+    """An exact ROC is computed for a member with ``exact_roc`` (and lies between the bounds); any other
+    member is refused with a ConfigError naming the density."""
+    m = MANModel.common(1000, 1e-3, _member(kind))
+    theta = np.array([0.3, 0.6])
+    if kind.exact_roc:
+        ex = exact_roc(m, theta)
+        rb = roc_bounds(m, theta)
+        assert np.all(ex.log_pf <= rb.log_pf_up + 1e-9) and np.all(ex.log_pm <= rb.log_pm_up + 1e-9)
+        assert np.all(ex.log_pf > -np.inf)
+    else:
+        with pytest.raises(ConfigError) as info:
+            exact_roc(m, theta)
+        assert info.value.field == "density"
+
+
+@pytest.mark.parametrize("kind", KINDS, ids=[k.name for k in KINDS])
+def test_importance_sampling_exists_iff_the_member_says_so(kind):
+    """A member with ``importance`` has a tilted sampler whose mean is g′(r); any other refuses it."""
+    d = _member(kind)
+    r = 0.5 / math.sqrt(d.b)
+    if kind.importance:
+        x = d.sample_tilted(np.random.default_rng(5), r, 200_000)
+        assert abs(x.mean() - d.cgf(np.array([r]))[1][0]) < 4 * x.std() / math.sqrt(x.size)
+    else:
+        with pytest.raises(ConfigError) as info:
+            d.sample_tilted(np.random.default_rng(5), r, 10)
+        assert info.value.field == "importance"
+
+
+@pytest.mark.parametrize("kind", KINDS, ids=[k.name for k in KINDS])
+def test_registry_member_report_id_and_figure(kind):
+    """The report's C1 … C4 name their member (in any case); a member's figure of bounds is drawn by
+    ``mac-roc bounds`` for that density; the assumed shapes are exactly C1, C3, C4."""
+    if kind.report_id is not None:
+        assert density_kind(kind.report_id.lower()) is kind and density_kind(kind.report_id) is kind
+    if kind.figure is not None:
+        assert figure_command(kind.figure) == "bounds" and DENSITY_OF_FIGURE[kind.figure] == kind.name
+    else:
+        assert kind.name not in DENSITY_OF_FIGURE.values()
+    assert kind.assumed == (kind.report_id in ("C1", "C3", "C4"))
+    assert density_kind(kind.name.upper()) is kind
+
+
+def test_registry_refuses_an_unknown_density_and_a_code_built_one_from_b():
+    with pytest.raises(ConfigError) as info:
+        density_kind("cauchy")
+    assert info.value.field == "density" and "psk" in info.value.reason
+    with pytest.raises(ConfigError) as info:
+        density("psk", 0.1)
+    assert info.value.field == "density"
+    assert sorted(DENSITY_OF_FIGURE) == ["3.3", "3.4", "3.5", "3.6"]

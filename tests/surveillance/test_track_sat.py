@@ -1,6 +1,7 @@
 """track-sat core (ATC-10 §4, Apps G–H) against the printed Tables 4.2/4.3, an independent mpmath /
-brute-force oracle (tests/surveillance/track_oracle.py, written from the spec only), closed forms and
-Monte Carlo with statistical tolerances. Target numbers refer to spec ``track-sat`` §9 (T1–T19)."""
+brute-force oracle (tests/surveillance/track_oracle.py, written from the report's equations only), closed
+forms and Monte Carlo with statistical tolerances; T1–T19 number the project's acceptance targets. Every
+configuration refuses a bad value of each checked field with a ConfigError naming the field."""
 
 import math
 
@@ -8,12 +9,15 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from motionsig_cli.config import ConfigError
+from motionsig_cli.engine import MonteCarloJob, run_job
 from motionsig_cli.experiments import satellite_tracking as st
 from motionsig_cli.experiments.satellite_tracking import (
     ConstellationParams,
     Convention,
     ParamSource,
     Timeline,
+    TrackSatJob,
 )
 from motionsig_cli.surveillance.clock import (
     ClockModel,
@@ -74,7 +78,7 @@ def test_psi_limits_and_extremes():
 
 
 def test_psi_at_table_4_3_alphas():
-    """T2 and T4: α from Table 4.2 (rel 0.5 % of the printed α) and ψ (±5e-4 of the spec's exact values,
+    """T2 and T4: α from Table 4.2 (rel 0.5 % of the printed α) and ψ (±5e-4 of the exact values,
     ±0.006 of the printed values read off Fig 4.1)."""
     exact = {("I", 5): 0.0993, ("I", 50): 0.4020, ("I", 500): 0.9267, ("II", 5): 0.0408, ("II", 50): 0.1799,
              ("II", 500): 0.6366}  # fmt: skip
@@ -148,8 +152,8 @@ def test_geometry_equals_mpmath_oracle(ex, r_sat):
 
 @pytest.mark.parametrize("ex", st.EXAMPLES)
 def test_table_4_2_reproduced_at_9235_earth_radii(ex):
-    """T6 at the issue's tolerance: all five constants within 0.5 % of the printed Table 4.2 (the spec's
-    T6 allows 1 % for β and b; the worst is b for Ex. II, 0.43 %)."""
+    """T6 at 0.5 %: all five constants within 0.5 % of the printed Table 4.2 (the first target allowed
+    1 % for β and b; the worst is b for Ex. II, 0.43 %)."""
     g = st.geometry_params(st.example(ex, r_sat_km=R_REPORT))
     p = PRINTED_42[ex]
     assert g["beta"] == pytest.approx(p["beta"], rel=0.005)
@@ -170,7 +174,7 @@ def test_correct_three_satellite_constant():
 
 
 def test_orbit_radius_fit():
-    """Spec §4.2: the radius that fits Table 4.2 is 9.257 (I), 9.214 (II), 9.235 R_E (both)."""
+    """Our finding: the radius that fits Table 4.2 is 9.257 (I), 9.214 (II), 9.235 R_E (both)."""
     assert st.fit_orbit_radius(["I"]) == pytest.approx(9.257, abs=2e-3)
     assert st.fit_orbit_radius(["II"]) == pytest.approx(9.214, abs=2e-3)
     assert st.fit_orbit_radius() == pytest.approx(9.235, abs=1e-3)
@@ -228,13 +232,13 @@ def test_degenerate_geometries_are_refused_with_a_reason():
 
 def test_constellation_validation():
     lat, lon = st.table_4_1()["I"]
-    with pytest.raises(ValueError, match="latitude 91"):
+    with pytest.raises(ConfigError, match="lat_deg = 91 is not in"):
         st.Constellation((91.0, *lat[1:]), lon, R_REPORT)
-    with pytest.raises(ValueError, match="exceed the Earth radius"):
+    with pytest.raises(ConfigError, match="r_sat_km = 6000 is not in"):
         st.Constellation(lat, lon, 6000.0)
-    with pytest.raises(ValueError, match="distinct"):
+    with pytest.raises(ConfigError, match="triplet = '1,1,2' is not three distinct"):
         st.Constellation(lat, lon, R_REPORT, triplet=(0, 0, 1))
-    with pytest.raises(GeometryError):
+    with pytest.raises(ConfigError, match="at least three"):
         st.Constellation(lat[:2], lon[:2], R_REPORT)
     far = st.Constellation((*lat[:6], -60.0), (*lon[:6], -60.0), R_REPORT)
     with pytest.raises(GeometryError, match="below the aircraft's horizon"):
@@ -332,7 +336,7 @@ def test_outage_from_steady_state_matches_closed_form(ex, s0):
     np.testing.assert_allclose(rec.V[3001:] / 50.0**2, outage_gamma_tilde(50.0, s0, beta, m), rtol=1e-9)
 
 
-# Spec §5.2 reference curves (independent prototype; Table 4.2 inputs, N = 100, M = 60).
+# Reference curves of an independent prototype ( Table 4.2 inputs, N = 100, M = 60).
 N_COLS = (0, 1, 2, 5, 10, 20, 50, 100, 101, 105, 110, 120, 130, 145, 160)
 CURVES_52 = {
     ("report", "I", 5): (282, 223, 199, 173, 161, 158, 160, 160, 230, 259, 303, 403, 512, 682, 857),
@@ -352,11 +356,11 @@ CURVES_52 = {
 
 @pytest.mark.parametrize("conv", ["report", "corrected"])
 @pytest.mark.parametrize("ex", st.EXAMPLES)
-def test_curves_match_spec_reference_values(conv, ex):
+def test_curves_match_reference_values(conv, ex):
     """T12: ±1 ft (rounding) with Table 4.2 inputs; corrected: exact c and b3 = 1.356 / 1.173 exactly."""
     p = report_params(ex)
     if conv == "corrected":
-        p = ConstellationParams(p.beta, p.tr, p.b, p.tr3, {"I": 1.356, "II": 1.173}[ex], "spec T12")
+        p = ConstellationParams(p.beta, p.tr, p.b, p.tr3, {"I": 1.356, "II": 1.173}[ex], "T12")
     c = st.rms_curves(p, 50.0, list(st.TABLE_SIGMA0_NS), Timeline(), st.c_ft_per_ns(Convention(conv)))
     for i, s0 in enumerate(st.TABLE_SIGMA0_NS):
         np.testing.assert_allclose(c.rms_tracking[i, list(N_COLS)], CURVES_52[(conv, ex, int(s0))], atol=1.0)
@@ -400,7 +404,7 @@ def test_long_outage_slope():
         p = report_params(ex)
         c = st.rms_curves(p, 50.0, [s0], Timeline(1100, 100, 1000), 1.0)
         slope = (c.rms_tracking[0, 1100] - c.rms_tracking[0, 600]) / 500.0
-        assert slope == pytest.approx(s0 * math.sqrt(p.b3), rel=1e-3)  # the issue's 0.1 % (spec T14: 1 %)
+        assert slope == pytest.approx(s0 * math.sqrt(p.b3), rel=1e-3)  # 0.1 % (the first target, T14: 1 %)
     assert 5.0 * math.sqrt(report_params("I").b3) == pytest.approx(12.0, abs=0.05)
 
 
@@ -454,8 +458,8 @@ def test_sigma0_zero_limit_needs_no_division_by_psi():
 
 @pytest.fixture(scope="module")
 def mc_ex1_s50():
-    cfg = st.SimulationConfig(st.example("I", r_sat_km=R_REPORT), sigma0=50.0)
-    return cfg, st.simulate(cfg, 2000, 2024)
+    job = TrackSatJob(st.example("I", r_sat_km=R_REPORT), sigma0=50.0, runs=2000, seed=2024)
+    return job, run_job(job)
 
 
 def test_monte_carlo_matches_analytic_recursion(mc_ex1_s50):
@@ -472,13 +476,18 @@ def test_monte_carlo_matches_analytic_recursion(mc_ex1_s50):
 
 def test_monte_carlo_negative_control_detects_wrong_noise_power(mc_ex1_s50):
     """The same comparison must fail when the simulated TOA noise power is doubled (σ·√2)."""
-    cfg, _ = mc_ex1_s50
-    wrong = st.SimulationConfig(
-        cfg.constellation, sigma=50.0 * math.sqrt(2), sigma0=50.0, estimators=("report",)
+    job, _ = mc_ex1_s50
+    wrong = TrackSatJob(
+        job.constellation,
+        sigma=50.0 * math.sqrt(2),
+        sigma0=50.0,
+        estimators=("report",),
+        runs=2000,
+        seed=2024,
     )
-    res = st.simulate(wrong, 2000, 2024)
+    res = run_job(wrong)
     idx = [0, 1, 10, 100]
-    z = (res.rms["report"][idx] - st.analytic_curve(cfg)[0][idx]) / res.se["report"][idx]
+    z = (res.rms["report"][idx] - st.analytic_curve(job)[0][idx]) / res.se["report"][idx]
     assert np.all(z > 4)
 
 
@@ -488,13 +497,155 @@ def test_kf2_beats_report_tracker_in_outage_when_clock_is_rho_1(mc_ex1_s50):
     assert res.rms["report"][130] > 2 * res.rms["kf2"][130]
 
 
+def _rho_job(**kw) -> TrackSatJob:
+    return TrackSatJob(
+        st.example("II", r_sat_km=RSAT_GEO_KM), sigma0=5.0, timeline=Timeline(20, 10, 5), rho=0.9, runs=30,
+        seed=5, **kw,
+    )  # fmt: skip
+
+
 def test_monte_carlo_is_independent_of_chunking():
-    cfg = st.SimulationConfig(
-        st.example("II", r_sat_km=RSAT_GEO_KM), sigma0=5.0, timeline=Timeline(20, 10, 5), rho=0.9
-    )
-    a = st.simulate(cfg, 30, 5, chunk=30)
-    b = st.simulate(cfg, 30, 5, chunk=7)
-    for e in cfg.estimators:
+    a = run_job(_rho_job(chunk=30))
+    b = run_job(_rho_job(chunk=7))
+    for e in a.rms:
         np.testing.assert_array_equal(a.rms[e], b.rms[e])
         np.testing.assert_array_equal(a.se[e], b.se[e])
     assert C_FT_PER_NS_EXACT == pytest.approx(0.983571, rel=1e-6)
+
+
+def test_job_implements_the_protocol_and_ships_its_clock_factor():
+    """The job is a MonteCarloJob; the ρ < 1 clock's Cholesky factor is computed once, when the job is
+    made, and travels with it (a worker never recomputes it); the identity names every parameter."""
+    import pickle
+
+    job = _rho_job(chunk=7)
+    assert isinstance(job, MonteCarloJob) and job.name == "track-sat simulate"
+    assert [len(t) for t in job.tasks()] == [7, 7, 7, 7, 2] and job.task_size(job.tasks()[-1]) == 2
+    np.testing.assert_array_equal(job.chol, ClockModel(5.0, 5.0, 0.9).cholesky(20))
+    back = pickle.loads(pickle.dumps(job))
+    assert back == job and back.chol is not None
+    np.testing.assert_array_equal(back.chol, job.chol)
+    part = back.run_task(range(3, 5))
+    np.testing.assert_array_equal(part["report"], job.run_task(range(3, 5))["report"])
+    ident = job.identity()
+    assert ident["seed"] == 5 and ident["rho"] == 0.9 and ident["runs_per_task"] == 7
+    assert ident["outage_sats"] == [0, 1, 2] and "chol" not in ident
+    assert TrackSatJob(st.example("I", r_sat_km=R_REPORT), runs=2).chol is None  # rho = 1: exact sampler
+
+
+# --- every configuration checks its fields -------------------------------------------------------------
+
+_LAT, _LON = st.table_4_1()["I"]
+
+
+def _con(**kw) -> st.Constellation:
+    return st.Constellation(**{"lat_deg": _LAT, "lon_deg": _LON, "r_sat_km": R_REPORT, **kw})
+
+
+BAD_CONFIGS = {
+    "orbit rsat_re": (lambda: st.Orbit(rsat_re=1.001), "rsat_re"),
+    "orbit rsat_re big": (lambda: st.Orbit(rsat_re=1e6), "rsat_re"),
+    "orbit rsat_km": (lambda: st.Orbit(rsat_km=6000.0), "rsat_km"),
+    "orbit both": (lambda: st.Orbit(rsat_re=8.0, rsat_km=50000.0), "rsat_km"),
+    "orbit convention": (lambda: st.Orbit("nonsense"), "convention"),
+    "constellation lat": (lambda: _con(lat_deg=(-91.0, *_LAT[1:])), "lat_deg"),
+    "constellation count": (lambda: _con(lat_deg=_LAT[:2], lon_deg=_LON[:2]), "lat_deg"),
+    "constellation lon": (lambda: _con(lon_deg=(400.0, *_LON[1:])), "lon_deg"),
+    "constellation lon count": (lambda: _con(lon_deg=_LON[:-1]), "lon_deg"),
+    "constellation radius": (lambda: _con(r_sat_km=R_EARTH_KM + 50.0), "r_sat_km"),
+    "constellation aircraft lat": (lambda: _con(aircraft=(95.0, 120.0, 0.0)), "aircraft"),
+    "constellation aircraft lon": (lambda: _con(aircraft=(45.0, 1e4, 0.0)), "aircraft"),
+    "constellation aircraft alt": (lambda: _con(aircraft=(45.0, 120.0, -2.0)), "aircraft"),
+    "constellation aircraft len": (lambda: _con(aircraft=(45.0, 120.0)), "aircraft"),
+    "constellation triplet range": (lambda: _con(triplet=(0, 1, 7)), "triplet"),
+    "constellation triplet count": (lambda: _con(triplet=(0, 1, 2, 3)), "triplet"),
+    "constellation labels dup": (lambda: _con(labels=("A", "B", "C", "D", "E", "F", "A")), "labels"),
+    "constellation labels len": (lambda: _con(labels=("A", "B")), "labels"),
+    "example name": (lambda: st.example("III", r_sat_km=R_REPORT), "example"),
+    "timeline epochs": (lambda: Timeline(epochs=-1, outage_length=0), "epochs"),
+    "timeline epochs big": (lambda: Timeline(epochs=100_001), "epochs"),
+    "timeline epochs float": (lambda: Timeline(epochs=160.5), "epochs"),
+    "timeline start": (lambda: Timeline(outage_start=-1), "outage_start"),
+    "timeline length": (lambda: Timeline(outage_length=-1), "outage_length"),
+    "timeline too long": (lambda: Timeline(epochs=120), "outage_length"),
+    "rms example": (lambda: st.RmsConfig(example="III"), "example"),
+    "rms sigma0 value": (lambda: st.RmsConfig(sigma0=(5.0, -1.0)), "sigma0"),
+    "rms sigma0 count": (lambda: st.RmsConfig(sigma0=(1.0,) * 21), "sigma0"),
+    "rms sigma0 empty": (lambda: st.RmsConfig(sigma0=()), "sigma0"),
+    "rms sigma": (lambda: st.RmsConfig(sigma=0.0), "sigma"),
+    "rms sigma big": (lambda: st.RmsConfig(sigma=2e9), "sigma"),
+    "rms convention": (lambda: st.RmsConfig(convention="nonsense"), "convention"),
+    "rms params": (lambda: st.RmsConfig(params="nonsense"), "params"),
+    "rms radius with table": (lambda: st.RmsConfig(convention=Convention.report, rsat_re=8.0), "rsat_re"),
+    "rms radius km with table": (lambda: st.RmsConfig(params="table", rsat_km=5e4), "rsat_km"),
+    "rms radius": (lambda: st.RmsConfig(params="geometry", rsat_re=1.001), "rsat_re"),
+    "table which": (lambda: st.TableConfig(which="4.4"), "which"),
+    "table convention": (lambda: st.TableConfig(convention="nonsense"), "convention"),
+    "table params": (lambda: st.TableConfig(params="nonsense"), "params"),
+    "table 4.2 with convention": (lambda: st.TableConfig(which="4.2", convention="report"), "which"),
+    "table 4.2 with params": (lambda: st.TableConfig(which="4.2", params="table"), "which"),
+    "psi alpha": (lambda: st.PsiConfig(alpha=(1.0, -1e-3)), "alpha"),
+    "psi alpha inf": (lambda: st.PsiConfig(alpha=(math.inf,)), "alpha"),
+    "psi grid order": (lambda: st.PsiConfig(grid=(1.0, 0.1, 5)), "grid"),
+    "psi grid lo": (lambda: st.PsiConfig(grid=(0.0, 1.0, 5)), "grid"),
+    "psi grid n": (lambda: st.PsiConfig(grid=(1e-3, 1.0, 1)), "grid"),
+    "psi grid n big": (lambda: st.PsiConfig(grid=(1e-3, 1.0, 100_001)), "grid"),
+    "view": (lambda: st.constellation_report(_con(), view="x", convention=Convention.report), "view"),
+    "clock sigma1": (lambda: ClockModel(-1.0, 1.0), "sigma1"),
+    "clock sigma2": (lambda: ClockModel(1.0, math.nan), "sigma2"),
+    "clock rho": (lambda: ClockModel(1.0, 1.0, 0.5), "rho"),
+}
+
+_EX1 = st.example("I", r_sat_km=R_REPORT)
+BAD_JOBS = {
+    "sigma": ({"sigma": 0.0}, "sigma"),
+    "sigma big": ({"sigma": 2e9}, "sigma"),
+    "sigma0": ({"sigma0": -1.0}, "sigma0"),
+    "sigma0 inf": ({"sigma0": math.inf}, "sigma0"),
+    "rho low": ({"rho": 0.5}, "rho"),
+    "rho high": ({"rho": 1.1}, "rho"),
+    "rho long": ({"rho": 0.9, "timeline": Timeline(5001, 100, 60)}, "rho"),
+    "estimators unknown": ({"estimators": ("ukf",)}, "estimators"),
+    "estimators empty": ({"estimators": ()}, "estimators"),
+    "estimators twice": ({"estimators": ("report", "report")}, "estimators"),
+    "velocity length": ({"velocity_enu": (1.0, 2.0)}, "velocity_enu"),
+    "velocity nan": ({"velocity_enu": (math.nan, 0.0, 0.0)}, "velocity_enu"),
+    "velocity speed": ({"velocity_enu": (1e300, 0.0, 0.0)}, "velocity_enu"),
+    "velocity track": ({"velocity_enu": (0.0, 0.0, -100.0)}, "velocity_enu"),
+    "runs": ({"runs": 0}, "runs"),
+    "runs big": ({"runs": 50_001}, "runs"),
+    "runs work": ({"runs": 50_000, "timeline": Timeline(5000, 100, 60)}, "runs"),
+    "seed": ({"seed": -1}, "seed"),
+    "tau_bar_s": ({"tau_bar_s": 0.0}, "tau_bar_s"),
+    "init_offset_km": ({"init_offset_km": -1.0}, "init_offset_km"),
+    "relinearise": ({"relinearise": -1}, "relinearise"),
+    "chunk": ({"chunk": 0}, "chunk"),
+}
+
+
+@pytest.mark.parametrize("name", BAD_CONFIGS)
+def test_configurations_refuse_bad_values_naming_the_field(name):
+    make, field = BAD_CONFIGS[name]
+    with pytest.raises(ConfigError) as info:
+        make()
+    assert info.value.field == field, info.value
+
+
+@pytest.mark.parametrize("name", BAD_JOBS)
+def test_job_refuses_bad_values_naming_the_field(name):
+    kw, field = BAD_JOBS[name]
+    with pytest.raises(ConfigError) as info:
+        TrackSatJob(_EX1, **{"runs": 2, **kw})
+    assert info.value.field == field, info.value
+
+
+def test_good_configurations_pass():
+    """The boundaries themselves are legal (a check that refuses everything would pass the tests above)."""
+    assert st.Orbit(rsat_km=1e6).km == 1e6 and st.Orbit(Convention.report).km == pytest.approx(R_REPORT)
+    assert _con(aircraft=(-90.0, -360.0, 100.0)).K == 7
+    assert Timeline(epochs=100_000, outage_length=0).epochs == 100_000
+    assert len(st.RmsConfig(sigma0=(0.0,) * 20, sigma=1e9).sigma0) == 20
+    assert st.PsiConfig(alpha=(0.0,)).values().tolist() == [0.0]
+    assert st.TableConfig(which="4.2").conventions == [Convention.report, Convention.corrected]
+    job = TrackSatJob(_EX1, sigma0=0.0, rho=0.51, runs=1, estimators=("kf2",), velocity_enu=(10.0, 0.0, 0.0))
+    assert job.chol is None  # a perfect clock needs no factor

@@ -1,14 +1,15 @@
-"""Independent oracle for spec ``track-sat`` (ATC-10 §4: satellite multilateration with clock tracking).
+"""Independent oracle for ``track-sat`` (ATC-10, Schneider, Stiglitz & Eckberg, MIT Lincoln Laboratory,
+1972, §4: satellite multilateration with clock tracking).
 
-Written from /work/shared/spec/track-sat.md only (§1, §2.5-2.7, §4.1-4.3, §5, §6, §7), without
-reference to ``motionsig_cli``.  It deliberately uses *different* methods from those the spec recommends
-for production code, so that agreement is meaningful:
+Written from the report's equations and the project's written reference values only, without reference
+to ``motionsig_cli``. It deliberately uses *different* methods from those of the production code, so that
+agreement is meaningful:
 
-* geometry (§4.2, §7): mpmath at 50 digits with explicit normal-equation inverses (no QR);
-* ψ(α) (§2.6, §5.1): polynomial root of ψ³ + (27α/4)(ψ − 1) = 0 (no closed-form cube roots);
-* clock-error variance (§2.7): brute-force covariance of explicit coefficient vectors over the
+* geometry: mpmath at 50 digits with explicit normal-equation inverses (no QR);
+* ψ(α): polynomial root of ψ³ + (27α/4)(ψ − 1) = 0 (no closed-form cube roots);
+* clock-error variance: brute-force covariance of explicit coefficient vectors over the
   independent primitives {a_0, w_1..w_n, v_0..v_n} (no χ recursion);
-* snapshot LS covariance (§2.1, eq. 4.1.1): via a random differencing matrix H (no projection identity).
+* snapshot LS covariance (eq. 4.1.1): via a random differencing matrix H (no projection identity).
 
 Units: c = 1 (light-ns) for geometry; times in ns; RMS converted with a caller-given c in ft/ns.
 """
@@ -32,7 +33,7 @@ EX_II: list[tuple[float, float]] = [
 
 
 def _ecef(lat_deg: float, lon_deg: float, r: mp.mpf) -> mp.matrix:
-    """Spherical-Earth ECEF point (§4.2 [F] setup); longitudes used exactly as given."""
+    """Spherical-Earth ECEF point; longitudes used exactly as given."""
     phi, lam = mp.radians(mp.mpf(str(lat_deg))), mp.radians(mp.mpf(str(lon_deg)))
     return mp.matrix([r * mp.cos(phi) * mp.cos(lam), r * mp.cos(phi) * mp.sin(lam), r * mp.sin(phi)])
 
@@ -44,12 +45,12 @@ def geometry_oracle(
     r_earth_km: float = 6378.137,
     subset: Sequence[int] | None = None,
 ) -> dict[str, float | None]:
-    """β, tr, b, b_literal and GDOP of one constellation (spec §1 notation, §2.1, §4.2 [F], §7).
+    """β, tr, b, b_literal and GDOP of one constellation (the report's notation).
 
     ``subset`` holds **1-based** satellite numbers (e.g. ``(1, 2, 3)``, as in Table 4.1); None = all.
     U has rows u_i = unit vector from satellite i to the aircraft (altitude 0).  With c = 1:
     beta = K − 1'U(U'U)⁻¹U'1, tr = tr (U'U)⁻¹, b = 1'U(U'U)⁻²U'1 (= 1'(UU')⁻¹1 for K = 3, the correct
-    b3), b_literal = 1'(U'U)⁻¹1 (frame-dependent, what the report apparently used for K = 3, §4.2),
+    b3), b_literal = 1'(U'U)⁻¹1 (frame-dependent, what the report apparently used for K = 3),
     gdop = sqrt(tr + b/beta) for K ≥ 4, else None.
     """
     with mp.workdps(_DPS):
@@ -81,7 +82,7 @@ def geometry_oracle(
 
 
 def psi_oracle(alpha: float) -> float:
-    """ψ(α): the unique real root in (0, 1) of ψ³ + (27α/4)(ψ − 1) = 0 (spec §2.6 eq. 4.5.34, §7)."""
+    """ψ(α): the unique real root in (0, 1) of ψ³ + (27α/4)(ψ − 1) = 0 (eq. 4.5.34)."""
     if alpha < 0:
         raise ValueError("alpha must be >= 0")
     if alpha == 0:
@@ -104,7 +105,7 @@ def tracker_mse_oracle(
     gains: float | Sequence[float] | None = None,
     return_gains: bool = False,
 ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
-    """Clock-error variance V_n = Var(τ̂_n − τ_n), n = 0..n_epochs, by brute-force covariance (§2.3, §2.7).
+    """Clock-error variance V_n = Var(τ̂_n − τ_n), n = 0..n_epochs, by brute-force covariance (App. G, §4.5).
 
     Primitives (independent, zero mean): a_0 (var σ0²), w_1..w_N (var σ0²), v_0..v_N (var R = σ²/β).
     Clock deviation d_n = Σ_{i≤n} w_i + n·a_0 (ρ = 1, τ_0 cancels); pseudo-measurement y_n = d_n + v_n.
@@ -158,12 +159,12 @@ def mse_ft_oracle(
     b_n: np.ndarray | float,
     c_ft_per_ns: float,
 ) -> np.ndarray:
-    """RMS position error c·sqrt(σ²·tr_n + V_n·b_n) in ft (spec §2.6 eq. 4.5.35, §2.7 MSE line)."""
+    """RMS position error c·sqrt(σ²·tr_n + V_n·b_n) in ft (eq. 4.5.35, corrected)."""
     return c_ft_per_ns * np.sqrt(sigma**2 * np.asarray(tr_n) + np.asarray(v_n) * np.asarray(b_n))
 
 
 def ls_covariance_oracle(u: np.ndarray, sigma: float, seed: int = 12345) -> np.ndarray:
-    """Snapshot LS position covariance σ²[F'H'(HH')⁻¹HF]⁻¹ (spec §2.1 eq. 4.1.1), F = U (c = 1).
+    """Snapshot LS position covariance σ²[F'H'(HH')⁻¹HF]⁻¹ (eq. 4.1.1), F = U (c = 1).
 
     H = G·D with D the (K−1)×K differences e_i − e_K and G a seeded random (K−1)×(K−1) matrix, so every
     row of H sums to zero and H has full row rank.  Compare with (4.5.6).
@@ -179,7 +180,7 @@ def ls_covariance_oracle(u: np.ndarray, sigma: float, seed: int = 12345) -> np.n
 def table_4_3_oracle(
     beta: float, tr: float, b: float, tr3: float, b3: float, sigma: float, sigma0: float, c_ft_per_ns: float
 ) -> tuple[float, float, float, float, float]:
-    """(α, ψ, e0, eN, eN+1) by the closed forms of spec §2.6 "Formulas for Table 4.3" (m = 1)."""
+    """(α, ψ, e0, eN, eN+1) by the closed forms behind Table 4.3 (m = 1)."""
     alpha = 8.0 / 27.0 * sigma0**2 * beta / sigma**2
     psi = psi_oracle(alpha)
     cs = c_ft_per_ns * sigma
@@ -202,7 +203,7 @@ def _unit_rows(sats: Sequence[tuple[float, float]]) -> np.ndarray:
 
 
 if __name__ == "__main__":
-    print("Geometry at 9.235 R_E vs spec §4.2 [F] table")
+    print("Geometry at 9.235 R_E vs the reference table")
     ref = {
         "I": (0.05437, 7.836, 9.385, 1.297, 5.755, 1.356),
         "II": (0.003540, 3.989, 14.887, 1.165, 14.288, 1.173),
@@ -213,14 +214,14 @@ if __name__ == "__main__":
         got = (g_all["beta"], g_all["tr"], g3["tr"], g_all["b"], g3["b_literal"], g3["b"])
         labels = ("beta", "tr", "tr(1,2,3)", "b", "b_lit(1,2,3)", "b(1,2,3)")
         for lab, x, r in zip(labels, got, ref[name], strict=True):
-            print(f"  Ex {name:2s} {lab:13s} oracle {x:10.5g}  spec {r:8.5g}  rel {x / r - 1:+.1e}")
+            print(f"  Ex {name:2s} {lab:13s} oracle {x:10.5g}  ref {r:8.5g}  rel {x / r - 1:+.1e}")
         print(f"  Ex {name:2s} gdop          oracle {g_all['gdop']:10.5g}")
-    print("psi(alpha) vs spec §5.1")
+    print("psi(alpha) vs the reference values")
     grid = [1e-5, 1e-4, 1e-3, 1e-2, 0.1, 0.3, 1, 3, 10]
     psi_ref = [0.04016, 0.08516, 0.17710, 0.35229, 0.62984, 0.77242, 0.89411, 0.95675, 0.98581]
     for a, r in zip(grid, psi_ref, strict=True):
-        print(f"  alpha {a:7.0e}  psi {psi_oracle(a):.7f}  spec {r:.5f}  diff {psi_oracle(a) - r:+.1e}")
-    print("Table 4.3 closed forms (Table 4.2 inputs, c = 1 ft/ns, report b3) vs spec §4.3 [F]")
+        print(f"  alpha {a:7.0e}  psi {psi_oracle(a):.7f}  ref {r:.5f}  diff {psi_oracle(a) - r:+.1e}")
+    print("Table 4.3 closed forms (Table 4.2 inputs, c = 1 ft/ns, report b3)")
     t42 = {"I": (0.0543, 7.84, 1.30, 9.39, 5.76), "II": (0.00355, 3.99, 1.16, 14.9, 14.3)}
     for name, (be, t, bb, t3, b3) in t42.items():
         for s0 in (5.0, 50.0, 500.0):
@@ -228,14 +229,14 @@ if __name__ == "__main__":
             print(
                 f"  Ex {name:2s} s0 {s0:5.0f}  alpha {al:.4e} psi {ps:.4f} e0 {e0:.1f} eN {en:.1f} eN1 {en1:.1f}"
             )
-    print("Tracker V_n (brute force) -> RMS ft, Ex I, sigma 50, sigma0 5, N = 100, report convention, §5.2")
+    print("Tracker V_n (brute force) -> RMS ft, Ex I, sigma 50, sigma0 5, N = 100, report convention")
     v, g = tracker_mse_oracle(50.0, 5.0, 0.0543, 160, outage_start=100, return_gains=True)
     n_all = np.arange(161)
     rms = mse_ft_oracle(v, 50.0, np.where(n_all <= 100, 7.84, 9.39), np.where(n_all <= 100, 1.30, 5.76), 1.0)
     pts = [0, 1, 2, 5, 10, 20, 50, 100, 101, 105, 110, 120, 130, 145, 160]
     want = [282, 223, 199, 173, 161, 158, 160, 160, 230, 259, 303, 403, 512, 682, 857]
     for n, w in zip(pts, want, strict=True):
-        print(f"  n {n:3d}  oracle {rms[n]:7.2f}  spec {w:4d}  {'ok' if round(rms[n]) == w else 'MISMATCH'}")
+        print(f"  n {n:3d}  oracle {rms[n]:7.2f}  ref {w:4d}  {'ok' if round(rms[n]) == w else 'MISMATCH'}")
     print(f"  g_100 {g[100]:.6f}  psi(alpha) {psi_oracle(8 / 27 * 25 * 0.0543 / 2500):.6f}")
     print("(4.1.1) with random H vs (4.5.6), Ex I all satellites, c = 1")
     u = _unit_rows(EX_I)
