@@ -27,13 +27,10 @@ from __future__ import annotations
 
 import csv
 import resource
-import sys
-import time
-from collections.abc import Callable
 
 import numpy as np
 from bench_kf_bank import CHIPS, M_RHO, RS, TRIALS, N, filterpy_costs, h1_bank
-from benchlib import RESULTS, environment_line, write_results
+from benchlib import RESULTS, best_of, environment_line, filterpy_row, gate, measured_row, write_results
 
 from motionsig_cli.detection.lmp import LMPConfig, lmp_detect
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft, lmp_detect_projection
@@ -46,16 +43,6 @@ HORIZONS = [200 * j for j in range(1, 9)]  # 10, 20, …, 80 s
 SLICE_FILTERS = 24
 SEED = 7  # the records of bench_kf_bank.py
 H1 = np.array([[1.0, 0, 0, 0, 0]])
-
-
-def best_of(fn: Callable[[], object], repeats: int = REPEATS) -> float:
-    """Minimum wall time of ``repeats`` calls."""
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main() -> int:
@@ -79,12 +66,11 @@ def main() -> int:
     bank_1e3 = lmp_detect(records[1e-3], CHIPS, veh, M_RHO, cfg0, HORIZONS)
     proj = lmp_detect_projection(records[1e-3], CHIPS, veh, M_RHO, cfg0, HORIZONS)
     rel_proj = float(np.max(np.abs(proj.Lambda - bank_1e3.Lambda)) / np.max(np.abs(bank_1e3.Lambda)))
-    print(
+    summary = (
         f"correctness gates (Q_a = 0): FilterPy vs bank {rel_fp:.2e} relative ({pick.size} filters x {N} steps); "
         f"projection identity vs bank {rel_proj:.2e} of max |Lambda| ({TRIALS} records)"
     )
-    if rel_fp > 1e-8 or rel_proj > 1e-8:
-        print("FAILED: a correctness gate is above 1e-8", file=sys.stderr)
+    if not gate(summary, rel_fp > 1e-8 or rel_proj > 1e-8, "FAILED: a correctness gate is above 1e-8"):
         return 1
 
     # 2. timing
@@ -97,16 +83,10 @@ def main() -> int:
             lmp_detect_fft(records[R], CHIPS, vehicles[R], M_RHO, cfg0, HORIZONS)
 
     slice_rows = g[:SLICE_FILTERS]
-
-    def filterpy_run() -> None:
-        filterpy_costs(veh, cfg0, slice_rows, y1[0], N)
-
-    t_bank = best_of(bank_run)
-    t_fft = best_of(fft_run)
-    t_slice = best_of(filterpy_run)
+    t_bank = best_of(bank_run, REPEATS)
+    t_fft = best_of(fft_run, REPEATS)
+    t_slice = best_of(lambda: filterpy_costs(veh, cfg0, slice_rows, y1[0], N), REPEATS)
     filter_steps = TRIALS * len(RS) * 187 * N
-    fp_per_step = t_slice / (SLICE_FILTERS * N)
-    t_fp = fp_per_step * filter_steps
 
     # 3. argmax agreement
     agree_rows = []
@@ -153,39 +133,26 @@ def main() -> int:
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
     workload = f"{TRIALS} trials x {len(RS)} R x 187 filters x {N} steps, horizons 10..80 s (Fig 4 of the mode-signature paper), Q_a = 0"
+    row_fp = filterpy_row("FilterPy KalmanFilter (Q_a = 0)", t_slice, SLICE_FILTERS * N, filter_steps,
+                          "filter-step", f"{SLICE_FILTERS} filters x {N} steps", REPEATS)  # fmt: skip
+    t_fp = row_fp["seconds"]
+    row_bank = measured_row("motionsig batched bank (Q_a = 0)", t_bank, filter_steps, "filter-step", t_fp,
+                            REPEATS, speedup=1.0, how="; speedup: vs this bank")  # fmt: skip
     rows = [
-        {
-            "case": "FilterPy KalmanFilter (Q_a = 0)",
-            "seconds": t_fp,
-            "units": filter_steps,
-            "unit": "filter-step",
-            "us_per_unit": 1e6 * fp_per_step,
-            "ratio_vs_filterpy": 1.0,
-            "how": f"extrapolated from {SLICE_FILTERS} filters x {N} steps ({t_slice:.2f} s, best of {REPEATS})",
-        },
-        {
-            "case": "motionsig batched bank (Q_a = 0)",
-            "seconds": t_bank,
-            "units": filter_steps,
-            "unit": "filter-step",
-            "us_per_unit": 1e6 * t_bank / filter_steps,
-            "ratio_vs_filterpy": t_fp / t_bank,
-            "speedup": 1.0,
-            "how": f"measured, whole workload, best of {REPEATS}; speedup: vs this bank",
-        },
-        {
-            "case": "motionsig FFT path (Q_a = 0)",
-            "seconds": t_fft,
-            "units": filter_steps,
-            "unit": "filter-step (bank equivalent)",
-            "us_per_unit": 1e6 * t_fft / filter_steps,
-            "ratio_vs_filterpy": t_fp / t_fft,
-            "speedup": t_bank / t_fft,
-            "agreement_pct": pct0,
-            "how": f"measured, whole workload, best of {REPEATS}; speedup: vs the Q_a = 0 bank; "
-            f"agreement: argmax equal to the Q_a = 0 bank's where that bank is right "
-            f"({tot['qa0'][1]}/{tot['qa0'][0]})",
-        },
+        row_fp,
+        row_bank,
+        measured_row(
+            "motionsig FFT path (Q_a = 0)",
+            t_fft,
+            filter_steps,
+            "filter-step (bank equivalent)",
+            t_fp,
+            REPEATS,
+            speedup=t_bank / t_fft,
+            agreement_pct=pct0,
+            how="; speedup: vs the Q_a = 0 bank; agreement: argmax equal to the Q_a = 0 bank's where that bank "
+            f"is right ({tot['qa0'][1]}/{tot['qa0'][0]})",
+        ),
         {
             "case": "FFT path vs default bank (Q_a = 1)",
             "agreement_pct": pct1,

@@ -25,11 +25,9 @@ Writes ``benchmarks/results/bench_imm.csv`` (layout: ``benchlib.COLUMNS``) and p
 from __future__ import annotations
 
 import resource
-import sys
-import time
 
 import numpy as np
-from benchlib import write_results
+from benchlib import best_of, filterpy_row, gate, measured_row, publish
 
 from motionsig_cli.experiments.maneuver import (
     FIRST_SCAN,
@@ -87,75 +85,39 @@ def main() -> int:
     scale = np.maximum(np.abs(ref_x).max(axis=0), 1.0)
     rel = float(np.max(np.abs(ours1.x[0] - ref_x) / scale))
     dmu = float(np.max(np.abs(ours1.mu[0] - ref_mu)))
-    print(
+    summary = (
         f"correctness gate: max relative difference vs FilterPy over 1 run × {n_scans} scans: "
         f"combined estimate {rel:.2e}, model probabilities {dmu:.2e} (absolute)"
     )
-    if rel > 1e-8 or dmu > 1e-8:
-        print("FAILED: results differ from FilterPy by more than 1e-8", file=sys.stderr)
+    if not gate(summary, rel > 1e-8 or dmu > 1e-8, "FAILED: results differ from FilterPy by more than 1e-8"):
         return 1
 
     # 2a. motionsig, whole workload
-    def ours_once() -> float:
-        t0 = time.perf_counter()
-        imm_filter(zf, H_POS6, R_MEAS, ms, x0, P0)
-        return time.perf_counter() - t0
-
-    t_ours = min(ours_once() for _ in range(REPEATS))
+    t_ours = best_of(lambda: imm_filter(zf, H_POS6, R_MEAS, ms, x0, P0), REPEATS)
     run_scans = RUNS * n_scans
 
     # 2b. FilterPy, a slice: SLICE_RUNS runs, one at a time
-    def filterpy_once() -> float:
-        t0 = time.perf_counter()
+    def filterpy_once() -> None:
         for b in range(SLICE_RUNS):
             filterpy_imm(ms, z[b])
-        return time.perf_counter() - t0
 
-    t_slice = min(filterpy_once() for _ in range(REPEATS))
-    fp_per_scan = t_slice / (SLICE_RUNS * n_scans)
-    t_fp = fp_per_scan * run_scans
+    t_slice = best_of(filterpy_once, REPEATS)
+    row_fp = filterpy_row("FilterPy IMMEstimator", t_slice, SLICE_RUNS * n_scans, run_scans, "run-scan",
+                          f"{SLICE_RUNS} runs x {n_scans} scans", REPEATS)  # fmt: skip
 
     # 3. GLR tracker, for information (no FilterPy equivalent)
     cfg = TrackerConfig()
-
-    def glr_once() -> float:
-        t0 = time.perf_counter()
-        track("glr", z, T, SIGMA, cfg)
-        return time.perf_counter() - t0
-
-    t_glr = min(glr_once() for _ in range(REPEATS))
+    t_glr = best_of(lambda: track("glr", z, T, SIGMA, cfg), REPEATS)
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
-    ratio = t_fp / t_ours
+    row_glr = measured_row("motionsig GLR tracker", t_glr, run_scans, "run-scan", None, REPEATS,
+                           how="; no FilterPy equivalent")  # fmt: skip
     rows = [
-        {
-            "case": "motionsig batched IMM",
-            "seconds": t_ours,
-            "units": run_scans,
-            "unit": "run-scan",
-            "us_per_unit": 1e6 * t_ours / run_scans,
-            "ratio_vs_filterpy": ratio,
-            "how": f"measured, whole workload, best of {REPEATS}",
-        },
-        {
-            "case": "FilterPy IMMEstimator",
-            "seconds": t_fp,
-            "units": run_scans,
-            "unit": "run-scan",
-            "us_per_unit": 1e6 * fp_per_scan,
-            "ratio_vs_filterpy": 1.0,
-            "how": f"extrapolated from {SLICE_RUNS} runs x {n_scans} scans ({t_slice:.2f} s, best of {REPEATS})",
-        },
-        {
-            "case": "motionsig GLR tracker",
-            "seconds": t_glr,
-            "units": run_scans,
-            "unit": "run-scan",
-            "us_per_unit": 1e6 * t_glr / run_scans,
-            "how": f"measured, whole workload, best of {REPEATS}; no FilterPy equivalent",
-        },
+        measured_row("motionsig batched IMM", t_ours, run_scans, "run-scan", row_fp["seconds"], REPEATS),
+        row_fp,
+        row_glr,
     ]
-    write_results(
+    publish(
         "bench_imm",
         [
             f"workload: {RUNS} runs x {n_scans} scans (scans {FIRST_SCAN}..{sc.scans}), sigma={SIGMA:g}, "
@@ -163,10 +125,9 @@ def main() -> int:
             f"correctness: max rel diff vs FilterPy combined estimate {rel:.2e}, model probabilities {dmu:.2e} (abs); peak RSS {peak_mb:.0f} MB",
         ],
         rows,
+        "{case:24s} {seconds:10.2f} s  {us_per_unit:9.4f} µs/run-scan  ({how})",
     )
-    for r in rows:
-        print(f"{r['case']:24s} {r['seconds']:10.2f} s  {r['us_per_unit']:9.4f} µs/run-scan  ({r['how']})")
-    print(f"speed-up (IMM): {ratio:.0f}x   peak RSS {peak_mb:.0f} MB")
+    print(f"speed-up (IMM): {rows[0]['ratio_vs_filterpy']:.0f}x   peak RSS {peak_mb:.0f} MB")
     return 0
 
 

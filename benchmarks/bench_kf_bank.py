@@ -16,12 +16,10 @@ Writes ``benchmarks/results/bench_kf_bank.csv`` (layout: ``benchlib.COLUMNS``) a
 from __future__ import annotations
 
 import resource
-import sys
-import time
 from collections.abc import Callable
 
 import numpy as np
-from benchlib import write_results
+from benchlib import best_of, filterpy_row, gate, measured_row, publish
 
 from motionsig_cli.detection.lmp import LMPConfig, candidate_grid, lmp_detect
 from motionsig_cli.experiments.lmp1d import simulate_trials
@@ -93,70 +91,41 @@ def main() -> int:
     pick = np.array([0, 1, 57, 92, 93, 150, 185])
     ref = filterpy_costs(veh, cfg, g[pick], y1[0], N)
     rel = np.max(np.abs(ours[pick] - ref) / np.abs(ref))
-    print(
-        f"correctness gate: max relative difference vs FilterPy over {pick.size} filters × {N} steps = {rel:.2e}"
-    )
-    if rel > 1e-8:
-        print("FAILED: results differ from FilterPy by more than 1e-8 relative", file=sys.stderr)
+    summary = f"correctness gate: max relative difference vs FilterPy over {pick.size} filters × {N} steps = {rel:.2e}"
+    if not gate(summary, rel > 1e-8, "FAILED: results differ from FilterPy by more than 1e-8 relative"):
         return 1
 
     # 2a. motionsig, whole workload (records simulated beforehand, not timed)
     records = {R: simulate_trials(Vehicle1D(R=R), CHIPS, M_RHO, 1.0, N, 7, range(TRIALS))[0] for R in RS}
 
-    def ours_once() -> float:
-        t0 = time.perf_counter()
+    def ours_once() -> None:
         for R in RS:
             lmp_detect(records[R], CHIPS, Vehicle1D(R=R), M_RHO, cfg, [200 * j for j in range(1, 9)])
-        return time.perf_counter() - t0
 
-    t_ours = min(ours_once() for _ in range(REPEATS))
+    t_ours = best_of(ours_once, REPEATS)
     filter_steps = TRIALS * len(RS) * 187 * N
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
     # 2b. FilterPy, a slice: 24 filters × 1600 steps of one record
     slice_rows = g[:24]
-
-    def filterpy_once() -> float:
-        t0 = time.perf_counter()
-        filterpy_costs(veh, cfg, slice_rows, y1[0], N)
-        return time.perf_counter() - t0
-
-    t_slice = min(filterpy_once() for _ in range(REPEATS))
-    fp_per_step = t_slice / (slice_rows.shape[0] * N)
-    t_fp = fp_per_step * filter_steps
-
-    ratio = t_fp / t_ours
-    rows = [
-        {
-            "case": "motionsig batched bank",
-            "seconds": t_ours,
-            "units": filter_steps,
-            "unit": "filter-step",
-            "us_per_unit": 1e6 * t_ours / filter_steps,
-            "ratio_vs_filterpy": ratio,
-            "how": f"measured, whole workload, best of {REPEATS}",
-        },
-        {
-            "case": "FilterPy KalmanFilter",
-            "seconds": t_fp,
-            "units": filter_steps,
-            "unit": "filter-step",
-            "us_per_unit": 1e6 * fp_per_step,
-            "ratio_vs_filterpy": 1.0,
-            "how": f"extrapolated from {slice_rows.shape[0]} filters x {N} steps ({t_slice:.2f} s, best of {REPEATS})",
-        },
-    ]
-    write_results(
+    t_slice = best_of(lambda: filterpy_costs(veh, cfg, slice_rows, y1[0], N), REPEATS)
+    row_fp = filterpy_row("FilterPy KalmanFilter", t_slice, slice_rows.shape[0] * N, filter_steps, "filter-step",
+                          f"{slice_rows.shape[0]} filters x {N} steps", REPEATS)  # fmt: skip
+    row_ours = measured_row(
+        "motionsig batched bank", t_ours, filter_steps, "filter-step", row_fp["seconds"], REPEATS
+    )
+    publish(
         "bench_kf_bank",
         [
             f"workload: {TRIALS} trials x {len(RS)} R x 187 filters x {N} steps (Fig 4 of the mode-signature paper)",
             f"correctness: max rel diff vs FilterPy {rel:.2e}; peak RSS {peak_mb:.0f} MB",
         ],
-        rows,
+        [row_ours, row_fp],
+        "{case:26s} {seconds:10.2f} s  {us_per_unit:8.4f} µs/filter-step  ({how})",
     )
-    for r in rows:
-        print(f"{r['case']:26s} {r['seconds']:10.2f} s  {r['us_per_unit']:8.4f} µs/filter-step  ({r['how']})")
-    print(f"speed-up: {ratio:.0f}x   peak RSS {peak_mb:.0f} MB   target: >= 500x and < 10 s")
+    print(
+        f"speed-up: {row_ours['ratio_vs_filterpy']:.0f}x   peak RSS {peak_mb:.0f} MB   target: >= 500x and < 10 s"
+    )
     return 0
 
 

@@ -28,12 +28,10 @@ from __future__ import annotations
 
 import math
 import resource
-import sys
-import time
 from dataclasses import replace
 
 import numpy as np
-from benchlib import write_results
+from benchlib import best_of, filterpy_row, gate, measured_row, publish
 
 from motionsig_cli.detection.lmp import RadarLMPConfig, candidate_grid, lmp_detect_radar, radar_measurement
 from motionsig_cli.experiments.lmp2d import simulate_trials_2d
@@ -161,12 +159,11 @@ def main() -> int:
     rel_J = float(np.max(np.abs(ours_J - ref_J) / np.abs(ref_J)))
     rel_nll = float(np.max(np.abs(ours_nll - ref_nll) / np.abs(ref_nll)))
     rel = max(rel_J, rel_nll)
-    print(
+    summary = (
         f"correctness gate: max relative difference vs FilterPy over {pick.size} filters × {N} steps: "
         f"J {rel_J:.2e}, -log-likelihood {rel_nll:.2e}"
     )
-    if rel > 1e-8:
-        print("FAILED: results differ from FilterPy by more than 1e-8 relative", file=sys.stderr)
+    if not gate(summary, rel > 1e-8, "FAILED: results differ from FilterPy by more than 1e-8 relative"):
         return 1
 
     # 2a. motionsig, whole workload (records simulated beforehand, not timed)
@@ -175,60 +172,31 @@ def main() -> int:
         p: simulate_trials_2d(vehicles[p], CHIPS, M_RHO, 1.0, N, 7, range(TRIALS))[0]["y"] for p in PAIRS
     }
 
-    def ours_once() -> float:
-        t0 = time.perf_counter()
+    def ours_once() -> None:
         for p in PAIRS:
             lmp_detect_radar(records[p], CHIPS, vehicles[p], M_RHO, cfg, HORIZONS)
-        return time.perf_counter() - t0
 
-    t_ours = min(ours_once() for _ in range(REPEATS_OURS))
+    t_ours = best_of(ours_once, REPEATS_OURS)
     filter_steps = TRIALS * len(PAIRS) * 187 * N
     peak_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
 
     # 2b. FilterPy, a slice: SLICE_FILTERS H1 filters × SLICE_STEPS steps of one record
     slice_rows = g[:SLICE_FILTERS]
-
-    def filterpy_once() -> float:
-        t0 = time.perf_counter()
-        filterpy_costs(veh4, cfg, slice_rows, y1[0], SLICE_STEPS)
-        return time.perf_counter() - t0
-
-    t_slice = min(filterpy_once() for _ in range(REPEATS))
-    fp_per_step = t_slice / (SLICE_FILTERS * SLICE_STEPS)
-    t_fp = fp_per_step * filter_steps
-
-    ratio = t_fp / t_ours
-    rows = [
-        {
-            "case": "motionsig sigma-point bank",
-            "seconds": t_ours,
-            "units": filter_steps,
-            "unit": "filter-step",
-            "us_per_unit": 1e6 * t_ours / filter_steps,
-            "ratio_vs_filterpy": ratio,
-            "how": f"measured, whole workload, best of {REPEATS_OURS}",
-        },
-        {
-            "case": "FilterPy UnscentedKalmanFilter",
-            "seconds": t_fp,
-            "units": filter_steps,
-            "unit": "filter-step",
-            "us_per_unit": 1e6 * fp_per_step,
-            "ratio_vs_filterpy": 1.0,
-            "how": f"extrapolated from {SLICE_FILTERS} filters x {SLICE_STEPS} steps ({t_slice:.2f} s, best of {REPEATS})",
-        },
-    ]
-    write_results(
+    t_slice = best_of(lambda: filterpy_costs(veh4, cfg, slice_rows, y1[0], SLICE_STEPS), REPEATS)
+    row_fp = filterpy_row("FilterPy UnscentedKalmanFilter", t_slice, SLICE_FILTERS * SLICE_STEPS, filter_steps,
+                          "filter-step", f"{SLICE_FILTERS} filters x {SLICE_STEPS} steps", REPEATS)  # fmt: skip
+    row_ours = measured_row("motionsig sigma-point bank", t_ours, filter_steps, "filter-step", row_fp["seconds"],
+                            REPEATS_OURS)  # fmt: skip
+    publish(
         "bench_ukf_bank",
         [
             f"workload: {TRIALS} trials x {len(PAIRS)} ANR pairs x 187 filters x {N} steps (Fig 7 of the mode-signature paper)",
             f"correctness: max rel diff vs FilterPy J {rel_J:.2e}, -log-likelihood {rel_nll:.2e}; peak RSS {peak_mb:.0f} MB",
         ],
-        rows,
+        [row_ours, row_fp],
+        "{case:30s} {seconds:10.2f} s  {us_per_unit:9.4f} µs/filter-step  ({how})",
     )
-    for r in rows:
-        print(f"{r['case']:30s} {r['seconds']:10.2f} s  {r['us_per_unit']:9.4f} µs/filter-step  ({r['how']})")
-    print(f"speed-up: {ratio:.0f}x   peak RSS {peak_mb:.0f} MB   target: >= 300x")
+    print(f"speed-up: {row_ours['ratio_vs_filterpy']:.0f}x   peak RSS {peak_mb:.0f} MB   target: >= 300x")
     return 0
 
 

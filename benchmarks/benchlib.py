@@ -12,7 +12,9 @@ import csv
 import importlib.metadata
 import os
 import platform
-from collections.abc import Mapping, Sequence
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -130,3 +132,49 @@ def read_results(path: Path) -> tuple[list[str], list[dict[str, str]]]:
             else:
                 body.append(line)
     return comments, list(csv.DictReader(body))
+
+
+def best_of(fn: Callable[[], object], repeats: int) -> float:
+    """Minimum wall time of ``repeats`` calls (the machine is shared; minima are the least disturbed)."""
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def gate(summary: str, failed: bool, failure: str) -> bool:
+    """Print a correctness gate's summary and, if it ``failed``, ``failure`` to stderr; True if it passed."""
+    print(summary)
+    if failed:
+        print(failure, file=sys.stderr)
+    return not failed
+
+
+def measured_row(
+    case: str, seconds: float, units: int, unit: str, t_filterpy: float | None, repeats: int, **extra: Any
+) -> dict[str, Any]:
+    """A row timed on the whole workload (best of ``repeats``); ``how`` goes on with ``extra['how']``."""
+    how = f"measured, whole workload, best of {repeats}{extra.pop('how', '')}"
+    ratio = None if t_filterpy is None else t_filterpy / seconds
+    return {"case": case, "seconds": seconds, "units": units, "unit": unit, "us_per_unit": 1e6 * seconds / units,
+            "ratio_vs_filterpy": ratio, "how": how, **extra}  # fmt: skip
+
+
+def filterpy_row(
+    case: str, t_slice: float, slice_units: int, units: int, unit: str, slice_what: str, repeats: int
+) -> dict[str, Any]:
+    """FilterPy timed on a slice of ``slice_units`` (``slice_what``), extrapolated linearly to ``units``."""
+    per_unit = t_slice / slice_units
+    return {"case": case, "seconds": per_unit * units, "units": units, "unit": unit, "us_per_unit": 1e6 * per_unit,
+            "ratio_vs_filterpy": 1.0,
+            "how": f"extrapolated from {slice_what} ({t_slice:.2f} s, best of {repeats})"}  # fmt: skip
+
+
+def publish(name: str, comments: Sequence[str], rows: Sequence[Mapping[str, Any]], line: str) -> Path:
+    """:func:`write_results`, then one summary line per row: ``line.format(**row)``."""
+    path = write_results(name, comments, rows)
+    for r in rows:
+        print(line.format(**r))
+    return path

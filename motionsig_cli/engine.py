@@ -130,24 +130,25 @@ def trials_per_task(
     )  # no +1 from rounding
 
 
+def _seconds_from_env(variable: str, default: float, *, zero: bool) -> float:
+    """``$variable`` as seconds: a finite number > 0 (≥ 0 with ``zero``), else ``default``."""
+    text = os.environ.get(variable)
+    try:
+        value = float(text) if text else default
+    except ValueError:
+        return default
+    ok = (value >= 0 if zero else value > 0) and math.isfinite(value)
+    return value if ok else default
+
+
 def pool_min_seconds() -> float:
     """:data:`POOL_MIN_SECONDS`, or ``$MOTIONSIG_POOL_MIN_SECONDS`` (tests set 0 to force the pool)."""
-    text = os.environ.get("MOTIONSIG_POOL_MIN_SECONDS")
-    try:
-        value = float(text) if text else POOL_MIN_SECONDS
-    except ValueError:
-        return POOL_MIN_SECONDS
-    return value if value >= 0 and math.isfinite(value) else POOL_MIN_SECONDS
+    return _seconds_from_env("MOTIONSIG_POOL_MIN_SECONDS", POOL_MIN_SECONDS, zero=True)
 
 
 def min_task_seconds() -> float:
     """:data:`MIN_TASK_SECONDS`, or ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests set it tiny to get many tasks)."""
-    text = os.environ.get("MOTIONSIG_MIN_TASK_SECONDS")
-    try:
-        value = float(text) if text else MIN_TASK_SECONDS
-    except ValueError:
-        return MIN_TASK_SECONDS
-    return value if value > 0 and math.isfinite(value) else MIN_TASK_SECONDS
+    return _seconds_from_env("MOTIONSIG_MIN_TASK_SECONDS", MIN_TASK_SECONDS, zero=False)
 
 
 # --------------------------------------------------------------------------------------- checkpoint

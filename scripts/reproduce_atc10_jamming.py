@@ -7,49 +7,25 @@ the N̄_FL curves for K > 1 also under `--convention report` (the misprinted eq 
 
 from __future__ import annotations
 
-import subprocess
-import sys
 from pathlib import Path
+
+from reproducelib import motionsig, numbered, plot_and_csv, to_csv
 
 from motionsig_cli.experiments.jamming import FIGURES
 
 OUT = Path("results/atc10_jamming")
 
 
-def motionsig(*args: str) -> None:
-    print("$ motionsig " + " ".join(args), flush=True)
-    subprocess.run([sys.executable, "-m", "motionsig_cli", *args, "-q"], check=True)
-
-
 def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
-    motionsig("jam-bound", "table", "--which", "2.1", "-o", str(OUT / "table2_1.csv"))
-    motionsig("jam-bound", "table", "--which", "1.1", "-o", str(OUT / "table1_1.csv"))
+    for which in ("2.1", "1.1"):
+        motionsig("jam-bound", "table", "--which", which, *to_csv(OUT, numbered("table", which)))
     for name, preset in FIGURES.items():
-        stem = f"fig{name.replace('.', '_')}"
-        motionsig(
-            "jam-bound",
-            "curves",
-            "--figure",
-            name,
-            "--plot",
-            str(OUT / f"{stem}.png"),
-            "-o",
-            str(OUT / f"{stem}.csv"),
-        )
+        stem = numbered("fig", name)
+        motionsig("jam-bound", "curves", "--figure", name, *plot_and_csv(OUT, stem))
         if preset.quantity == "nfl" and preset.K > 1:
-            motionsig(
-                "jam-bound",
-                "curves",
-                "--figure",
-                name,
-                "--convention",
-                "report",
-                "--plot",
-                str(OUT / f"{stem}_report.png"),
-                "-o",
-                str(OUT / f"{stem}_report.csv"),
-            )
+            report = plot_and_csv(OUT, f"{stem}_report")
+            motionsig("jam-bound", "curves", "--figure", name, "--convention", "report", *report)
     print(f"results in {OUT}/")
 
 

@@ -14,7 +14,7 @@ import functools
 import inspect
 import math
 import sys
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
@@ -36,18 +36,27 @@ DEFAULT_SEED = 2008  # motionsig_cli.rng.DEFAULT_SEED (a test checks they agree;
 T = TypeVar("T")
 
 
-class CodesVariant(StrEnum):
-    """Table I codes: the corrected Gold codes (default) or the strings as printed in the mode-signature paper."""
+def choices(name: str, doc: str, *values: str, **named: str) -> type[StrEnum]:
+    """The choices of an option: a StrEnum, which typer lists in ``--help`` and parses (the functional
+    form of ``class Name(StrEnum)``, declared in one call).
 
-    corrected = "corrected"
-    printed = "printed"
+    Each of ``values`` is a member named after it with ``_`` for ``-`` (``"h0-noise"`` → ``h0_noise``);
+    ``named`` adds, after them, members whose value is not a name (``one_d="1d"``). The enum belongs to
+    the calling module (it pickles by name) and has ``doc`` as its docstring.
+    """
+    members = [(value.replace("-", "_"), value) for value in values] + list(named.items())
+    enum = StrEnum(name, members, module=sys._getframe(1).f_globals["__name__"])
+    enum.__doc__ = doc
+    return enum
 
 
-class OutputFormat(StrEnum):
-    """Table output format."""
-
-    csv = "csv"
-    json = "json"
+CodesVariant = choices(
+    "CodesVariant",
+    "Table I codes: the corrected Gold codes (default) or the strings as printed in the mode-signature paper.",
+    "corrected",
+    "printed",
+)
+OutputFormat = choices("OutputFormat", "Table output format.", "csv", "json")
 
 
 FormatOpt = Annotated[
@@ -79,13 +88,6 @@ SeedOpt = Annotated[
 DEFAULT_SEED_VALUE = DEFAULT_SEED
 
 PLOT_SUFFIXES = (".png", ".svg", ".pdf")
-
-
-def positive(value: float | None) -> float | None:
-    """Option callback: a finite number > 0 (None passes: the option was not given)."""
-    if value is not None and not (math.isfinite(value) and value > 0):
-        raise typer.BadParameter(f"{value:g} is not a finite number > 0")
-    return value
 
 
 def checked(option: str, fn: Callable[..., T], *args: Any, **kwargs: Any) -> T:
@@ -252,24 +254,6 @@ def make_engine(workers: int | None, scheduler: str | None, checkpoint: Path | N
         return Engine(cores if workers is None else workers, scheduler, checkpoint)
     except EngineError as exc:
         raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field)) from None
-
-
-def run_monte_carlo(
-    fn: Callable[[Any], T],
-    tasks: Sequence[Any],
-    engine: Engine,
-    *,
-    sizes: Sequence[int],
-    identity: dict[str, Any],
-    label: str,
-    quiet: bool,
-) -> list[T]:
-    """Run the tasks on ``engine`` with a progress bar counting finished trials across workers (see
-    :func:`engine_session` for errors and Ctrl-C)."""
-    from motionsig_cli.engine import run_tasks
-
-    with engine_session(engine, int(sum(sizes)), label, quiet) as advance:
-        return run_tasks(fn, tasks, engine, sizes=sizes, progress=advance, identity=identity)
 
 
 @contextlib.contextmanager
@@ -476,17 +460,3 @@ def command(
         return wrapper
 
     return decorate
-
-
-def config_errors(options: Mapping[str, str] | None = None) -> contextlib.AbstractContextManager[None]:
-    """A ``with`` block in which a :class:`ConfigError` becomes a usage error naming the option (for code
-    outside a :func:`command`, such as a group callback)."""
-
-    @contextlib.contextmanager
-    def block() -> Iterator[None]:
-        try:
-            yield
-        except ConfigError as exc:
-            raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field, options)) from None
-
-    return block()

@@ -10,26 +10,23 @@ or a Monte Carlo job), and writes its table and figure. Every range is checked b
 
 from __future__ import annotations
 
-from enum import StrEnum
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
+from motionsig_cli.cli import common
 from motionsig_cli.cli.common import (
     DEFAULT_SEED_VALUE,
     Output,
     Parallel,
     SeedOpt,
-    checked,
+    choices,
     command,
-    float_list,
-    progress_bar,
-    run_job,
+    progress_bar,  # by name: a test replaces detect.progress_bar
 )
 
 if TYPE_CHECKING:
     from motionsig_cli.engine import Engine
-    from motionsig_cli.experiments.lmp_record import RecordResult
     from motionsig_cli.filters.unscented import SigmaPointParams
     from motionsig_cli.tables import Table
 
@@ -39,61 +36,14 @@ ANR_PAIRS_DEFAULT = "1,2,3,4"
 OPTIONS = {"Q_a": "--Qa", "A_r": "--Ar", "horizons_s": "--horizons"}
 
 
-class TauGrid(StrEnum):
-    """Code-phase search grid."""
-
-    chips = "chips"
-    samples = "samples"
-
-
-class Weights(StrEnum):
-    """cos/sin gain weighting."""
-
-    paper = "paper"
-    exact = "exact"
-
-
-class Center(StrEnum):
-    """H0 centring of the statistic."""
-
-    none = "none"
-    h0_noise = "h0-noise"
-
-
-class Zdot(StrEnum):
-    """Replica derivative in the a-column of eq 44."""
-
-    analytic = "analytic"
-    finite_difference = "finite-difference"
-
-
-class FilterKind(StrEnum):
-    """Filter bank."""
-
-    auto = "auto"
-    kf = "kf"
-    ukf = "ukf"
-
-
-class Method(StrEnum):
-    """How the 1-D statistic is computed."""
-
-    bank = "bank"
-    fft = "fft"
-
-
-class ExampleKind(StrEnum):
-    """Example of the paper for --montecarlo."""
-
-    one_d = "1d"
-    two_d = "2d"
-
-
-class Ar(StrEnum):
-    """Reference random-walk model."""
-
-    cv = "cv"
-    identity = "identity"
+TauGrid = choices("TauGrid", "Code-phase search grid.", "chips", "samples")
+Weights = choices("Weights", "cos/sin gain weighting.", "paper", "exact")
+Center = choices("Center", "H0 centring of the statistic.", "none", "h0-noise")
+Zdot = choices("Zdot", "Replica derivative in the a-column of eq 44.", "analytic", "finite-difference")
+FilterKind = choices("FilterKind", "Filter bank.", "auto", "kf", "ukf")
+Method = choices("Method", "How the 1-D statistic is computed.", "bank", "fft")
+ExampleKind = choices("ExampleKind", "Example of the paper for --montecarlo.", one_d="1d", two_d="2d")
+Ar = choices("Ar", "Reference random-walk model.", "cv", "identity")
 
 
 SourceArg = Annotated[str, typer.Argument(help="simulate CSV, or - for stdin (ignored with --montecarlo).")]
@@ -302,7 +252,7 @@ def detect(
 
 def _floats(option: str, text: str | None, what: str) -> tuple[float, ...] | None:
     """A comma-separated option as numbers (None when not given); bad text is a usage error."""
-    return None if text is None else tuple(checked(option, float_list, text, what=what))
+    return None if text is None else tuple(common.checked(option, common.float_list, text, what=what))
 
 
 def _given(**values: Any) -> dict[str, Any]:
@@ -333,22 +283,12 @@ def _refuse_other_example(two_d: bool, given: dict[str, bool]) -> None:
             )
 
 
-def emit_record(output: Output, result: RecordResult, title: str) -> None:
-    """A record's table, its Fig 3-style figure (--plot) and the summary line."""
-    if output.plot is not None:
-        from motionsig_cli.plotting import statistic_figure
-
-        lam, cell, tau_chips = result.statistic_grid()
-        output.figure(statistic_figure([(title, lam, cell)], result.n_modes, tau_chips))
-    output.emit(result.table)
-    output.note(result.summary)
-
-
 def _record(
     output: Output, table: Table | None, lmp: dict[str, Any], method: str, kind: str, sigma: SigmaPointParams,
     hs: tuple[float, ...] | None, threshold: float | None, candidates: bool,
 ) -> None:  # fmt: skip
     """Eq (52) on one 1-D record, with a progress bar of the bank's time steps."""
+    from motionsig_cli.cli.records import emit_record
     from motionsig_cli.detection.lmp import LMPConfig
     from motionsig_cli.experiments.lmp1d import RecordDetection
     from motionsig_cli.experiments.record_reading import read_record_1d
@@ -378,7 +318,7 @@ def _montecarlo(
             param_hint="--filter",
         )
     job = LmpJob(LMPConfig(**lmp), frs, Rs, hs, trials, seed, signature, method)
-    mc = run_job(job, engine, "Monte Carlo trials", output.quiet)
+    mc = common.run_job(job, engine, "Monte Carlo trials", output.quiet)
     if output.plot is not None:
         from motionsig_cli.plotting import montecarlo_figure
 
@@ -399,7 +339,7 @@ def _calibrate(
     job = CalibrationJob(LMPConfig(**lmp), frs, Rs, hs, trials, null_trials, pfa, seed, method)
     if job.warning:
         output.note(job.warning)
-    cal = run_job(job, engine, "Calibration trials (null + signature)", output.quiet)
+    cal = common.run_job(job, engine, "Calibration trials (null + signature)", output.quiet)
     if output.plot is not None:
         from motionsig_cli.plotting import calibration_roc_figure
 

@@ -48,7 +48,7 @@ def _record(
     threshold: float | None, candidates: bool,
 ) -> None:  # fmt: skip
     """Eq (52) with the sigma-point bank on one radar record, with a progress bar of its time steps."""
-    from motionsig_cli.cli.detect import emit_record
+    from motionsig_cli.cli.records import emit_record
     from motionsig_cli.detection.lmp import RadarLMPConfig
     from motionsig_cli.experiments.lmp2d import RadarRecordDetection
     from motionsig_cli.experiments.record_reading import read_record_2d

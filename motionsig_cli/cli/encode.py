@@ -9,21 +9,12 @@ columns), so any of them can be piped into ``motionsig encode correlations -``. 
 
 from __future__ import annotations
 
-from enum import StrEnum
 from typing import Annotated
 
 import typer
 
-from motionsig_cli.cli.common import (
-    DEFAULT_SEED_VALUE,
-    CodesVariant,
-    Output,
-    SeedOpt,
-    checked,
-    command,
-    int_list,
-    progress_bar,
-)
+from motionsig_cli.cli import common
+from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, CodesVariant, Output, SeedOpt, choices, command
 
 app = typer.Typer(
     help="Gold codes, m-sequences, GPS C/A codes, Table I mode codes, correlations and mode signatures.",
@@ -31,34 +22,10 @@ app = typer.Typer(
 )
 
 
-class Chips(StrEnum):
-    """How code chips are written."""
-
-    bits = "bits"
-    bipolar = "bipolar"
-
-
-class Table1View(StrEnum):
-    """What ``encode table1`` shows."""
-
-    codes = "codes"
-    summary = "summary"
-    errata = "errata"
-
-
-class CorrView(StrEnum):
-    """What ``encode correlations`` shows."""
-
-    summary = "summary"
-    values = "values"
-    full = "full"
-
-
-class Zdot(StrEnum):
-    """Derivative of the signature."""
-
-    analytic = "analytic"
-    finite_difference = "finite-difference"
+Chips = choices("Chips", "How code chips are written.", "bits", "bipolar")
+Table1View = choices("Table1View", "What ``encode table1`` shows.", "codes", "summary", "errata")
+CorrView = choices("CorrView", "What ``encode correlations`` shows.", "summary", "values", "full")
+Zdot = choices("Zdot", "Derivative of the signature.", "analytic", "finite-difference")
 
 
 ChipsOpt = Annotated[
@@ -120,7 +87,7 @@ def _degrees(text: str) -> list[int]:
     """'5', '3-11' or '5,7,9' → degrees; multiples of 4 inside a range are skipped, named ones kept (and
     rejected by the core)."""
     named = {int(p) for p in text.split(",") if p.strip().isascii() and p.strip().isdigit()}
-    out = [n for n in int_list(text, what="degree", max_count=64) if n % 4 or n in named]
+    out = [n for n in common.int_list(text, what="degree", max_count=64) if n % 4 or n in named]
     if not out:
         raise ValueError(f"no degree in {text!r} has preferred pairs (n >= 3, n mod 4 != 0)")
     return out
@@ -140,10 +107,10 @@ def pairs(
       motionsig encode pairs --degree 3-11 -o pairs.csv
     """
     output.check()
-    degrees = checked("--degree", _degrees, degree)
+    degrees = common.checked("--degree", _degrees, degree)
     from motionsig_cli.experiments.spreading_codes import pairs_table
 
-    with progress_bar("preferred pairs", len(degrees), output.quiet) as advance:
+    with common.progress_bar("preferred pairs", len(degrees), output.quiet) as advance:
         table, summary = pairs_table(degrees, advance)
     output.emit(table)
     output.note(summary)
@@ -217,7 +184,7 @@ def gps_cmd(
       motionsig encode gps --prn 1-32 | motionsig encode correlations - --view values
     """
     output.check()
-    prns = checked("--prn", int_list, prn, what="PRN", max_count=32)
+    prns = common.checked("--prn", common.int_list, prn, what="PRN", max_count=32)
     from motionsig_cli.experiments.spreading_codes import gps_table
 
     output.emit(gps_table(prns, summary, chips.value))

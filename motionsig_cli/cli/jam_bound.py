@@ -17,12 +17,14 @@ from __future__ import annotations
 import functools
 import inspect
 from collections.abc import Callable
-from enum import StrEnum
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from motionsig_cli.cli.common import Output, checked, command, float_list
+from motionsig_cli.cli.common import Output, checked, choices, command, float_list
+
+if TYPE_CHECKING:
+    from motionsig_cli.experiments.jamming import JamResult
 
 app = typer.Typer(
     help="Jamming bounds of the air-to-satellite-to-ground surveillance link (ATC-10 §2): "
@@ -50,33 +52,15 @@ OPTIONS = {
 }
 
 
-class Convention(StrEnum):
-    """Which p_f formula: the re-derived D.17 or the misprinted 2.8.1/2.8.3."""
-
-    corrected = "corrected"
-    report = "report"
-
-
-class QuantityChoice(StrEnum):
-    """Which bound."""
-
-    nfl = "nfl"
-    nadl = "nadl"
-    both = "both"
-
-
-class Bound(StrEnum):
-    """Which bound a threshold is solved for."""
-
-    nfl = "nfl"
-    nadl = "nadl"
-
-
-class WhichTable(StrEnum):
-    """Which table of the report."""
-
-    t21 = "2.1"
-    t11 = "1.1"
+Convention = choices(
+    "Convention",
+    "Which p_f formula: the re-derived D.17 or the misprinted 2.8.1/2.8.3.",
+    "corrected",
+    "report",
+)
+QuantityChoice = choices("QuantityChoice", "Which bound.", "nfl", "nadl", "both")
+Bound = choices("Bound", "Which bound a threshold is solved for.", "nfl", "nadl")
+WhichTable = choices("WhichTable", "Which table of the report.", t21="2.1", t11="1.1")
 
 
 # --- shared options -------------------------------------------------------------------------------
@@ -171,6 +155,24 @@ def _floats(text: str | None, option: str) -> tuple[float, ...] | None:
     return tuple(dict.fromkeys(v + 0.0 for v in checked(option, float_list, text, what=option)))
 
 
+def _command(
+    *, plot: bool = False, system: bool = True
+) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """Declare a subcommand: the output options (``--plot`` with ``plot``), the option names of
+    :data:`OPTIONS` in errors and, with ``system``, the shared system options (:func:`system_options`)."""
+
+    def decorate(fn: Callable[..., None]) -> Callable[..., None]:
+        return app.command()(command(plot=plot, options=OPTIONS)(system_options(fn) if system else fn))
+
+    return decorate
+
+
+def _write(output: Output, result: JamResult) -> None:
+    """The table (stdout or --out) and its summary line (stderr)."""
+    output.emit(result.table)
+    output.note(result.summary)
+
+
 KOpt = Annotated[int, typer.Option("--K", help="Tracking length K in pulses, ≥ 1.")]
 PdOpt = Annotated[
     str | None,
@@ -194,9 +196,7 @@ BwOpt = Annotated[float, typer.Option("--bw-const", help="Beamwidth θ = k λ/D 
 # --- commands -------------------------------------------------------------------------------------
 
 
-@app.command()
-@command(options=OPTIONS)
-@system_options
+@_command(plot=True)
 def curves(
     figure: Annotated[
         str | None, typer.Option("--figure", help="A figure preset of the report: 2.1 to 2.16 (Fig. 2.N).")
@@ -248,13 +248,10 @@ def curves(
         from motionsig_cli.plotting import jamming_figure
 
         output.figure(jamming_figure(result.panels, title=result.title))
-    output.emit(result.table)
-    output.note(result.summary)
+    _write(output, result)
 
 
-@app.command()
-@command(plot=False, options=OPTIONS)
-@system_options
+@_command()
 def threshold(
     quantity: Annotated[
         Bound, typer.Option("--quantity", help="Which bound reaches the level.")
@@ -286,14 +283,10 @@ def threshold(
         t=_floats(t, "--t") or (0.0,),
         system=system,
     )
-    result = exp.threshold_table(config)
-    output.emit(result.table)
-    output.note(result.summary)
+    _write(output, exp.threshold_table(config))
 
 
-@app.command()
-@command(plot=False, options=OPTIONS)
-@system_options
+@_command()
 def table(
     which: Annotated[
         WhichTable, typer.Option("--which", help="Table 2.1 (ERP vs K, P_DL) or Table 1.1 (ERP and antenna).")
@@ -315,13 +308,10 @@ def table(
 
     output.check()
     config = exp.TableConfig(which.value, level, DishAntenna(freq_hz, eta, bw_const), system)
-    result = exp.report_table(config)
-    output.emit(result.table)
-    output.note(result.summary)
+    _write(output, exp.report_table(config))
 
 
-@app.command()
-@command(plot=False, options=OPTIONS)
+@_command(system=False)
 def design(
     K: KOpt = 10,
     pdl: Annotated[
@@ -341,13 +331,10 @@ def design(
     from motionsig_cli.experiments import jamming as exp
 
     output.check()
-    result = exp.design_table(K, pdl, pd, t)
-    output.emit(result.table)
-    output.note(result.summary)
+    _write(output, exp.design_table(K, pdl, pd, t))
 
 
-@app.command()
-@command(plot=False, options=OPTIONS)
+@_command(system=False)
 def antenna(
     erp_dbw: Annotated[float, typer.Option("--erp-dbw", help="Jammer ERP per satellite [dBW].")] = 33.0,
     rf_dbw: Annotated[float | None, typer.Option("--rf-dbw", help="rf power [dBW] (inverse chain).")] = None,
@@ -367,6 +354,4 @@ def antenna(
 
     output.check()
     dish = DishAntenna(freq_hz, eta, bw_const)
-    result = exp.antenna_table(erp_dbw, rf_dbw=rf_dbw, rf_w=rf_w, diameter_ft=diameter_ft, dish=dish)
-    output.emit(result.table)
-    output.note(result.summary)
+    _write(output, exp.antenna_table(erp_dbw, rf_dbw=rf_dbw, rf_w=rf_w, diameter_ft=diameter_ft, dish=dish))

@@ -13,21 +13,16 @@ checks every value), calls one function there and writes its outcome.
 from __future__ import annotations
 
 import contextlib
-from enum import StrEnum
+import functools
+import inspect
+from collections.abc import Callable, Mapping
+from types import MappingProxyType
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from motionsig_cli.cli.common import (
-    DEFAULT_SEED_VALUE,
-    Output,
-    Parallel,
-    SeedOpt,
-    command,
-    float_list,
-    progress_bar,
-    run_job,
-)
+from motionsig_cli.cli import common
+from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
 
 if TYPE_CHECKING:
     from motionsig_cli.experiments.mac_roc import Codes, Outcome
@@ -44,25 +39,24 @@ FIG32_B = 1.0 / 3.0
 CODE_OPTIONS = {"ref": "--code", "family": "--code"}  # the psk density's codes come from --code
 
 
-class LowerVariant(StrEnum):
-    """Which lower bound: the report's (3.5.14, corrected sign) or Gallager's tighter form."""
-
-    report = "report"
-    gallager = "gallager"
-
-
-class Interferers(StrEnum):
-    """psk density: interferers with fresh random codes, or members of the reference code's family."""
-
-    random = "random"
-    family = "family"
-
-
-class GaussVar(StrEnum):
-    """Variance of ROC_g: (N − 1)qb as in (3.4.13), or the report's N·q·b (Theorem 3.1)."""
-
-    n1 = "N-1"
-    n = "N"
+LowerVariant = choices(
+    "LowerVariant",
+    "Which lower bound: the report's (3.5.14, corrected sign) or Gallager's tighter form.",
+    "report",
+    "gallager",
+)
+Interferers = choices(
+    "Interferers",
+    "psk density: interferers with fresh random codes, or members of the reference code's family.",
+    "random",
+    "family",
+)
+GaussVar = choices(
+    "GaussVar",
+    "Variance of ROC_g: (N − 1)qb as in (3.4.13), or the report's N·q·b (Theorem 3.1).",
+    n1="N-1",
+    n="N",
+)
 
 
 # --- option parsing -------------------------------------------------------------------------------
@@ -78,7 +72,7 @@ def _number(text: str, option: str) -> float:
 
 def _numbers(text: str, option: str) -> tuple[float, ...]:
     try:
-        return tuple(float_list(text, what=option))
+        return tuple(common.float_list(text, what=option))
     except ValueError as exc:
         raise typer.BadParameter(str(exc), param_hint=option) from None
 
@@ -207,23 +201,66 @@ VariantOpt = Annotated[
         "--lower-variant", help="Lower bound: report (3.5.14, sign corrected) or gallager (tighter)."
     ),
 ]
+BoundsDensityOpt = Annotated[
+    str | None,
+    typer.Option("--density", help="Amplitude density (as for the other subcommands; default two-point)."),
+]
+
+
+INJECTED: Mapping[str, Any] = MappingProxyType({})  # the default of ``contour``: contour_options sets it
+
+
+def contour_options(
+    *, theta: str = "0.01:0.99:0.01", density: tuple[Any, str | None] = (DensityOpt, "uniform")
+) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """Give a command the contour options --density, --ell, --b, --N, --tau-over-alpha and --theta (with
+    these ``theta`` and ``density`` (annotation, default)); it receives them as one dict ``contour`` of the
+    raw values, keyed as the parameters of :func:`_contours`.
+
+    The wrapper's signature is the command's own with ``contour`` replaced by the six options (in its
+    place), which is what :func:`~motionsig_cli.cli.common.command` and typer read.
+    """
+    options: dict[str, tuple[Any, Any]] = {
+        "density": density,
+        "ell": (EllOpt, None),
+        "b": (BOpt, None),
+        "N": (NOpt, "100000"),
+        "tau_over_alpha": (TauOpt, REPORT_TAU_OVER_ALPHA),
+        "theta": (ThetaOpt, theta),
+    }
+
+    def decorate(fn: Callable[..., None]) -> Callable[..., None]:
+        sig = inspect.signature(fn, eval_str=True)  # the module uses postponed annotations
+        own = list(sig.parameters.values())
+        at = next(i for i, p in enumerate(own) if p.name == "contour")
+        added = [
+            inspect.Parameter(
+                "density_name" if name == "density" else name,
+                inspect.Parameter.POSITIONAL_OR_KEYWORD,
+                default=default,
+                annotation=annotation,
+            )
+            for name, (annotation, default) in options.items()
+        ]
+
+        @functools.wraps(fn)
+        def wrapper(**kwargs: Any) -> None:
+            contour = {name: kwargs.pop("density_name" if name == "density" else name) for name in options}
+            return fn(contour=contour, **kwargs)
+
+        wrapper.__signature__ = sig.replace(parameters=[*own[:at], *added, *own[at + 1 :]])  # type: ignore[attr-defined]
+        wrapper.__annotations__ = {p.name: p.annotation for p in wrapper.__signature__.parameters.values()}  # type: ignore[attr-defined]
+        return wrapper
+
+    return decorate
 
 
 @app.command()
 @command(parallel=True, options=CODE_OPTIONS)
+@contour_options(density=(BoundsDensityOpt, None))
 def bounds(
     figure: Annotated[str | None, typer.Option("--figure", help="Fig. 3.3 (C1) … 3.6 (C4) settings.")] = None,
-    density_name: Annotated[
-        str | None,
-        typer.Option(
-            "--density", help="Amplitude density (as for the other subcommands; default two-point)."
-        ),
-    ] = None,
-    ell: EllOpt = None,
-    b: BOpt = None,
-    N: NOpt = "100000",
-    tau_over_alpha: TauOpt = REPORT_TAU_OVER_ALPHA,
-    theta: ThetaOpt = "0.01:0.99:0.01",
+    contour: Mapping[str, Any] = INJECTED,
     at_pd: Annotated[
         str | None,
         typer.Option(
@@ -268,15 +305,17 @@ def bounds(
         montecarlo=None if mc_trials is None else _number(mc_trials, "--montecarlo"),
         seed=seed,
         **_contours(
-            density_name, ell, b, N, tau_over_alpha, theta if at_pd is None else None, code, interferers
+            **{**contour, "theta": contour["theta"] if at_pd is None else None},
+            code=code,
+            interferers=interferers,
         ),
     )
     with contextlib.ExitStack() as bar:
-        advance = bar.enter_context(progress_bar("bounds", len(cfg.models), output.quiet))
+        advance = bar.enter_context(common.progress_bar("bounds", len(cfg.models), output.quiet))
 
         def run(job: exp.MacRocJob) -> list[Any]:
             bar.close()  # the bounds are done: their bar goes before the Monte Carlo's
-            return run_job(job, engine, "montecarlo", output.quiet)
+            return common.run_job(job, engine, "montecarlo", output.quiet)
 
         result = exp.bounds(cfg, advance, run)
     _write(output, result)
@@ -284,13 +323,9 @@ def bounds(
 
 @app.command()
 @command()
+@contour_options()
 def exact(
-    density_name: DensityOpt = "uniform",
-    ell: EllOpt = None,
-    b: BOpt = None,
-    N: NOpt = "100000",
-    tau_over_alpha: TauOpt = REPORT_TAU_OVER_ALPHA,
-    theta: ThetaOpt = "0.01:0.99:0.01",
+    contour: Mapping[str, Any] = INJECTED,
     lower_variant: VariantOpt = LowerVariant.report,
     *,
     output: Output,
@@ -302,21 +337,15 @@ def exact(
     output.check()
     from motionsig_cli.experiments import mac_roc as exp
 
-    cfg = exp.ExactConfig(
-        lower_variant=lower_variant.value, **_contours(density_name, ell, b, N, tau_over_alpha, theta)
-    )
+    cfg = exp.ExactConfig(lower_variant=lower_variant.value, **_contours(**contour))
     _write(output, exp.exact(cfg))
 
 
 @app.command()
 @command(parallel=True, options=CODE_OPTIONS)
+@contour_options(theta="0.2,0.35,0.5,0.65,0.8")
 def montecarlo(
-    density_name: DensityOpt = "uniform",
-    ell: EllOpt = None,
-    b: BOpt = None,
-    N: NOpt = "100000",
-    tau_over_alpha: TauOpt = REPORT_TAU_OVER_ALPHA,
-    theta: ThetaOpt = "0.2,0.35,0.5,0.65,0.8",
+    contour: Mapping[str, Any] = INJECTED,
     trials: Annotated[str, typer.Option("--trials", help="Trials (>= 1; 1e6 allowed).")] = "1000000",
     importance: Annotated[
         bool,
@@ -348,21 +377,17 @@ def montecarlo(
         importance=importance,
         seed=seed,
         lower_variant=lower_variant.value,
-        **_contours(density_name, ell, b, N, tau_over_alpha, theta, code, interferers),
+        **_contours(**contour, code=code, interferers=interferers),
     )
-    _write(output, exp.montecarlo(cfg, lambda job: run_job(job, engine, "trials", output.quiet)))
+    _write(output, exp.montecarlo(cfg, lambda job: common.run_job(job, engine, "trials", output.quiet)))
 
 
 @app.command()
 @command(options=CODE_OPTIONS)
+@contour_options()
 def gaussian(
     figure: Annotated[str | None, typer.Option("--figure", help="Fig. 3.8 settings.")] = None,
-    density_name: DensityOpt = "uniform",
-    ell: EllOpt = None,
-    b: BOpt = None,
-    N: NOpt = "100000",
-    tau_over_alpha: TauOpt = REPORT_TAU_OVER_ALPHA,
-    theta: ThetaOpt = "0.01:0.99:0.01",
+    contour: Mapping[str, Any] = INJECTED,
     gauss_variance: Annotated[
         GaussVar,
         typer.Option("--gauss-variance", help="ROC_g variance: (N-1)qb as (3.4.13), or the report's N q b."),
@@ -380,7 +405,7 @@ def gaussian(
     cfg = exp.GaussianConfig(
         figure=figure,
         gauss_variance=gauss_variance.value,
-        **_contours(density_name, ell, b, N, tau_over_alpha, theta),
+        **_contours(**contour),
     )
     _write(output, exp.gaussian(cfg))
 

@@ -14,22 +14,13 @@ The command parses the options and writes the results; the configurations of
 from __future__ import annotations
 
 import math
-from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
 
-from motionsig_cli.cli.common import (
-    DEFAULT_SEED_VALUE,
-    Output,
-    Parallel,
-    SeedOpt,
-    checked,
-    command,
-    float_list,
-    run_job,
-)
+from motionsig_cli.cli import common
+from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
 
 if TYPE_CHECKING:
     from motionsig_cli.experiments import maneuver as exp
@@ -42,41 +33,13 @@ OPTIONS = {"sigmas": "--sigma", "methods": "--method", "Pi": "--transition", "g2
 """Configuration fields whose option is not ``--`` + the field's name."""
 
 
-class G2(StrEnum):
-    """Form of G₂ = G₃ (``models.motion.G2_FORMS``)."""
-
-    paper_fixed = "paper-fixed"
-    standard = "standard"
-
-
-class Preset(StrEnum):
-    """Trajectory preset (``experiments.maneuver.PRESETS``)."""
-
-    literal = "literal"
-    turn90 = "turn90"
-
-
-class View(StrEnum):
-    """What the table holds."""
-
-    scans = "scans"
-    events = "events"
-    summary = "summary"
-    measurements = "measurements"
-
-
-class Correction(StrEnum):
-    """State correction on a declaration."""
-
-    exact = "exact"
-    paper = "paper"
-
-
-class Continuation(StrEnum):
-    """What happens to the input estimate after a declaration."""
-
-    estimate = "estimate"
-    known = "known"
+G2 = choices("G2", "Form of G₂ = G₃ (``models.motion.G2_FORMS``).", "paper-fixed", "standard")
+Preset = choices("Preset", "Trajectory preset (``experiments.maneuver.PRESETS``).", "literal", "turn90")
+View = choices("View", "What the table holds.", "scans", "events", "summary", "measurements")
+Correction = choices("Correction", "State correction on a declaration.", "exact", "paper")
+Continuation = choices(
+    "Continuation", "What happens to the input estimate after a declaration.", "estimate", "known"
+)
 
 
 def _methods(text: str, choices: tuple[str, ...]) -> tuple[str, ...]:
@@ -90,7 +53,7 @@ def _matrix(text: str) -> tuple[tuple[float, ...], ...]:
     rows = [r for r in text.split(";") if r.strip()]
     if not rows:
         raise ValueError(f"no rows in {text!r}")
-    out = [tuple(float_list(r, what="transition probability")) for r in rows]
+    out = [tuple(common.float_list(r, what="transition probability")) for r in rows]
     if len({len(r) for r in out}) != 1:
         raise ValueError(f"rows of different lengths in {text!r}")
     return tuple(out)
@@ -100,9 +63,9 @@ def _probabilities(transition: str | None, mu0: str | None) -> dict[str, Any]:
     """The IMM transition matrix (``Pi``) and initial probabilities (``mu0``) given on the command line."""
     probs: dict[str, Any] = {}
     if transition is not None:
-        probs["Pi"] = checked("--transition", _matrix, transition)
+        probs["Pi"] = common.checked("--transition", _matrix, transition)
     if mu0 is not None:
-        probs["mu0"] = tuple(checked("--mu0", float_list, mu0, what="probability"))
+        probs["mu0"] = tuple(common.checked("--mu0", common.float_list, mu0, what="probability"))
     return probs
 
 
@@ -210,7 +173,9 @@ def maneuver(
     if input_file is not None:
         _track_record(input_file, methods, cfg, sigma, T, view, plot_compare, output)
         return
-    sigmas = (100.0, 200.0) if sigma is None else checked("--sigma", float_list, sigma, what="σ")
+    sigmas = (
+        (100.0, 200.0) if sigma is None else common.checked("--sigma", common.float_list, sigma, what="σ")
+    )
     sc = exp.ManeuverScenario(preset=preset.value, T=1.0 if T is None else T, scans=scans)
     job = exp.ManeuverJob(sc, tuple(dict.fromkeys(sigmas)), runs, seed, methods, cfg, quiet_fp=True)
     if view is View.measurements:
@@ -224,7 +189,7 @@ def maneuver(
             "needs at least two methods (e.g. --method all)", param_hint="--plot-compare"
         )
     study = exp.ManeuverStudy(job, view.value, response)
-    report = exp.report(study, run_job(job, engine, "maneuver", output.quiet))
+    report = exp.report(study, common.run_job(job, engine, "maneuver", output.quiet))
     if output.plot is not None or plot_compare is not None:
         from motionsig_cli.plotting import maneuver_comparison_figure, maneuver_figure
 
@@ -255,7 +220,7 @@ def _track_record(
         raise typer.BadParameter("is the --input file", param_hint="--out")
     s = None
     if sigma is not None:
-        vals = checked("--sigma", float_list, sigma, what="σ")
+        vals = common.checked("--sigma", common.float_list, sigma, what="σ")
         if len(vals) != 1:
             raise typer.BadParameter("give one σ with --input", param_hint="--sigma")
         s = vals[0]

@@ -18,8 +18,7 @@ from motionsig_cli.cli.common import Output, OutputFormat, checked, float_list
 from motionsig_cli.config import ConfigError
 
 if TYPE_CHECKING:
-    from motionsig_cli.detection.lmp import LMPResult
-    from motionsig_cli.experiments.lmp_record import sigma_meta
+    from motionsig_cli.experiments.lmp_record import RecordResult, sigma_meta
     from motionsig_cli.experiments.record_reading import finite_column, truth_of, uniform_times
 
 _MOVED = {
@@ -29,7 +28,15 @@ _MOVED = {
     "sigma_meta": "motionsig_cli.experiments.lmp_record",
 }
 
-__all__ = ["emit_record_result", "finite_column", "parse_horizons", "sigma_meta", "truth_of", "uniform_times"]
+__all__ = [
+    "emit_record",
+    "emit_record_result",
+    "finite_column",
+    "parse_horizons",
+    "sigma_meta",
+    "truth_of",
+    "uniform_times",
+]
 
 
 def __getattr__(name: str) -> Any:
@@ -53,16 +60,19 @@ def parse_horizons(text: str | None, duration: float, T: float) -> list[float]:
         raise typer.BadParameter(exc.detail, param_hint="--horizons") from None
 
 
+def emit_record(output: Output, result: RecordResult, title: str) -> None:
+    """A record's table, its Fig 3-style figure (--plot) and the summary line."""
+    if output.plot is not None:
+        from motionsig_cli.plotting import statistic_figure
+
+        lam, cell, tau_chips = result.statistic_grid()
+        output.figure(statistic_figure([(title, lam, cell)], result.n_modes, tau_chips))
+    output.emit(result.table)
+    output.note(result.summary)
+
+
 def emit_record_result(
-    res: LMPResult,
-    hs: list[float],
-    hz: list[int],
-    truth: tuple[int, int] | None,
-    params: dict[str, Any],
-    chips_shape: tuple[int, int],
-    m_rho: int,
-    title: str,
-    *,
+    *args: Any,
     candidates: bool,
     threshold: float | None,
     output: Output | None = None,
@@ -73,18 +83,12 @@ def emit_record_result(
 ) -> None:
     """Write the argmax per horizon (or the whole candidate table), the Fig 3-style plot, a summary line.
 
-    ``output`` (the command's output options) or, for older callers, ``plot``, ``fmt``, ``out``, ``quiet``.
+    ``args``: the positional arguments of :func:`~motionsig_cli.experiments.lmp_record.record_result`
+    (``res, hs, hz, truth, params, chips_shape, m_rho``), then the figure's title. ``output`` (the
+    command's output options) or, for older callers, ``plot``, ``fmt``, ``out``, ``quiet``.
     """
     from motionsig_cli.experiments.lmp_record import record_result
 
-    output = output or Output(fmt=fmt, out=out, plot=plot, quiet=quiet)
-    result = record_result(
-        res, hs, hz, truth, params, chips_shape, m_rho, candidates=candidates, threshold=threshold
-    )
-    if output.plot is not None:
-        from motionsig_cli.plotting import statistic_figure
-
-        lam, cell, tau_chips = result.statistic_grid()
-        output.figure(statistic_figure([(title, lam, cell)], result.n_modes, tau_chips))
-    output.emit(result.table)
-    output.note(result.summary)
+    *fields, title = args
+    result = record_result(*fields, candidates=candidates, threshold=threshold)
+    emit_record(output or Output(fmt=fmt, out=out, plot=plot, quiet=quiet), result, title)

@@ -8,42 +8,23 @@ and writes the table of :func:`motionsig_cli.experiments.vehicle_record.simulate
 from __future__ import annotations
 
 import math
-from enum import StrEnum
 from typing import Annotated
 
 import typer
 
-from motionsig_cli.cli.common import (
-    DEFAULT_SEED_VALUE,
-    CodesVariant,
-    Output,
-    SeedOpt,
-    checked,
-    command,
-    float_list,
+from motionsig_cli.cli import common
+from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, CodesVariant, Output, SeedOpt, choices, command
+
+Example = choices("Example", "Which example of the mode-signature paper.", one_d="1d", two_d="2d")
+SigAxes = choices(
+    "SigAxes", "Axes of the 2-D vehicle whose reference carries the signature.", "both", "x", "y"
 )
-
-
-class Example(StrEnum):
-    """Which example of the mode-signature paper."""
-
-    one_d = "1d"
-    two_d = "2d"
-
-
-class SigAxes(StrEnum):
-    """Axes of the 2-D vehicle whose reference carries the signature."""
-
-    both = "both"
-    x = "x"
-    y = "y"
-
-
-class DbConvention(StrEnum):
-    """How an ANR (signature-amplitude-to-noise ratio) given in dB is read."""
-
-    paper_ln = "paper-ln"
-    log10 = "log10"
+DbConvention = choices(
+    "DbConvention",
+    "How an ANR (signature-amplitude-to-noise ratio) given in dB is read.",
+    "paper-ln",
+    "log10",
+)
 
 
 ExampleOpt = Annotated[
@@ -188,7 +169,7 @@ def simulate(
         vehicle = Vehicle2D(**loop, R_range=R_range, R_bearing=R_bearing, start=xy, sig_axes=sig_axes.value)
     else:
         vehicle = Vehicle1D(**loop, R=measurement_variance(R, anr_db, db_convention.value, a_sig))
-    theta_value = None if theta.strip().lower() == "random" else checked("--theta", float, theta)
+    theta_value = None if theta.strip().lower() == "random" else common.checked("--theta", float, theta)
     cfg = RecordConfig(
         vehicle, mode=mode, tau=tau, tau_chips=tau_chips, theta=theta_value, f_c=fc, m_rho=mrho,
         duration=duration, codes=codes.value, signature=not no_signature, zdot=zdot, seed=seed, anr_pair=pair,
@@ -215,4 +196,4 @@ def _only_for(where: str, given: dict[str, object]) -> None:
 
 def _numbers(option: str, text: str, what: str) -> tuple[float, ...]:
     """A comma-separated list of finite numbers (its length is checked by the configuration)."""
-    return tuple(checked(option, float_list, text, what=what))
+    return tuple(common.checked(option, common.float_list, text, what=what))

@@ -9,43 +9,22 @@ checked by the experiment (:class:`~motionsig_cli.experiments.slrt.SlrtStudy`), 
 
 from __future__ import annotations
 
-from enum import StrEnum
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
-from motionsig_cli.cli.common import (
-    DEFAULT_SEED_VALUE,
-    Output,
-    Parallel,
-    SeedOpt,
-    checked,
-    command,
-    float_list,
-)
+from motionsig_cli.cli import common
+from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
 from motionsig_cli.detection.track_existence import FUSION_METHODS, METHODS
 
-
-class View(StrEnum):
-    """Output: per-scan statistics of log LR, or the SPRT decision table."""
-
-    curves = "curves"
-    decisions = "decisions"
-
-
-class Meas(StrEnum):
-    """Sensor measurement model."""
-
-    range_bearing = "range-bearing"
-    cartesian = "cartesian"
-
-
-class LkfMean(StrEnum):
-    """LKF fusion: the arithmetic mean of the local LRs (slides) or of the log LRs."""
-
-    lr = "lr"
-    log = "log"
+View = choices(
+    "View", "Output: per-scan statistics of log LR, or the SPRT decision table.", "curves", "decisions"
+)
+Meas = choices("Meas", "Sensor measurement model.", "range-bearing", "cartesian")
+LkfMean = choices(
+    "LkfMean", "LKF fusion: the arithmetic mean of the local LRs (slides) or of the log LRs.", "lr", "log"
+)
 
 
 METHODS_HELP = (
@@ -117,7 +96,6 @@ def slrt(
       motionsig slrt --view decisions --runs 200              # confirm / delete / undecided, mean decision time
       motionsig slrt --runs 2000 --workers 8 --checkpoint ckpt/  # parallel; rerun to resume if interrupted
     """
-    from motionsig_cli.cli.common import run_job
     from motionsig_cli.experiments import slrt as exp
 
     output.check(plot_scan=plot_scan)
@@ -126,13 +104,13 @@ def slrt(
         meas_model=meas.value.replace("-", "_"), q=q, T=T, scans=scans,
     )  # fmt: skip
     study = exp.SlrtStudy(
-        scenario, pd=tuple(checked("--pd", float_list, pd, what="p_D")), no_target=no_target,
+        scenario, pd=tuple(common.checked("--pd", common.float_list, pd, what="p_D")), no_target=no_target,
         filter_pd=filter_pd, runs=runs, seed=seed, alpha=alpha, beta=beta, lkf_mean=lkf_mean.value,
         methods=tuple(dict.fromkeys(m.strip() for m in methods.split(",") if m.strip())), stop=stop,
     )  # fmt: skip
     if meas is Meas.cartesian:
         output.note("slrt: --meas cartesian: --sigma-r applies to both axes, --sigma-phi-deg is unused")
-    result = study.result(run_job(study.job(), parallel.engine(), "slrt", output.quiet))
+    result = study.result(common.run_job(study.job(), parallel.engine(), "slrt", output.quiet))
     output.emit(result.table(view.value))
     if output.plot is not None or plot_scan is not None:
         from motionsig_cli.plotting import slrt_figure, slrt_scan_figure

@@ -15,23 +15,13 @@ The commands parse their options into the configurations of
 from __future__ import annotations
 
 import math
-from enum import StrEnum
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from motionsig_cli.cli.common import (
-    DEFAULT_SEED_VALUE,
-    Output,
-    Parallel,
-    SeedOpt,
-    checked,
-    command,
-    float_list,
-    int_list,
-    run_job,
-)
+from motionsig_cli.cli import common
+from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
 
 if TYPE_CHECKING:
     from motionsig_cli.experiments.satellite_tracking import Constellation, Orbit, Report
@@ -43,62 +33,34 @@ app = typer.Typer(
 )
 
 
-class Example(StrEnum):
-    """The report's two constellations (Table 4.1)."""
-
-    I = "I"  # noqa: E741
-    II = "II"
-
-
-class Convention(StrEnum):
-    """Which speed of light, orbit radius and three-satellite constant."""
-
-    corrected = "corrected"
-    report = "report"
-
-
-class Params(StrEnum):
-    """Source of β, tr, b: auto (report → printed Table 4.2; corrected → Table 4.1 geometry)."""
-
-    auto = "auto"
-    table = "table"
-    geometry = "geometry"
-
-
-class TableConvention(StrEnum):
-    """Which convention(s) a table shows."""
-
-    both = "both"
-    corrected = "corrected"
-    report = "report"
-
-
-class WhichTable(StrEnum):
-    """Which table of §4.6."""
-
-    t42 = "4.2"
-    t43 = "4.3"
-
-
-class View(StrEnum):
-    """Constellation output: one row per satellite subset, or one per satellite."""
-
-    summary = "summary"
-    satellites = "satellites"
-
-
-class Gain(StrEnum):
-    """Clock gain: the exact recursive γ_n, or the constant steady-state ψ(α)/β from n = 1."""
-
-    recursive = "recursive"
-    steady = "steady"
-
-
-class Figure4(StrEnum):
-    """Figure presets: 4.2 = Example I, 4.3 = Example II."""
-
-    f42 = "4.2"
-    f43 = "4.3"
+Example = choices("Example", "The report's two constellations (Table 4.1).", "I", "II")
+Convention = choices(
+    "Convention", "Which speed of light, orbit radius and three-satellite constant.", "corrected", "report"
+)
+Params = choices(
+    "Params",
+    "Source of β, tr, b: auto (report → printed Table 4.2; corrected → Table 4.1 geometry).",
+    "auto",
+    "table",
+    "geometry",
+)
+TableConvention = choices(
+    "TableConvention", "Which convention(s) a table shows.", "both", "corrected", "report"
+)
+WhichTable = choices("WhichTable", "Which table of §4.6.", t42="4.2", t43="4.3")
+View = choices(
+    "View",
+    "Constellation output: one row per satellite subset, or one per satellite.",
+    "summary",
+    "satellites",
+)
+Gain = choices(
+    "Gain",
+    "Clock gain: the exact recursive γ_n, or the constant steady-state ψ(α)/β from n = 1.",
+    "recursive",
+    "steady",
+)
+Figure4 = choices("Figure4", "Figure presets: 4.2 = Example I, 4.3 = Example II.", f42="4.2", f43="4.3")
 
 
 SAT_FIELDS = {
@@ -225,21 +187,23 @@ def _constellation(
         labels, name = (), f"Example {example.value} (Table 4.1)"
     ac: tuple[float, ...] = (45.0, 120.0, 0.0)
     if aircraft is not None:
-        vals = checked("--aircraft", float_list, aircraft, what="latitude,longitude[,altitude km]")
+        vals = common.checked(
+            "--aircraft", common.float_list, aircraft, what="latitude,longitude[,altitude km]"
+        )
         ac = (*vals, 0.0) if len(vals) == 2 else tuple(vals)
     triplet = tuple(
         i - 1
         for part in outage_sats.split(",")
-        for i in checked("--outage-sats", int_list, part, what="satellite number")
+        for i in common.checked("--outage-sats", common.int_list, part, what="satellite number")
     )
     return exp.Constellation(lat, lon, orbit.km, ac, triplet, labels, name)  # type: ignore[arg-type]
 
 
 def _observable(con: Constellation, *, sats: bool = False, aircraft: bool = False) -> list[str]:
     """Observability errors, each naming the option most likely to blame; the warnings are returned."""
-    checked("--aircraft" if aircraft else "--rsat-km/--rsat-re", con.check_horizon)
-    checked("--sats" if sats else "--example", con.check_all)
-    checked("--outage-sats", con.check_triplet)
+    common.checked("--aircraft" if aircraft else "--rsat-km/--rsat-re", con.check_horizon)
+    common.checked("--sats" if sats else "--example", con.check_all)
+    common.checked("--outage-sats", con.check_triplet)
     return con.warnings()
 
 
@@ -362,7 +326,7 @@ def psi_cmd(
 
     output.check()
     if alpha is not None:
-        cfg = exp.PsiConfig(alpha=tuple(checked("--alpha", float_list, alpha, what="alpha")))
+        cfg = exp.PsiConfig(alpha=tuple(common.checked("--alpha", common.float_list, alpha, what="alpha")))
     else:
         cfg = exp.PsiConfig(grid=_grid(grid))
     _write(output, exp.psi_report(cfg), "psi_figure")
@@ -406,7 +370,7 @@ def rms(
     ex = Example.I if figure is Figure4.f42 else Example.II if figure is Figure4.f43 else example
     cfg = exp.RmsConfig(
         example=ex.value,
-        sigma0=tuple(checked("--sigma0", float_list, sigma0, what="sigma0 [ns]")),
+        sigma0=tuple(common.checked("--sigma0", common.float_list, sigma0, what="sigma0 [ns]")),
         sigma=sigma,
         timeline=exp.Timeline(epochs, outage_start, outage_length, reinit_after_outage),
         steady_gain=gain is Gain.steady,
@@ -485,12 +449,12 @@ def simulate(
         timeline=exp.Timeline(epochs, outage_start, outage_length, reinit_after_outage),
         estimators=tuple(dict.fromkeys(e.strip() for e in estimators.split(",") if e.strip())),
         velocity_enu=tuple(
-            checked("--velocity-enu", float_list, velocity_enu, what="velocity component [m/s]")
+            common.checked("--velocity-enu", common.float_list, velocity_enu, what="velocity component [m/s]")
         ),  # type: ignore[arg-type]
         runs=runs,
         seed=seed,
         steady_gain=gain is Gain.steady,
     )
     _warn(output, warnings)
-    result = run_job(job, engine, "track-sat simulate", output.quiet)
+    result = common.run_job(job, engine, "track-sat simulate", output.quiet)
     _write(output, exp.simulation_report(job, result, example=example.value), "rms_error_figure")

@@ -207,6 +207,18 @@ def progress_steps(n_samples: int, cfg: LMPConfig | RadarLMPConfig, filter: str 
     return n_samples * (3 if cfg.center == "h0-noise" else 2)
 
 
+def checked_horizons(y: np.ndarray, horizons: Sequence[int]) -> np.ndarray:
+    """The horizons (samples) as an int array, checked against records y (B, N, …): finite
+    measurements, every horizon in 1..N."""
+    if not np.all(np.isfinite(y)):
+        raise ValueError("measurements contain NaN or inf")
+    N = y.shape[1]
+    hz = np.asarray(horizons, dtype=int)
+    if hz.size == 0 or hz.min() < 1 or hz.max() > N:
+        raise ValueError(f"horizons must lie in 1..{N} samples (the record length)")
+    return hz
+
+
 def lmp_detect(
     y: np.ndarray,
     chips: np.ndarray,
@@ -239,12 +251,8 @@ def lmp_detect(
             y, chips, vehicle, m_rho, cfg, horizons, sigma or SigmaPointParams(), progress
         )
     y = np.atleast_2d(np.asarray(y, dtype=float))
+    hz = checked_horizons(y, horizons)
     N = y.shape[1]
-    if not np.all(np.isfinite(y)):
-        raise ValueError("measurements contain NaN or inf")
-    hz = np.asarray(horizons, dtype=int)
-    if hz.size == 0 or hz.min() < 1 or hz.max() > N:
-        raise ValueError(f"horizons must lie in 1..{N} samples (the record length)")
     cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
     C = len(cands)
     R_kf = np.array([[cfg.c_r * vehicle.R]])
@@ -293,15 +301,9 @@ def lmp_detect(
 
 
 def _lmp_detect_ukf_1d(
-    y: np.ndarray,
-    chips: np.ndarray,
-    vehicle: Vehicle1D,
-    m_rho: int,
-    cfg: LMPConfig,
-    horizons: Sequence[int],
-    sigma: SigmaPointParams,
-    progress: Progress = None,
-) -> LMPResult:
+    y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int],
+    sigma: SigmaPointParams, progress: Progress = None,
+) -> LMPResult:  # fmt: skip
     """The 1-D bank of :func:`lmp_detect` run by the sigma-point filters (exact for this linear model)."""
     if cfg.center != "none" or cfg.weights != "paper":
         raise ValueError("the sigma-point bank supports center='none' and weights='paper' only")
@@ -442,42 +444,26 @@ def lmp_detect_radar(
         y = y[None]
     if y.ndim != 3 or y.shape[2] != 2:
         raise ValueError("radar records must be (B, N, 2): range and bearing")
-    if not np.all(np.isfinite(y)):
-        raise ValueError("measurements contain NaN or inf")
+    hz = checked_horizons(y, horizons)
     N = y.shape[1]
-    hz = np.asarray(horizons, dtype=int)
-    if hz.size == 0 or hz.min() < 1 or hz.max() > N:
-        raise ValueError(f"horizons must lie in 1..{N} samples (the record length)")
     cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg.as_grid)
     meas = radar_measurement(vehicle, cfg.c_r)
-    c0 = ukf_bank_costs(
-        StructuredTransition.constant(transition_h0_2d(vehicle.T, vehicle.K), N),
-        np.diag(cfg.Q0),
-        meas,
-        prior_mean_2d(vehicle.start, False),
-        cfg.P0 * np.eye(8),
-        y,
-        hz,
-        cfg.sigma,
-    )
+
+    def bank(
+        trans: StructuredTransition, Q: tuple[float, ...], h1: bool, progress: Progress = None
+    ) -> BankCosts:
+        """The costs of the H0 filter (8 states) or the H1 bank (10: the two amplitudes appended)."""
+        x0, P0 = prior_mean_2d(vehicle.start, h1), cfg.P0 * np.eye(10 if h1 else 8)
+        return ukf_bank_costs(trans, np.diag(Q), meas, x0, P0, y, hz, cfg.sigma, progress=progress)
+
+    c0 = bank(StructuredTransition.constant(transition_h0_2d(vehicle.T, vehicle.K), N), cfg.Q0, False)
     z_cos, z_sin, zd_cos, zd_sin = replica_bank(
         chips, cands.mode, cands.tau, cands.f_c, vehicle.T, m_rho, N, cfg.zdot
     )
     k1, k2 = vehicle.K
     g = vehicle.T * (k1 * np.concatenate([z_cos, z_sin]) + k2 * np.concatenate([zd_cos, zd_sin]))  # (2C, N)
-    c1 = ukf_bank_costs(
-        StructuredTransition(
-            transition_h1_2d_base(vehicle.T, vehicle.K),
-            AMPLITUDE_ENTRIES_2D,
-            np.repeat(g[:, :, None], 2, axis=2),
-        ),
-        np.diag(cfg.Q1),
-        meas,
-        prior_mean_2d(vehicle.start, True),
-        cfg.P0 * np.eye(10),
-        y,
-        hz,
-        cfg.sigma,
-        progress=progress,
+    trans1 = StructuredTransition(
+        transition_h1_2d_base(vehicle.T, vehicle.K), AMPLITUDE_ENTRIES_2D, np.repeat(g[:, :, None], 2, axis=2)
     )
+    c1 = bank(trans1, cfg.Q1, True, progress)
     return _assemble(cands, hz, c0, c1, cfg.include_logdet)

@@ -41,7 +41,7 @@ import numpy as np
 import scipy.linalg
 
 from motionsig_cli.config import ConfigError
-from motionsig_cli.detection.lmp import Candidates, LMPConfig, LMPResult, candidate_grid
+from motionsig_cli.detection.lmp import Candidates, LMPConfig, LMPResult, candidate_grid, checked_horizons
 from motionsig_cli.filters.kalman import riccati
 from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column, transition_h0
 from motionsig_cli.signals.signature import replica_bank
@@ -143,21 +143,11 @@ def _checked_inputs(y: np.ndarray, horizons: Sequence[int], cfg: LMPConfig) -> t
     """Records (B, N) and horizons of the FFT and projection paths, checked as :func:`lmp_detect` does."""
     check_fft_config(cfg)
     y = np.atleast_2d(np.asarray(y, dtype=float))
-    if not np.all(np.isfinite(y)):
-        raise ValueError("measurements contain NaN or inf")
-    hz = np.asarray(horizons, dtype=int)
-    if hz.size == 0 or hz.min() < 1 or hz.max() > y.shape[1]:
-        raise ValueError(f"horizons must lie in 1..{y.shape[1]} samples (the record length)")
-    return y, hz
+    return y, checked_horizons(y, horizons)
 
 
 def lmp_detect_fft(
-    y: np.ndarray,
-    chips: np.ndarray,
-    vehicle: Vehicle1D,
-    m_rho: int,
-    cfg: LMPConfig,
-    horizons: Sequence[int],
+    y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int]
 ) -> LMPResult:
     """Eq (52) for every candidate from one steady-state H0 filter and FFT cross-correlations.
 
@@ -216,12 +206,7 @@ def lmp_detect_fft(
 
 
 def lmp_detect_projection(
-    y: np.ndarray,
-    chips: np.ndarray,
-    vehicle: Vehicle1D,
-    m_rho: int,
-    cfg: LMPConfig,
-    horizons: Sequence[int],
+    y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int]
 ) -> LMPResult:
     """Eq (52) through (★) with the exact time-varying H0 filter (the bank's gains, no steady state).
 

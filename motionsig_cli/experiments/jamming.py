@@ -670,15 +670,9 @@ def threshold_table(config: ThresholdConfig) -> JamResult:
         "ill_conditioned",
     )
     meta = make_meta(
-        "jam-bound threshold",
-        quantity=q,
-        level=level,
-        K=config.K,
-        pdl=config.resolved_pdl,
-        pd=config.pd,
-        t=config.t,
-        **system_meta(config.system),
-    )
+        "jam-bound threshold", quantity=q, level=level, K=config.K, pdl=config.resolved_pdl, pd=config.pd,
+        t=config.t, **system_meta(config.system),
+    )  # fmt: skip
     bad = sum(1 for r in rows if not r[6])
     return JamResult(
         Table(columns=cols, rows=rows, meta=meta),

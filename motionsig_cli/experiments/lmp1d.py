@@ -17,9 +17,9 @@ tabulates the result).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, ClassVar, Literal
+from typing import Any, ClassVar, Generic, Literal, TypeVar
 
 import numpy as np
 
@@ -105,6 +105,30 @@ def signature_batch(
     return c * zc - s * zs, c * dc - s * ds
 
 
+def trial_signatures(
+    chips: np.ndarray,
+    m_rho: int,
+    f_c: float,
+    T: float,
+    n_samples: int,
+    seed: int,
+    trials: Sequence[int],
+    *,
+    signature: bool = True,
+    dims: int = 1,
+) -> tuple[list[TrialDraw], np.ndarray, np.ndarray]:
+    """The draws of the given trials (:func:`draw_trial`) and their signatures z, ż (B, N) (zero without
+    ``signature``): the inputs of the 1-D and the 2-D simulation."""
+    draws = [draw_trial(seed, t, n_samples, chips.shape[0], chips.shape[1], m_rho, dims=dims) for t in trials]
+    modes = np.array([d.mode for d in draws])
+    taus = np.array([d.tau for d in draws])
+    thetas = np.array([d.theta for d in draws])
+    z, zd = signature_batch(chips, modes, taus, thetas, f_c, T, m_rho, n_samples)
+    if not signature:
+        z, zd = np.zeros_like(z), np.zeros_like(zd)
+    return draws, z, zd
+
+
 def simulate_trials(
     vehicle: Vehicle1D,
     chips: np.ndarray,
@@ -117,13 +141,9 @@ def simulate_trials(
     signature: bool = True,
 ) -> tuple[np.ndarray, list[TrialDraw]]:
     """Measurements (B, N) of the given trials and their draws."""
-    draws = [draw_trial(seed, t, n_samples, chips.shape[0], chips.shape[1], m_rho) for t in trials]
-    modes = np.array([d.mode for d in draws])
-    taus = np.array([d.tau for d in draws])
-    thetas = np.array([d.theta for d in draws])
-    z, zd = signature_batch(chips, modes, taus, thetas, f_c, vehicle.T, m_rho, n_samples)
-    if not signature:
-        z, zd = np.zeros_like(z), np.zeros_like(zd)
+    draws, z, zd = trial_signatures(
+        chips, m_rho, f_c, vehicle.T, n_samples, seed, trials, signature=signature
+    )
     sim = simulate_1d(vehicle, z, zd, np.stack([d.w for d in draws]), np.stack([d.v for d in draws]))
     return sim["y"], draws
 
@@ -376,12 +396,50 @@ def detector_meta(cfg: LMPConfig, *, full: bool = True) -> dict[str, Any]:
     return meta
 
 
-@dataclass(frozen=True, eq=False)
-class LmpMonteCarlo:
-    """The cells of an :class:`LmpJob`, and the command's table, figure data and summary."""
+Curves = dict[float, dict[str, tuple[np.ndarray, np.ndarray]]]
+CORRECT = "mode_hat == mode and tau_hat == tau on the grid"
 
-    job: LmpJob
-    cells: list[MCCell]
+
+JobT = TypeVar("JobT")
+CellT = TypeVar("CellT")
+
+
+@dataclass(frozen=True, eq=False)
+class CorrectCurves(Generic[JobT, CellT]):
+    """The cells of a Monte Carlo job over (f_r, series, horizon): the figure data and summary line shared
+    by :class:`LmpMonteCarlo` and :class:`~motionsig_cli.experiments.lmp2d.RadarMonteCarlo`."""
+
+    job: JobT
+    cells: list[CellT]
+
+    def series(self) -> list[tuple[str, Callable[[Any], bool]]]:
+        """(label, which cells) of each curve of one f_r."""
+        raise NotImplementedError
+
+    def title(self) -> str:
+        raise NotImplementedError
+
+    def figure_data(self) -> tuple[np.ndarray, Curves, str]:
+        """(horizons, f_r → {series label → (% correct, SE)}, title): the arguments of
+        :func:`motionsig_cli.plotting.montecarlo_figure`."""
+        job = self.job
+        curves: Curves = {}
+        for fr in job.fr_list:
+            curves[fr] = {}
+            for label, picks in self.series():
+                sel = [c for c in self.cells if c.f_r == fr and picks(c)]
+                curves[fr][label] = (np.array([c.pct for c in sel]), np.array([c.se_pct for c in sel]))
+        return np.array(job.horizons_s), curves, self.title()
+
+    def summary(self) -> str:
+        return (
+            f"{len(self.cells)} cells x {self.job.trials} trials; chance level "
+            f"{100.0 / self.job.n_candidates:.2f} %"
+        )
+
+
+class LmpMonteCarlo(CorrectCurves["LmpJob", "MCCell"]):
+    """The cells of an :class:`LmpJob`, and the command's table, figure data and summary."""
 
     def table(self) -> Table:
         job, veh = self.job, self.job.vehicle
@@ -398,7 +456,7 @@ class LmpMonteCarlo:
             R_list=list(job.R_list), horizons_s=list(job.horizons_s), seed=job.seed, signature=job.signature,
             **detector_meta(job.cfg), T=veh.T, m_rho=job.m_rho, f_c=job.f_c, K=list(veh.K), a_sig=veh.a_sig,
             a_r=veh.a_r, sigma_a=veh.sigma_a, codes=job.codes, n_candidates=n_cand, chance_pct=100.0 / n_cand,
-            correct="mode_hat == mode and tau_hat == tau on the grid",
+            correct=CORRECT,
             trial_streams="trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)) for (i,tau,theta) | process | "
             "measurement noise",
         )  # fmt: skip
@@ -406,24 +464,15 @@ class LmpMonteCarlo:
                    "pct_correct", "se_pct", "pct_mode_correct", "correct", "trials")  # fmt: skip
         return Table(columns, rows, meta)
 
-    def figure_data(self) -> tuple[np.ndarray, dict[float, dict[str, tuple[np.ndarray, np.ndarray]]], str]:
-        """(horizons, f_r → {ANR label → (% correct, SE)}, title): the arguments of
-        :func:`motionsig_cli.plotting.montecarlo_figure`."""
-        job = self.job
-        curves: dict[float, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
-        for fr in job.fr_list:
-            curves[fr] = {}
-            for Rv in job.R_list:
-                sel = [c for c in self.cells if c.f_r == fr and c.R == Rv]
-                label = f"{anr_db(Rv, job.vehicle.a_sig)[2]:.1f} (R={Rv:g})"
-                curves[fr][label] = (np.array([c.pct for c in sel]), np.array([c.se_pct for c in sel]))
-        return np.array(job.horizons_s), curves, f"{job.trials} trials per cell, c_r = {job.cfg.c_r:g}"
+    def series(self) -> list[tuple[str, Callable[[Any], bool]]]:
+        """One curve per R, labelled with its ANR."""
+        a_sig = self.job.vehicle.a_sig
+        return [
+            (f"{anr_db(Rv, a_sig)[2]:.1f} (R={Rv:g})", lambda c, Rv=Rv: c.R == Rv) for Rv in self.job.R_list
+        ]
 
-    def summary(self) -> str:
-        return (
-            f"{len(self.cells)} cells x {self.job.trials} trials; chance level "
-            f"{100.0 / self.job.n_candidates:.2f} %"
-        )
+    def title(self) -> str:
+        return f"{self.job.trials} trials per cell, c_r = {self.job.cfg.c_r:g}"
 
 
 # ------------------------------------------------------------------------------ threshold calibration
@@ -658,8 +707,24 @@ def check_threshold(threshold: float | None) -> None:
         raise ConfigError("threshold", threshold, "is not a number")
 
 
+class RecordHorizons:
+    """The horizons of a detection on one record (``record``, ``horizons`` [s]) in samples."""
+
+    record: VehicleRecord
+    horizons: tuple[float, ...]
+
+    @property
+    def horizon_samples(self) -> list[int]:
+        return [round(h / self.record.vehicle.T) for h in self.horizons]
+
+    @property
+    def n_used(self) -> int:
+        """Samples the detector runs over (the longest horizon)."""
+        return max(self.horizon_samples)
+
+
 @dataclass(frozen=True, eq=False)
-class RecordDetection:
+class RecordDetection(RecordHorizons):
     """Eq (52) on one 1-D record (Fig 3): the argmax per horizon, or every candidate's statistic.
 
     Attributes:
@@ -711,15 +776,6 @@ class RecordDetection:
                 f"~{need_gb:.1f} GB (limit {MAX_BANK_GB:g} GB); use shorter horizons or a coarser grid",
             )  # fmt: skip
         check_threshold(self.threshold)
-
-    @property
-    def horizon_samples(self) -> list[int]:
-        return [round(h / self.record.vehicle.T) for h in self.horizons]
-
-    @property
-    def n_used(self) -> int:
-        """Samples the detector runs over (the longest horizon)."""
-        return max(self.horizon_samples)
 
     @property
     def steps(self) -> int:

@@ -11,7 +11,7 @@ simulate --example 2d --seed s`` is trial 0 of ``motionsig detect --montecarlo -
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, ClassVar
 
@@ -21,17 +21,19 @@ from motionsig_cli.config import ConfigError, integer, one_of
 from motionsig_cli.detection.lmp import RadarLMPConfig, candidate_grid, lmp_detect_radar
 from motionsig_cli.engine import tasks_of, trials_per_task
 from motionsig_cli.experiments.lmp1d import (
+    CORRECT,
     FIG_HORIZONS,
     Codes,
+    CorrectCurves,
     CorrectRates,
+    RecordHorizons,
     TrialDraw,
     _tuple,
     check_horizons,
     check_threshold,
     check_values,
-    draw_trial,
-    signature_batch,
     table1_chips,
+    trial_signatures,
 )
 from motionsig_cli.experiments.lmp_record import RecordResult, record_result, sigma_meta
 from motionsig_cli.experiments.record_reading import VehicleRecord, record_horizons
@@ -58,13 +60,9 @@ def simulate_trials_2d(
     signature: bool = True,
 ) -> tuple[dict[str, np.ndarray], list[TrialDraw]]:
     """Simulated records of the given trials (``simulate_2d`` output, B = len(trials)) and their draws."""
-    draws = [draw_trial(seed, t, n_samples, chips.shape[0], chips.shape[1], m_rho, dims=2) for t in trials]
-    modes = np.array([d.mode for d in draws])
-    taus = np.array([d.tau for d in draws])
-    thetas = np.array([d.theta for d in draws])
-    z, zd = signature_batch(chips, modes, taus, thetas, f_c, vehicle.T, m_rho, n_samples)
-    if not signature:
-        z, zd = np.zeros_like(z), np.zeros_like(zd)
+    draws, z, zd = trial_signatures(
+        chips, m_rho, f_c, vehicle.T, n_samples, seed, trials, signature=signature, dims=2
+    )
     sim = simulate_2d(vehicle, z, zd, np.stack([d.w for d in draws]), np.stack([d.v for d in draws]))
     return sim, draws
 
@@ -89,7 +87,7 @@ def n_candidates(chips: np.ndarray, m_rho: int, cfg: RadarLMPConfig) -> int:
 
 # ---------------------------------------------------------------------------------------- one record
 @dataclass(frozen=True, eq=False)
-class RadarRecordDetection:
+class RadarRecordDetection(RecordHorizons):
     """Eq (52) with the sigma-point bank on one radar record: the argmax per horizon, or every candidate.
 
     Attributes:
@@ -115,15 +113,6 @@ class RadarRecordDetection:
             "horizons", max(hs), 2 * n_candidates(rec.chips, rec.m_rho, self.cfg) + 1, 1, self.n_used, 1
         )
         check_threshold(self.threshold)
-
-    @property
-    def horizon_samples(self) -> list[int]:
-        return [round(h / self.record.vehicle.T) for h in self.horizons]
-
-    @property
-    def n_used(self) -> int:
-        """Samples the bank runs over (the longest horizon)."""
-        return max(self.horizon_samples)
 
     @property
     def steps(self) -> int:
@@ -305,12 +294,8 @@ class RadarLmpJob:
         )  # fmt: skip
 
 
-@dataclass(frozen=True, eq=False)
-class RadarMonteCarlo:
+class RadarMonteCarlo(CorrectCurves["RadarLmpJob", "RadarMCCell"]):
     """The cells of a :class:`RadarLmpJob`, and the command's table, figure data and summary."""
-
-    job: RadarLmpJob
-    cells: list[RadarMCCell]
 
     def table(self) -> Table:
         """One row per (f_r, pair, horizon); the ANRs in the paper's 10·ln "dB", a_sig²/(2R) per channel."""
@@ -335,7 +320,7 @@ class RadarMonteCarlo:
             ut_beta=cfg.sigma.beta, ut_kappa=cfg.sigma.kappa, T=veh.T, m_rho=job.m_rho, f_c=job.f_c, K=list(veh.K),
             a_sig=veh.a_sig, a_r=veh.a_r, sigma_a=veh.sigma_a, start=list(veh.start), sig_axes=veh.sig_axes,
             codes=job.codes, n_candidates=n_cand, chance_pct=100.0 / n_cand,
-            correct="mode_hat == mode and tau_hat == tau on the grid",
+            correct=CORRECT,
             anr="the paper's 10*ln dB, a_sig^2 / (2 R) per channel; R_range inverted from the printed range label",
             trial_streams="trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)) for (i,tau,theta) | (x,y) process | "
             "(range,bearing) noise",
@@ -345,26 +330,16 @@ class RadarMonteCarlo:
                    "correct", "trials", "covariance_repairs")  # fmt: skip
         return Table(columns, rows, meta)
 
-    def figure_data(self) -> tuple[np.ndarray, dict[float, dict[str, tuple[np.ndarray, np.ndarray]]], str]:
-        """(horizons, f_r → {(angle, range) label → (% correct, SE)}, title): the arguments of
-        :func:`motionsig_cli.plotting.montecarlo_figure`."""
-        job = self.job
-        curves: dict[float, dict[str, tuple[np.ndarray, np.ndarray]]] = {}
-        for fr in job.fr_list:
-            curves[fr] = {}
-            for k, pid in enumerate(job.anr_pairs, start=1):
-                sel = [c for c in self.cells if c.f_r == fr and c.pair == k]
-                ang, rg = SEED_ANR_PAIRS[pid - 1]
-                curves[fr][f"({ang:g}, {rg:g})"] = (
-                    np.array([c.pct for c in sel]),
-                    np.array([c.se_pct for c in sel]),
-                )
-        title = f"2-D radar, UKF bank: {job.trials} trials per cell, c_r = {job.cfg.c_r:g}"
-        return np.array(job.horizons_s), curves, title
+    def series(self) -> list[tuple[str, Callable[[Any], bool]]]:
+        """One curve per ANR pair, labelled (angle, range)."""
+        labels = [SEED_ANR_PAIRS[pid - 1] for pid in self.job.anr_pairs]
+        return [
+            (f"({ang:g}, {rg:g})", lambda c, k=k: c.pair == k) for k, (ang, rg) in enumerate(labels, start=1)
+        ]
+
+    def title(self) -> str:
+        return f"2-D radar, UKF bank: {self.job.trials} trials per cell, c_r = {self.job.cfg.c_r:g}"
 
     def summary(self) -> str:
         reps = sum(c.repairs for c in self.cells) // max(1, len(self.job.horizons_s))
-        return (
-            f"{len(self.cells)} cells x {self.job.trials} trials; chance level {100.0 / self.job.n_candidates:.2f} %; "
-            f"{reps} covariance repairs"
-        )
+        return f"{super().summary()}; {reps} covariance repairs"

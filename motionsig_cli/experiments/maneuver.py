@@ -47,6 +47,7 @@ from motionsig_cli.detection.glr import (
 )
 from motionsig_cli.engine import Engine, run_job, tasks_of, trials_per_task
 from motionsig_cli.errors import InputError
+from motionsig_cli.experiments.record_reading import finite_column
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.models.motion import (
     G2_FORMS,
@@ -954,14 +955,6 @@ def measurement_table(job: ManeuverJob) -> Table:
 
 
 # ----------------------------------------------------------------------------------- one record
-def _finite_column(t: Table, name: str) -> np.ndarray:
-    arr = t.numeric(name)
-    bad = np.flatnonzero(~np.isfinite(arr))
-    if bad.size:
-        raise InputError(f"{t.source}:{t.lines[bad[0]]}: column {name!r} is not finite")
-    return arr
-
-
 def _record(t: Table) -> tuple[np.ndarray, np.ndarray]:
     """Scans and measurements (N, 2) of a record: columns scan, z_x, z_y with consecutive integer scans (no
     gaps), finite values within :data:`MAX_COORD`, at least 3 scans, one run and one σ."""
@@ -978,7 +971,7 @@ def _record(t: Table) -> tuple[np.ndarray, np.ndarray]:
         i = int(np.flatnonzero(steps != 1)[0]) + 1
         what = "missing scan(s)" if steps[i - 1] > 1 else "scans out of order or repeated"
         raise InputError(f"{t.source}:{t.lines[i]}: {what}: scan {scans[i]} after {scans[i - 1]}")
-    z = np.stack([_finite_column(t, "z_x"), _finite_column(t, "z_y")], axis=-1)
+    z = np.stack([finite_column(t, "z_x"), finite_column(t, "z_y")], axis=-1)
     big = np.flatnonzero(np.any(np.abs(z) > MAX_COORD, axis=1))
     if big.size:
         raise InputError(f"{t.source}:{t.lines[big[0]]}: |measurement| exceeds {MAX_COORD:g} m")

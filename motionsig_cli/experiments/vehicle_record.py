@@ -204,22 +204,10 @@ def simulate_record(cfg: RecordConfig) -> SimulatedRecord:
     if not cfg.signature:
         z, zd = np.zeros_like(z), np.zeros_like(zd)
     common = dict(
-        mode=mode0 + 1,
-        tau=int(tau0),
-        tau_chips=tau0 / m_rho,
-        theta=th,
-        signature=cfg.signature,
-        a_sig=vehicle.a_sig,
-        a_r=vehicle.a_r,
-        f_r=vehicle.f_r,
-        f_c=cfg.f_c,
-        f_d=0.0,
-        T=vehicle.T,
-        m_rho=m_rho,
-        n_rho=int(chips.shape[1]),
-        K=list(vehicle.K),
-        sigma_a=vehicle.sigma_a,
-    )
+        mode=mode0 + 1, tau=int(tau0), tau_chips=tau0 / m_rho, theta=th, signature=cfg.signature,
+        a_sig=vehicle.a_sig, a_r=vehicle.a_r, f_r=vehicle.f_r, f_c=cfg.f_c, f_d=0.0, T=vehicle.T, m_rho=m_rho,
+        n_rho=int(chips.shape[1]), K=list(vehicle.K), sigma_a=vehicle.sigma_a,
+    )  # fmt: skip
     tail = dict(
         duration=n * vehicle.T,
         n_samples=n,
@@ -230,24 +218,31 @@ def simulate_record(cfg: RecordConfig) -> SimulatedRecord:
         trial=0,
     )
     head = f"mode {mode0 + 1}, tau {tau0} samples, theta {th:.3f} rad"
+    drawn = _Drawn(z[0], zd[0], draw.w, draw.v, common, tail, head)
     if isinstance(vehicle, Vehicle2D):
-        return _record_2d(cfg, vehicle, z[0], zd[0], draw.w, draw.v, common, tail, head)
-    return _record_1d(vehicle, z[0], zd[0], draw.w, draw.v, common, tail, head)
+        return _record_2d(cfg, vehicle, drawn)
+    return _record_1d(vehicle, drawn)
 
 
-def _record_1d(
-    vehicle: Vehicle1D,
-    z: np.ndarray,
-    zd: np.ndarray,
-    w: np.ndarray,
-    v: np.ndarray,
-    common: dict[str, Any],
-    tail: dict[str, Any],
-    head: str,
-) -> SimulatedRecord:
+@dataclass(frozen=True, eq=False)
+class _Drawn:
+    """Trial 0's signature z, ż and noises w, v, and what the 1-D and 2-D tables share: the metadata
+    before (``common``) and after (``tail``) the example's own keys, and the summary's ``head``."""
+
+    z: np.ndarray
+    zd: np.ndarray
+    w: np.ndarray
+    v: np.ndarray
+    common: dict[str, Any]
+    tail: dict[str, Any]
+    head: str
+
+
+def _record_1d(vehicle: Vehicle1D, drawn: _Drawn) -> SimulatedRecord:
     """The 1-D closed loop (eqs 53–55) and its table."""
+    z, zd, common, tail, head = drawn.z, drawn.zd, drawn.common, drawn.tail, drawn.head
     with np.errstate(over="ignore", invalid="ignore"):  # a divergent loop is reported below
-        sim = simulate_1d(vehicle, z[None], zd[None], w[None, :], v[None, :])
+        sim = simulate_1d(vehicle, z[None], zd[None], drawn.w[None, :], drawn.v[None, :])
     x, y, u, t = sim["x"][0], sim["y"][0], sim["u"][0], sim["t"]
     _check_finite(vehicle, x, y)
     anr = vehicle.anr
@@ -288,20 +283,11 @@ def _record_1d(
     return SimulatedRecord(Table(COLUMNS_1D, rows, meta), t, x, r, y, z, vehicle.a_sig, summary)
 
 
-def _record_2d(
-    cfg: RecordConfig,
-    vehicle: Vehicle2D,
-    z: np.ndarray,
-    zd: np.ndarray,
-    w: np.ndarray,
-    v: np.ndarray,
-    common: dict[str, Any],
-    tail: dict[str, Any],
-    head: str,
-) -> SimulatedRecord:
+def _record_2d(cfg: RecordConfig, vehicle: Vehicle2D, drawn: _Drawn) -> SimulatedRecord:
     """The 2-D radar example (eqs 59–60): trajectory and range/bearing record."""
+    z, zd, common, tail, head = drawn.z, drawn.zd, drawn.common, drawn.tail, drawn.head
     with np.errstate(over="ignore", invalid="ignore"):  # a divergent loop is reported below
-        sim = simulate_2d(vehicle, z[None], zd[None], w[None], v[None])
+        sim = simulate_2d(vehicle, z[None], zd[None], drawn.w[None], drawn.v[None])
     x, y, u, r, t = sim["x"][0], sim["y"][0], sim["u"][0], sim["r"], sim["t"]
     _check_finite(vehicle, x, y)
     _check_radar_geometry(vehicle, x, y)

@@ -106,7 +106,28 @@ def measurement_variance(
 
 
 @dataclass(frozen=True, slots=True)
-class Vehicle1D:
+class ClosedLoop:
+    """The closed-loop fields that the 1-D (:class:`Vehicle1D`) and 2-D
+    (:class:`~motionsig_cli.models.vehicle2d.Vehicle2D`) examples share, first in both; each documents
+    them. Checked here: T finite and > 0; a_sig, a_r, f_r and sigma_a finite and ≥ 0; K two finite gains.
+    """
+
+    T: float = 0.05
+    K: tuple[float, float] = field(default_factory=lambda: pole_placement_gain(0.05))
+    a_sig: float = 0.5
+    a_r: float = 10.0
+    f_r: float = 0.01
+    sigma_a: float = 0.01
+
+    def __post_init__(self) -> None:
+        positive("T", self.T, unit="s")
+        check_gain("K", self.K)
+        for name in ("a_sig", "a_r", "f_r", "sigma_a"):
+            in_range(name, getattr(self, name), 0.0)
+
+
+@dataclass(frozen=True, slots=True)
+class Vehicle1D(ClosedLoop):
     """Parameters of the 1-D example ([A] = our assumption: the paper does not state it).
 
     Checked here, once: T and R finite and > 0; a_sig, a_r, f_r and sigma_a finite and ≥ 0 (a zero
@@ -126,19 +147,10 @@ class Vehicle1D:
         ConfigError: naming the first bad field.
     """
 
-    T: float = 0.05
-    K: tuple[float, float] = field(default_factory=lambda: pole_placement_gain(0.05))
-    a_sig: float = 0.5
-    a_r: float = 10.0
-    f_r: float = 0.01
-    sigma_a: float = 0.01
     R: float = DEFAULT_R
 
     def __post_init__(self) -> None:
-        positive("T", self.T, unit="s")
-        check_gain("K", self.K)
-        for name in ("a_sig", "a_r", "f_r", "sigma_a"):
-            in_range(name, getattr(self, name), 0.0)
+        ClosedLoop.__post_init__(self)
         positive("R", self.R)
 
     @property

@@ -24,14 +24,14 @@ Filter models (eq 44 per axis; the layouts follow from the 8 and 10 entries of e
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 
-from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
+from motionsig_cli.config import ConfigError, integer, one_of, positive
 from motionsig_cli.models.radar import wrap_angle
-from motionsig_cli.models.vehicle import check_gain, pole_placement_gain
+from motionsig_cli.models.vehicle import ClosedLoop
 
 Q0_2D = (1e-1, 1e-3, 1e-1, 1e-3, 1e-1, 1e4, 1e-1, 1e4)  # eq (61), per step
 Q1_2D = (1e-1, 1e2, 1e-1, 1e1, 1e-2, 1e2, 1e2, 1e3, 1e-1, 1e0)  # eq (62); last entry "100" read as 10^0
@@ -91,7 +91,7 @@ def radar_noise(
 
 
 @dataclass(frozen=True, slots=True)
-class Vehicle2D:
+class Vehicle2D(ClosedLoop):
     """Parameters of the 2-D radar example ([A] = our assumption: the paper does not state it).
 
     Checked here, once: T, R_range and R_bearing finite and > 0; a_sig, a_r, f_r and sigma_a finite and
@@ -114,22 +114,13 @@ class Vehicle2D:
         ConfigError: naming the first bad field.
     """
 
-    T: float = 0.05
-    K: tuple[float, float] = field(default_factory=lambda: pole_placement_gain(0.05))
-    a_sig: float = 0.5
-    a_r: float = 10.0
-    f_r: float = 0.01
-    sigma_a: float = 0.01
     R_range: float = anr_pair_variances(4)[0]
     R_bearing: float = SEED_R_BEARING[3]
     start: tuple[float, float] = (70.0, -20.0)
     sig_axes: Literal["both", "x", "y"] = "both"
 
     def __post_init__(self) -> None:
-        positive("T", self.T, unit="s")
-        check_gain("K", self.K)
-        for name in ("a_sig", "a_r", "f_r", "sigma_a"):
-            in_range(name, getattr(self, name), 0.0)
+        ClosedLoop.__post_init__(self)
         positive("R_range", self.R_range, unit="m²")
         positive("R_bearing", self.R_bearing, unit="rad²")
         try:

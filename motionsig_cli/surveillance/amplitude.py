@@ -34,8 +34,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Literal, Protocol, runtime_checkable
+from dataclasses import dataclass, field, fields
+from typing import ClassVar, Literal, Protocol, runtime_checkable
 
 import numpy as np
 from scipy.special import expit, gammaln, i0e, i1e, log_ndtr, logsumexp
@@ -169,23 +169,12 @@ def _check_scale(name: str, value: float) -> float:
     return positive(name, value)
 
 
-@dataclass(frozen=True)
-class TwoPoint:
-    """C₂ = ½δ(x − A) + ½δ(x + A) (3.7.1): the quasi-optimal density; b = A²."""
+class DensityDefaults:
+    """What most densities share, each overridden where a density differs: an MGF finite for every ρ
+    (``rho_max`` = ∞), a symmetric law, and no exponentially tilted sampler (importance sampling is
+    refused, naming the density)."""
 
-    A: float
-    name: str = field(default="two-point", init=False)
-
-    def __post_init__(self) -> None:
-        _check_scale("A", self.A)
-
-    @property
-    def b(self) -> float:
-        return self.A**2
-
-    @property
-    def max_abs(self) -> float:
-        return self.A
+    name: str
 
     @property
     def rho_max(self) -> float:
@@ -194,6 +183,48 @@ class TwoPoint:
     @property
     def symmetric(self) -> bool:
         return True
+
+    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
+        raise ConfigError(
+            "importance", True, f"is not available for the {self.name} density (no tilted sampler)"
+        )
+
+
+class ScaleDensity(DensityDefaults):
+    """A density of one scale parameter, its only constructor field: checked to be a finite number > 0,
+    and bounding the support, sup |x| = ``reach`` × the parameter (``reach`` = ∞: unbounded)."""
+
+    reach: ClassVar[float] = math.inf
+
+    @property
+    def scale_name(self) -> str:
+        """The name of the parameter (the field a :class:`ConfigError` names)."""
+        (name,) = (f.name for f in fields(self) if f.init)  # type: ignore[arg-type]
+        return name
+
+    @property
+    def scale(self) -> float:
+        return getattr(self, self.scale_name)
+
+    def __post_init__(self) -> None:
+        _check_scale(self.scale_name, self.scale)
+
+    @property
+    def max_abs(self) -> float:
+        return self.reach * self.scale
+
+
+@dataclass(frozen=True)
+class TwoPoint(ScaleDensity):
+    """C₂ = ½δ(x − A) + ½δ(x + A) (3.7.1): the quasi-optimal density; b = A²."""
+
+    A: float
+    name: str = field(default="two-point", init=False)
+    reach: ClassVar[float] = 1.0
+
+    @property
+    def b(self) -> float:
+        return self.A**2
 
     def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = np.asarray(r, dtype=float)
@@ -226,30 +257,16 @@ class TwoPoint:
 
 
 @dataclass(frozen=True)
-class Uniform:
+class Uniform(ScaleDensity):
     """C₁ (assumed) = U(−a, a); b = a²/3, so the report's ℓ = 1/√(3b) = 1/a."""
 
     a: float
     name: str = field(default="uniform", init=False)
-
-    def __post_init__(self) -> None:
-        _check_scale("a", self.a)
+    reach: ClassVar[float] = 1.0
 
     @property
     def b(self) -> float:
         return self.a**2 / 3.0
-
-    @property
-    def max_abs(self) -> float:
-        return self.a
-
-    @property
-    def rho_max(self) -> float:
-        return math.inf
-
-    @property
-    def symmetric(self) -> bool:
-        return True
 
     def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = np.asarray(r, dtype=float)
@@ -271,30 +288,16 @@ class Uniform:
 
 
 @dataclass(frozen=True)
-class Triangular:
+class Triangular(ScaleDensity):
     """C₃ (assumed) = the sum of two independent U(−c, c); support ±2c, b = 2c²/3."""
 
     c: float
     name: str = field(default="triangular", init=False)
-
-    def __post_init__(self) -> None:
-        _check_scale("c", self.c)
+    reach: ClassVar[float] = 2.0
 
     @property
     def b(self) -> float:
         return 2.0 * self.c**2 / 3.0
-
-    @property
-    def max_abs(self) -> float:
-        return 2.0 * self.c
-
-    @property
-    def rho_max(self) -> float:
-        return math.inf
-
-    @property
-    def symmetric(self) -> bool:
-        return True
 
     def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = np.asarray(r, dtype=float)
@@ -319,30 +322,15 @@ class Triangular:
 
 
 @dataclass(frozen=True)
-class Gaussian:
+class Gaussian(ScaleDensity):
     """C₄ (assumed) = N(0, b): unbounded, so never physically realisable (|n_ij| ≤ 1)."""
 
     var: float
     name: str = field(default="gaussian", init=False)
 
-    def __post_init__(self) -> None:
-        _check_scale("var", self.var)
-
     @property
     def b(self) -> float:
         return self.var
-
-    @property
-    def max_abs(self) -> float:
-        return math.inf
-
-    @property
-    def rho_max(self) -> float:
-        return math.inf
-
-    @property
-    def symmetric(self) -> bool:
-        return True
 
     def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = np.asarray(r, dtype=float)
@@ -363,30 +351,19 @@ class Gaussian:
 
 
 @dataclass(frozen=True)
-class Laplace:
+class Laplace(ScaleDensity):
     """Laplace(0, β) (extra): b = 2β², MGF 1/(1 − β²ρ²) for |ρ| < 1/β."""
 
     beta: float
     name: str = field(default="laplace", init=False)
-
-    def __post_init__(self) -> None:
-        _check_scale("beta", self.beta)
 
     @property
     def b(self) -> float:
         return 2.0 * self.beta**2
 
     @property
-    def max_abs(self) -> float:
-        return math.inf
-
-    @property
     def rho_max(self) -> float:
         return 1.0 / self.beta
-
-    @property
-    def symmetric(self) -> bool:
-        return True
 
     def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = np.asarray(r, dtype=float)
@@ -427,30 +404,16 @@ class Laplace:
 
 
 @dataclass(frozen=True)
-class Arcsine:
+class Arcsine(ScaleDensity):
     """A·cos φ with φ uniform (extra): one constant-envelope interferer; b = A²/2, MGF I₀(ρA)."""
 
     A: float
     name: str = field(default="arcsine", init=False)
-
-    def __post_init__(self) -> None:
-        _check_scale("A", self.A)
+    reach: ClassVar[float] = 1.0
 
     @property
     def b(self) -> float:
         return 0.5 * self.A**2
-
-    @property
-    def max_abs(self) -> float:
-        return self.A
-
-    @property
-    def rho_max(self) -> float:
-        return math.inf
-
-    @property
-    def symmetric(self) -> bool:
-        return True
 
     def cgf(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         r = np.asarray(r, dtype=float)
@@ -466,9 +429,6 @@ class Arcsine:
     def sample(self, rng: np.random.Generator, size: int) -> np.ndarray:
         return self.A * np.cos(2.0 * math.pi * rng.random(size))
 
-    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
-        raise ConfigError("importance", True, "is not available for the arcsine density (no tilted sampler)")
-
     def pdf(self, x: np.ndarray) -> np.ndarray:
         x = np.asarray(x, dtype=float)
         inside = np.abs(x) < self.A
@@ -477,7 +437,7 @@ class Arcsine:
 
 
 @dataclass(frozen=True)
-class Discrete:
+class Discrete(DensityDefaults):
     """A user-given discrete density: atoms x_i with weights w_i (Σw = 1, zero mean)."""
 
     x: tuple[float, ...]
@@ -504,10 +464,6 @@ class Discrete:
     @property
     def max_abs(self) -> float:
         return float(np.max(np.abs(np.asarray(self.x)[np.asarray(self.w) > 0])))
-
-    @property
-    def rho_max(self) -> float:
-        return math.inf
 
     @property
     def symmetric(self) -> bool:

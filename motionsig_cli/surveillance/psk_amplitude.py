@@ -35,7 +35,7 @@ import numpy as np
 from scipy.special import i0e, i1e, logsumexp
 
 from motionsig_cli.config import ConfigError
-from motionsig_cli.surveillance.amplitude import log_cosh, log_i0
+from motionsig_cli.surveillance.amplitude import DensityDefaults, log_cosh, log_i0
 from motionsig_cli.surveillance.time_bandwidth import aperiodic_correlation, as_code
 
 CHUNK_NODES = 2_000_000  # r-values × nodes per evaluation chunk (bounds memory)
@@ -61,7 +61,7 @@ def chip_correlation(ref: np.ndarray, intf: np.ndarray, delay_chips: float) -> f
 
 
 @dataclass(frozen=True)
-class PSKAmplitude:
+class PSKAmplitude(DensityDefaults):
     """PSK MAN component for a reference code; interferers use random codes or a code family."""
 
     ref: tuple[int, ...]
@@ -176,14 +176,6 @@ class PSKAmplitude:
             return 1.0
         return float(np.max(np.abs(self.cross))) / self.L
 
-    @property
-    def rho_max(self) -> float:
-        return math.inf
-
-    @property
-    def symmetric(self) -> bool:
-        return True
-
     def _cgf_chunk(self, r: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         if self.family is None:
             cnt, scales, cphi, logw = self._nodes  # (2L, 4), (4, n), (n,), (2L, n)
@@ -247,6 +239,3 @@ class PSKAmplitude:
                 Ck1 = self.cross[j, k + L + 1]
             out[s0 : s0 + n] = np.cos(phi) * ((1.0 - f) * Ck + f * Ck1) / L  # n_ij = cos φ · X (3.3.7)
         return out
-
-    def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
-        raise ConfigError("importance", True, "is not available for the psk density (no tilted sampler)")

@@ -15,10 +15,8 @@ import pytest
 
 from motionsig_cli.detection.lmp import LMPConfig
 from motionsig_cli.experiments.lmp1d import LmpJob, threshold_for
-from tests.cli.helpers import engine_outputs, run, table
+from tests.cli.helpers import MC_1D, engine_outputs, one_line_error, run, table
 
-MC_1D = ("detect", "--montecarlo", "--trials", "6", "--fr-list", "0.01,0.1", "--R-list", "1e-2,1e-3",
-         "--horizons", "5,10")  # fmt: skip
 MC_2D = (
     "detect",
     "--montecarlo",
@@ -97,21 +95,6 @@ def test_checkpoint_resume_is_identical_and_foreign_checkpoints_are_refused(caps
     assert err.count("\n") == 1 and "--checkpoint" in err and "seed" in err
     rc, _, err = run(capsys, *MC_2D, "--checkpoint", str(ck), "-q")
     assert rc == 2 and "another command" in err
-
-
-@pytest.mark.parametrize(
-    ("extra", "option"),
-    [
-        (("--workers", "0"), "--workers"),
-        (("--workers", "100000"), "--workers"),
-        (("--scheduler", "nowhere"), "--scheduler"),
-        (("--scheduler", ""), "--scheduler"),
-    ],
-)
-def test_bad_engine_options_are_one_line_errors(capsys, extra, option):
-    rc, out, err = run(capsys, *MC_1D, *extra)
-    assert rc == 2 and out == ""
-    assert err.count("\n") == 1 and option in err
 
 
 def test_unreachable_scheduler_fails_fast_with_its_address(capsys, tmp_path):
@@ -271,69 +254,6 @@ def short_records(tmp_path_factory):
     return one, two
 
 
-MC_1D_SMALL = (
-    "detect",
-    "--montecarlo",
-    "--trials",
-    "1",
-    "--fr-list",
-    "0.01",
-    "--R-list",
-    "1",
-    "--horizons",
-    "1",
-)
-MC_2D_SMALL = (
-    "detect",
-    "--montecarlo",
-    "--example",
-    "2d",
-    "--trials",
-    "1",
-    "--anr-pairs",
-    "4",
-    "--horizons",
-    "1",
-)
-CAL_SMALL = ("detect", "--calibrate", "--method", "fft", "--trials", "1", "--null-trials", "2", "--R-list", "1",
-             "--horizons", "1")  # fmt: skip
-
-
-@pytest.mark.parametrize(
-    ("args", "option", "word"),
-    [
-        ((*MC_1D_SMALL, "--trials", "0"), "--trials", "0 is not in [1, inf]"),
-        ((*MC_1D_SMALL, "--fr-list=-1"), "--fr-list", "-1 is not in [0, inf) Hz"),
-        ((*MC_1D_SMALL, "--R-list", "0"), "--R-list", "0 is not a finite number > 0"),
-        ((*MC_1D_SMALL, "--horizons", "0.02"), "--horizons", "shorter than one sample"),
-        ((*MC_1D_SMALL, "--c-r", "0"), "--c-r", "> 0"),
-        ((*MC_1D_SMALL, "--P0", "-1"), "--P0", "> 0"),
-        ((*MC_1D_SMALL, "--Qa=-1"), "--Qa", "PSD"),
-        ((*MC_1D_SMALL, "--Q0", "1,1,1"), "--Q0", "4 variances"),
-        ((*MC_1D_SMALL, "--Q0", "1,1,-1,1"), "--Q0", "PSD"),
-        ((*MC_1D_SMALL, "--fc-grid=-1"), "--fc-grid", "-1 is not in [0, inf) Hz"),
-        ((*MC_1D_SMALL, "--method", "fft", "--zdot", "finite-difference"), "--method", "analytic"),
-        ((*CAL_SMALL, "--pfa", "0"), "--pfa", "0 is not in (0, 1)"),
-        ((*CAL_SMALL, "--null-trials", "0"), "--null-trials", "0 is not in [1, inf]"),
-        ((*CAL_SMALL, "--trials", "3000000"), "--trials", "at most"),
-        ((*MC_2D_SMALL, "--anr-pairs", "5"), "--anr-pairs", "is not one of 1, 2, 3, 4"),
-        ((*MC_2D_SMALL, "--horizons", "2e6"), "--horizons", "is not in [0.05, 1e+06] s"),
-        ((*MC_2D_SMALL, "--fr-list", "2e6"), "--fr-list", "is not in [0, 1e+06] Hz"),
-        ((*MC_2D_SMALL, "--Q1", "1,2"), "--Q1", "10 variances"),
-        ((*MC_2D_SMALL, "--Q0", "1,2"), "--Q0", "8 variances"),
-        ((*MC_2D_SMALL, "--kappa=-9"), "--kappa", "<= 0"),
-        ((*MC_2D_SMALL, "--alpha", "1e-8"), "--alpha", "centre weight"),
-        ((*MC_2D_SMALL, "--beta", "inf"), "--beta", "not a finite number"),
-        ((*MC_2D_SMALL, "--trials", "0"), "--trials", "0 is not in [1, inf]"),
-    ],
-)
-def test_core_checks_are_reported_as_the_option(capsys, args, option, word):
-    """A ConfigError of the configurations (the CLI checks no range itself) is one line naming the option."""
-    rc, out, err = run(capsys, *args)
-    assert rc == 2 and out == "", err
-    assert err.count("\n") == 1 and f"Invalid value for {option}: " in err and word in err, err
-
-
 @pytest.mark.parametrize(
     ("which", "extra", "option", "word"),
     [
@@ -346,9 +266,8 @@ def test_core_checks_are_reported_as_the_option(capsys, args, option, word):
     ],
 )
 def test_record_checks_are_reported_as_the_option(capsys, short_records, which, extra, option, word):
-    rc, out, err = run(capsys, "detect", str(short_records[which]), *extra)
-    assert rc == 2 and out == "", err
-    assert err.count("\n") == 1 and f"Invalid value for {option}: " in err and word in err, err
+    err = one_line_error(capsys, "detect", str(short_records[which]), *extra)
+    assert f"Invalid value for {option}: " in err and word in err, err
 
 
 @pytest.mark.parametrize(("which", "extra"), [(0, ()), (0, ("--filter", "ukf")), (0, ("--center", "h0-noise")),

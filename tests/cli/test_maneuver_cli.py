@@ -1,11 +1,17 @@
 """``motionsig maneuver``: views, the measurement pipe, reproducibility and bad input."""
 
 import numpy as np
-import pytest
 
 from motionsig_cli.engine import Engine
 from motionsig_cli.experiments import maneuver as ex
-from tests.cli.helpers import engine_outputs, run, table
+from tests.cli.helpers import (
+    bad_engine_options_test,
+    checkpoint_resume,
+    engine_outputs,
+    one_line_error,
+    run,
+    table,
+)
 
 SMALL = ("--runs", "4", "--scans", "240")
 
@@ -74,74 +80,6 @@ def test_measurements_pipe_into_input(capsys, tmp_path, monkeypatch):
         assert int(rows[0][1]) == 3
     glr_rows = [r for r in t.rows if r[0] == "glr" and r[t.columns.index("declared")] == "true"]
     assert glr_rows and 195 <= int(glr_rows[0][t.columns.index("onset")]) <= 205
-
-
-def _bad_record(tmp_path, body):
-    p = tmp_path / "bad.csv"
-    p.write_text("# sigma: 100\nscan,z_x,z_y\n" + body)
-    return str(p)
-
-
-@pytest.mark.parametrize(
-    ("args", "needle"),
-    [
-        (("--sigma", "0"), "Invalid value for --sigma: 0 is not in [0.001, 1e+07] m"),
-        (("--sigma", "-5,100"), "--sigma"),
-        (("--sigma", "1e-300"), "--sigma"),
-        (("--transition", "0.9,0.05,0.05;0.025,0.95,0.025;0.025,0.025,0.9"), "row 3"),
-        (("--transition", "1.1,-0.05,-0.05;0.025,0.95,0.025;0.025,0.025,0.95"), "row 1"),
-        (("--transition", "0.5,0.5;0.5,0.5"), "3 rows of 3"),
-        (("--mu0", "0.8,0.1,0.2"), "--mu0"),
-        (("--window", "0"), "Invalid value for --window: 0 is not in [1, 200]"),
-        (("--method", "imm,kalman"), "Invalid value for --method: 'kalman' is not one of imm, glr, mlr, cv"),
-        (("--plot-compare", "x.png"), "two methods"),
-        (("--view", "events"), "glr or mlr"),
-        (("--runs", "1000000", "--method", "all"), "estimated"),
-        (("--glr-threshold", "nan"), "--glr-threshold"),
-        (("--glr-threshold", "-1"), "Invalid value for --glr-threshold: -1 is not a finite number >= 0"),
-        (("--T", "1e-300"), "--T"),
-        (("--T", "3601"), "Invalid value for --T: 3601 is not in [0.001, 3600] s"),
-        (("--q0", "nan"), "--q0"),
-        (("--mlr-sigma-u", "1e160"), "Invalid value for --mlr-sigma-u: 1e+160 is not in [0.001, 1e+06] m/s²"),
-        (("--q0", "1e7"), "Invalid value for --q0: 1e+07 is not in [0, 1e+06] m²/s³"),
-        (("--mlr-threshold", "inf"), "Invalid value for --mlr-threshold: inf is not in (-inf, inf)"),
-        (("--scans", "2"), "Invalid value for --scans: 2 is not in [3, 100000]"),
-        (("--runs", "0"), "Invalid value for --runs: 0 is not in [1, 1000000]"),
-        (("--response", "0"), "Invalid value for --response: 0 is not in [1, 10000]"),
-        (("--sigma", ",".join(str(10 * i) for i in range(1, 12))), "Invalid value for --sigma"),
-        (("--transition", "1,0;0,1"), "Invalid value for --transition"),
-        (("--mu0", "0.5,0.5"), "Invalid value for --mu0: [0.5, 0.5] is not 3 probabilities"),
-        (("--sigma", "1e-3", "--T", "3600", "--scans", "240"), "--sigma: 0.001 m is too small"),
-        (("--view", "measurements", "--plot", "m.png"), "draws no figure"),
-    ],
-)
-def test_bad_options(capsys, tmp_path, monkeypatch, args, needle):
-    monkeypatch.chdir(tmp_path)
-    out_file = tmp_path / "o.csv"
-    rc, _out, err = run(capsys, "maneuver", "--runs", "2", "--scans", "20", *args, "-o", str(out_file))
-    assert rc == 2, err
-    assert needle in err and len(err.strip().splitlines()) == 1
-    assert not out_file.exists()
-
-
-@pytest.mark.parametrize(
-    ("body", "needle"),
-    [
-        ("1,0,0\n2,0,450\n4,0,1350\n5,0,1800\n", "bad.csv:5: missing scan"),
-        ("1,0,0\n2,0,450\n3,nan,900\n", "bad.csv:5: column 'z_x' is not finite"),
-        ("1,0,0\n2,0,450\n3,inf,900\n", "not finite"),
-        ("1,0,0\n2,0,450\n", "at least 3 scans"),
-        ("1,0,0\n2,0,450\n2,0,900\n", "out of order or repeated"),
-        ("1,0,0\n2,abc,450\n3,0,900\n", "bad.csv:4"),
-        ("1,0,0\n2,1e308,450\n3,0,900\n", "bad.csv:4: |measurement| exceeds"),
-    ],
-)
-def test_bad_records(capsys, tmp_path, body, needle):
-    out_file = tmp_path / "o.csv"
-    rc, _out, err = run(capsys, "maneuver", "--input", _bad_record(tmp_path, body), "-o", str(out_file))
-    assert rc == 2, err
-    assert needle in err and len(err.strip().splitlines()) == 1
-    assert not out_file.exists()
 
 
 def test_record_without_sigma_needs_the_option(capsys, tmp_path):
@@ -228,40 +166,20 @@ def test_chunking_depends_on_the_parameters_only(monkeypatch):
 
 
 def test_checkpoint_resumes_to_the_same_bytes_and_refuses_other_parameters(capsys, tmp_path, many_tasks):
-    ref, resumed, ck = tmp_path / "ref.csv", tmp_path / "resumed.csv", tmp_path / "ck"
-    assert run(capsys, *ENGINE_ARGS, "--workers", "1", "-q", "-o", str(ref))[0] == 0
-    rc, _, err = run(
-        capsys, *ENGINE_ARGS, "--workers", "1", "-q", "--checkpoint", str(ck), "-o", str(resumed)
-    )
-    assert rc == 0, err
-    assert resumed.read_bytes() == ref.read_bytes()
-    done = sorted(ck.glob("task-*.pkl"))
-    assert len(done) == 6
-    for f in done[::2]:  # an interrupted run: some chunks missing (run 0's track among them)
-        f.unlink()
-    resumed.unlink()
-    rc, _, err = run(
-        capsys, *ENGINE_ARGS, "--workers", "2", "-q", "--checkpoint", str(ck), "-o", str(resumed)
-    )
-    assert rc == 0, err
-    assert resumed.read_bytes() == ref.read_bytes() and len(list(ck.glob("task-*.pkl"))) == 6
+    # an interrupted run: every other chunk missing (run 0's track among them)
+    ck, n_tasks = checkpoint_resume(capsys, tmp_path, ENGINE_ARGS, slice(None, None, 2))
+    assert n_tasks == 6
     # another view of the same Monte Carlo reuses the checkpoint (views are computed from the task results)
     rc, _, err = run(capsys, *ENGINE_ARGS, "--view", "summary", "-q", "--checkpoint", str(ck))
     assert rc == 0, err
     other = tmp_path / "other.csv"
     for args in (("--seed", "7"), ("--glr-threshold", "10")):
-        rc, _, err = run(capsys, *ENGINE_ARGS, *args, "-q", "--checkpoint", str(ck), "-o", str(other))
-        assert rc == 2 and err.count("\n") == 1 and "--checkpoint" in err
+        err = one_line_error(capsys, *ENGINE_ARGS, *args, "-q", "--checkpoint", str(ck), "-o", str(other))
+        assert "--checkpoint" in err
         assert not other.exists()
 
 
-@pytest.mark.parametrize(
-    ("args", "needle"), [(("--workers", "0"), "--workers"), (("--scheduler", " "), "--scheduler")]
-)
-def test_bad_engine_options(capsys, tmp_path, args, needle):
-    out = tmp_path / "o.csv"
-    rc, _, err = run(capsys, *ENGINE_ARGS, *args, "-o", str(out))
-    assert rc == 2 and err.count("\n") == 1 and needle in err and not out.exists()
+test_bad_engine_options = bad_engine_options_test(*ENGINE_ARGS)
 
 
 def test_views_without_monte_carlo_ignore_the_engine_options(capsys, tmp_path):
@@ -289,24 +207,3 @@ def test_the_command_layer_copies_of_core_constants_agree():
     assert tuple(v.value for v in cli.View) == (*ex.VIEWS, "measurements")
     assert tuple(c.value for c in cli.Correction) == CORRECTIONS
     assert tuple(c.value for c in cli.Continuation) == CONTINUATIONS
-
-
-@pytest.mark.parametrize(
-    ("args", "meta", "needle"),
-    [
-        (("--sigma", "0"), "", "Invalid value for --sigma: 0 is not in [0.001, 1e+07] m"),
-        (("--sigma", "100,200"), "", "Invalid value for --sigma: give one σ with --input"),
-        (("--T", "0"), "# sigma: 100\n", "Invalid value for --T: 0 is not in [0.001, 3600] s"),
-        ((), "# sigma: 1e8\n", "r.csv: metadata 'sigma' = 1e+08 is not in [0.001, 1e+07] m"),
-        ((), "# sigma: 100\n# T: 7200\n", "r.csv: metadata 'T' = 7200 is not in [0.001, 3600] s"),
-        ((), "# sigma: -1\n", "r.csv: metadata 'sigma' must be a finite number > 0"),
-        (("--method", "ckf"), "# sigma: 100\n", "Invalid value for --method: 'ckf' is not one of"),
-        (("--view", "summary"), "# sigma: 100\n", "leave --view out"),
-    ],
-)
-def test_bad_record_options_and_metadata(capsys, tmp_path, args, meta, needle):
-    p = tmp_path / "r.csv"
-    p.write_text(meta + "scan,z_x,z_y\n1,0,0\n2,0,450\n3,0,900\n")
-    rc, out, err = run(capsys, "maneuver", "--input", str(p), *args)
-    assert rc == 2 and out == ""
-    assert needle in err and len(err.strip().splitlines()) == 1, err

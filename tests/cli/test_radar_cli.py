@@ -149,21 +149,6 @@ def test_layout_mismatches_are_refused(record, capsys, tmp_path):
         assert rc == 2 and out == "" and hint in err, (args, err)
 
 
-def test_simulate_2d_bad_options(capsys):
-    for args, hint in (
-        (("--R", "1e-3"), "--R"),
-        (("--anr-pair", "5"), "--anr-pair"),
-        (("--anr-pair", "2", "--R-range", "1e-3"), "--anr-pair"),
-        (("--start", "0,0"), "--start"),
-        (("--start", "1,2,3"), "--start"),
-        (("--R-bearing", "-1"), "--R-bearing"),
-    ):
-        rc, out, err = run(capsys, "simulate", "--example", "2d", "--duration", "1", *args)
-        assert rc == 2 and out == "" and hint in err, (args, err)
-    rc, _, err = run(capsys, "simulate", "--R-range", "1e-3", "--duration", "1")
-    assert rc == 2 and "--example 2d" in err
-
-
 def test_montecarlo_2d_table_and_determinism(capsys, tmp_path):
     args = (
         "detect",

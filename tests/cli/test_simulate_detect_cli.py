@@ -177,24 +177,6 @@ def test_bad_detect_options(record, capsys, monkeypatch, args, option, text):
     assert rc == 2 and len(err.strip().splitlines()) == 1 and option in err and text in err, err
 
 
-@pytest.mark.parametrize(
-    ("args", "option", "text"),
-    [
-        (["--R", "0"], "--R", "> 0"),
-        (["--R", "-1e-3"], "--R", "> 0"),
-        (["--mode", "4"], "--mode", "not a Table I mode: 1, 2 or 3"),
-        (["--T", "0"], "--T", "> 0"),
-        (["--duration", "-5"], "--duration", "> 0"),
-        (["--K", "1,2,3"], "--K", "two finite gains"),
-        (["--R", "1e-3", "--anr-db", "40"], "--anr-db", "not both"),
-        (["--montecarlo"], "No such option", ""),
-    ],
-)
-def test_bad_simulate_options(capsys, monkeypatch, args, option, text):
-    rc, _, err = run(capsys, monkeypatch, "simulate", *args)
-    assert rc == 2 and len(err.strip().splitlines()) == 1 and option in err and text in err, err
-
-
 def test_montecarlo_small(capsys, monkeypatch, tmp_path):
     rc, out, _ = run(
         capsys,

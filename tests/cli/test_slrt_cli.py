@@ -5,7 +5,14 @@ import pytest
 
 from motionsig_cli.detection.track_existence import FUSION_METHODS
 from motionsig_cli.experiments import slrt as exp
-from tests.cli.helpers import engine_outputs, run, table
+from tests.cli.helpers import (
+    bad_engine_options_test,
+    checkpoint_resume,
+    engine_outputs,
+    one_line_error,
+    run,
+    table,
+)
 
 
 def test_curves_and_plots(capsys, tmp_path):
@@ -33,67 +40,6 @@ def test_decisions_view_and_seed(capsys, tmp_path):
     frac = t.numeric("confirmed") + t.numeric("deleted") + t.numeric("undecided")
     np.testing.assert_allclose(frac, 1.0)
     assert set(t.column("case")) == {"target, p_D = 0.9", "no target"}
-
-
-@pytest.mark.parametrize(
-    ("args", "needle"),
-    [
-        (("--pd", "0"), "--pd"),
-        (("--pd", "1.5"), "--pd"),
-        (("--filter-pd", "0"), "--filter-pd"),
-        (("--clutter", "-1"), "--clutter"),
-        (("--alpha", "0.5"), "--alpha"),
-        (("--beta", "0"), "--beta"),
-        (("--sensors", "0"), "--sensors"),
-        (("--radius", "0"), "--radius"),
-        (("--sigma-r", "0"), "--sigma-r"),
-        (("--sigma-phi-deg", "-1"), "--sigma-phi-deg"),
-        (("--methods", "ukf"), "--methods"),
-        (("--runs", "100000", "--scans", "1000"), "--runs"),
-        (("--pd", "1", "--target-only"), "--pd"),
-        (("--runs", "1", "--scans", "100000"), "--runs"),
-        (("--radius", "30000"), "--radius"),
-        (("--sensors", "3", "--radius", "1e-200"), "--radius"),
-        (("--sigma-r", "1e-170"), "--sigma-r"),
-        (("--T", "1e300"), "--T"),
-        (("--q", "inf"), "--q"),
-        (("--plot-scan", "same.png", "-o", "same.png"), "--plot-scan"),
-        (("--plot", "b.png", "--plot-scan", "b.png"), "--plot-scan"),
-        (("--plot-scan", "x.xyz"), "--plot-scan"),
-        (("--sensors", "65"), "--sensors"),
-        (("--clutter", "1001"), "--clutter"),
-        (("--scans", "0"), "--scans"),
-        (("--T", "0"), "--T"),
-        (("--q", "-1"), "--q"),
-        (("--sigma-phi-deg", "91"), "--sigma-phi-deg"),
-        (("--filter-pd", "1"), "--filter-pd"),
-        (("--pd", "0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,0.95,0.99"), "--pd"),
-        (("--methods", ","), "--methods"),
-        (("--runs", "0"), "--runs"),
-    ],
-)
-def test_bad_input(capsys, args, needle):
-    rc, _, err = run(capsys, "slrt", *args)
-    assert rc == 2 and err.count("\n") == 1 and needle in err and "Traceback" not in err
-    assert err.startswith("motionsig slrt: error: ") and "Input should" not in err
-
-
-@pytest.mark.parametrize(
-    ("args", "message"),
-    [
-        (("--sigma-r", "0"), "--sigma-r: 0 is not in [0.001, 100000] m"),
-        (("--sensors", "0"), "--sensors: 0 is not in [1, 64]"),
-        (("--clutter", "-1"), "--clutter: -1 is not in [0, 1000]"),
-        (("--radius", "30000"), "--radius: 30000 is not in [0, 26000) m"),
-        (("--alpha", "0.5"), "--alpha: 0.5 is not in (0, 0.5)"),
-        (("--pd", "1.5"), "--pd: 1.5 is not in (0, 1]"),
-        (("--methods", "ckf,ukf"), "--methods: 'ukf' is not one of ckf, dkf, lkf"),
-        (("--runs", "100000"), "--runs: 100000 is too many runs for 4 case(s) x 30 scans x 4 sensors"),
-    ],
-)
-def test_a_core_check_is_reported_under_its_option(capsys, args, message):
-    rc, _, err = run(capsys, "slrt", *args)
-    assert rc == 2 and message in err, err
 
 
 def test_help_spells_out_every_fusion_method(capsys):
@@ -155,33 +101,13 @@ def test_chunking_depends_on_the_parameters_only(monkeypatch):
 
 
 def test_checkpoint_resumes_to_the_same_bytes_and_refuses_other_parameters(capsys, tmp_path, many_tasks):
-    ref, resumed, ck = tmp_path / "ref.csv", tmp_path / "resumed.csv", tmp_path / "ck"
-    assert run(capsys, *ENGINE_ARGS, "--workers", "1", "-q", "-o", str(ref))[0] == 0
-    rc, _, err = run(
-        capsys, *ENGINE_ARGS, "--workers", "1", "-q", "--checkpoint", str(ck), "-o", str(resumed)
-    )
-    assert rc == 0, err
-    assert resumed.read_bytes() == ref.read_bytes()
-    done = sorted(ck.glob("task-*.pkl"))
-    assert len(done) == 10
-    for f in done[1::3]:  # an interrupted run: some chunks missing
-        f.unlink()
-    resumed.unlink()
-    rc, _, err = run(
-        capsys, *ENGINE_ARGS, "--workers", "2", "-q", "--checkpoint", str(ck), "-o", str(resumed)
-    )
-    assert rc == 0, err
-    assert resumed.read_bytes() == ref.read_bytes() and len(list(ck.glob("task-*.pkl"))) == 10
+    # an interrupted run: some chunks missing
+    ck, n_tasks = checkpoint_resume(capsys, tmp_path, ENGINE_ARGS, slice(1, None, 3))
+    assert n_tasks == 10
     other = tmp_path / "other.csv"
-    rc, _, err = run(capsys, *ENGINE_ARGS, "--seed", "7", "-q", "--checkpoint", str(ck), "-o", str(other))
-    assert rc == 2 and err.count("\n") == 1 and "--checkpoint" in err and "seed" in err
+    err = one_line_error(capsys, *ENGINE_ARGS, "--seed", "7", "-q", "--checkpoint", str(ck), "-o", str(other))
+    assert "--checkpoint" in err and "seed" in err
     assert not other.exists()
 
 
-@pytest.mark.parametrize(
-    ("args", "needle"), [(("--workers", "0"), "--workers"), (("--scheduler", " "), "--scheduler")]
-)
-def test_bad_engine_options(capsys, tmp_path, args, needle):
-    out = tmp_path / "o.csv"
-    rc, _, err = run(capsys, *ENGINE_ARGS, *args, "-o", str(out))
-    assert rc == 2 and err.count("\n") == 1 and needle in err and not out.exists()
+test_bad_engine_options = bad_engine_options_test(*ENGINE_ARGS)

@@ -219,17 +219,7 @@ def _ca_model(T: float, q: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Phi[2, 3] = T
     Phi[2, 5] = 0.5 * T * T
     Phi[3, 5] = T
-    G = np.array(
-        [
-            [0.5 * T * T, 0.0],
-            [T, 0.0],
-            [0.0, 0.5 * T * T],
-            [0.0, T],
-            [1.0, 0.0],
-            [0.0, 1.0],
-        ]
-    )
-    return Phi, G, q * np.eye(2)
+    return Phi, _noise_gain(T, accel=1.0), q * np.eye(2)
 
 
 def _cv_model(T: float, q: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -238,17 +228,17 @@ def _cv_model(T: float, q: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     Phi[0, 0] = Phi[1, 1] = Phi[2, 2] = Phi[3, 3] = 1.0
     Phi[0, 1] = T
     Phi[2, 3] = T
-    G = np.array(
-        [
-            [0.5 * T * T, 0.0],
-            [T, 0.0],
-            [0.0, 0.5 * T * T],
-            [0.0, T],
-            [0.0, 0.0],
-            [0.0, 0.0],
-        ]
-    )
-    return Phi, G, q * np.eye(2)
+    return Phi, _noise_gain(T, accel=0.0), q * np.eye(2)
+
+
+def _noise_gain(T: float, accel: float) -> np.ndarray:
+    """Process-noise gain G of the 6-D state (x, vx, y, vy, ax, ay): white acceleration on the position and
+    velocity rows, ``accel`` on the acceleration rows (1 for the acceleration model, 0 for constant velocity)."""
+    G = np.zeros((6, 2))
+    G[0, 0] = G[2, 1] = 0.5 * T * T
+    G[1, 0] = G[3, 1] = T
+    G[4, 0] = G[5, 1] = accel
+    return G
 
 
 if __name__ == "__main__":

@@ -150,34 +150,36 @@ def _one_minus_pow(p, n):
         return 1 - (1 - p) ** n
 
 
-def _X(p):
+def _window(p, n_key):
+    """(1 - (1-p)**n_alpha) * (1 - (1-p)**n)**3 with n = _consts()[n_key]."""
     C = _consts()
     a = _one_minus_pow(p, C["n_alpha"])
-    b = _one_minus_pow(p, C["n_beta"])
+    b = _one_minus_pow(p, C[n_key])
     with mp.workdps(DPS + 10):
         return a * b**3
+
+
+def _X(p):
+    return _window(p, "n_beta")  # B.6
 
 
 def _Y(p):
-    C = _consts()
-    a = _one_minus_pow(p, C["n_alpha"])
-    b = _one_minus_pow(p, C["n_v"])
+    return _window(p, "n_v")  # C.14
+
+
+def _window_at(p_f, n_key):
     with mp.workdps(DPS + 10):
-        return a * b**3
+        r = _window(_m(p_f), n_key)
+    with mp.workdps(DPS):
+        return +r
 
 
 def window_X(p_f):
-    with mp.workdps(DPS + 10):
-        r = _X(_m(p_f))
-    with mp.workdps(DPS):
-        return +r
+    return _window_at(p_f, "n_beta")
 
 
 def window_Y(p_f):
-    with mp.workdps(DPS + 10):
-        r = _Y(_m(p_f))
-    with mp.workdps(DPS):
-        return +r
+    return _window_at(p_f, "n_v")
 
 
 # ----------------------------------------------------------------------------

@@ -15,15 +15,12 @@ import pytest
 from scipy.optimize import brentq, minimize_scalar
 
 from motionsig_cli.config import ConfigError
+from motionsig_cli.surveillance import jamming as jam
 from motionsig_cli.surveillance.jamming import (
-    JammingDesign,
     JammingSystem,
-    chernoff_nu,
     detection_exponent,
     log_bound,
-    log_pf,
     log_supremum,
-    log_window,
     p_d_for,
     p_dl,
     required_jamming,
@@ -36,7 +33,7 @@ LN10 = math.log(10.0)
 
 
 def design(K, pdl, t=0.0):
-    return JammingDesign.from_pdl(K, pdl, t)
+    return jam.JammingDesign.from_pdl(K, pdl, t)
 
 
 # --- reference values: system constants, P_DL, ν*, E ----------------------------------------------------
@@ -62,7 +59,7 @@ def test_sample_counts_and_eb():
 def test_pdl_reference_values(p_d, K, t, expected, nu, E):
     assert float(p_dl(p_d, K, t)) == pytest.approx(expected, rel=1e-9, abs=1e-12)
     if nu is not None:
-        assert float(chernoff_nu(p_d**4, t)) == pytest.approx(nu, abs=6e-9)  # printed to 8 decimals
+        assert float(jam.chernoff_nu(p_d**4, t)) == pytest.approx(nu, abs=6e-9)  # printed to 8 decimals
     if E is not None:
         assert float(detection_exponent(p_d**4, t)) == pytest.approx(E, abs=6e-11)  # printed to 10 decimals
 
@@ -75,7 +72,7 @@ def test_closed_form_exponent_is_the_numeric_maximum(q, t):
     res = minimize_scalar(lambda nu: -f(nu), bounds=(0.0, 60.0), method="bounded", options={"xatol": 1e-12})
     assert float(detection_exponent(q, t)) == pytest.approx(max(-res.fun, f(0.0)), abs=1e-11)
     if t < q:
-        assert float(chernoff_nu(q, t)) == pytest.approx(res.x, abs=1e-5)
+        assert float(jam.chernoff_nu(q, t)) == pytest.approx(res.x, abs=1e-5)
 
 
 @pytest.mark.parametrize(
@@ -136,14 +133,14 @@ def test_design_edges():
     ],
 )
 def test_pf_reference_values_and_erf_form(x, p_d, expected):
-    got = math.exp(float(log_pf(x, p_d)))
+    got = math.exp(float(jam.log_pf(x, p_d)))
     assert got == pytest.approx(expected, rel=1e-7)
     assert got == pytest.approx(float(oracle.pf(x, p_d)), rel=1e-12)  # ½ − ½ erf(√(P₀Bτ/2J) − φ)
 
 
 def test_pf_far_tail_is_not_zero():
     """x = −40 dB: p_f ≈ 1e−2173, far below the smallest double; ln p_f stays exact."""
-    lp = float(log_pf(-40.0, 0.9))
+    lp = float(jam.log_pf(-40.0, 0.9))
     assert lp / LN10 == pytest.approx(float(oracle.mp.log10(oracle.pf(-40.0, 0.9))), rel=1e-12)
 
 
@@ -167,9 +164,9 @@ def test_log_window_matches_direct_formula_and_series():
     for p in (1e-3, 1e-7, 1e-12, 3e-20):
         for n in (23.858639, 9.6e5, 2e7):
             direct = math.log(-math.expm1(n * math.log1p(-p)))
-            assert float(log_window(math.log(p), n)) == pytest.approx(direct, rel=1e-9)
+            assert float(jam.log_window(math.log(p), n)) == pytest.approx(direct, rel=1e-9)
     # p below the smallest double: ln(1 − (1−p)^n) = ln n + ln p to O(np)
-    assert float(log_window(-2000.0, 2e7)) == pytest.approx(math.log(2e7) - 2000.0, rel=1e-15)
+    assert float(jam.log_window(-2000.0, 2e7)) == pytest.approx(math.log(2e7) - 2000.0, rel=1e-15)
 
 
 BOUND_VALUES = [  # reference values (fractions of N_T, t = 0 unless given): (K, P_DL, t, x, quantity, value or log10)
@@ -323,7 +320,7 @@ def test_bounds_increase_with_jammer_power_and_p_d_and_decrease_with_K():
         for q in ("nfl", "nadl"):
             assert np.all(np.diff(log_bound(q, x, design(K, pdl, t), S)) >= 0)
     # p_f rises with p_d at fixed x, hence both bounds (fixed K, t)
-    lo, hi = JammingDesign(10, 0.7, 0.1), JammingDesign(10, 0.8, 0.1)
+    lo, hi = jam.JammingDesign(10, 0.7, 0.1), jam.JammingDesign(10, 0.8, 0.1)
     assert np.all(log_bound("nfl", x, hi, S) >= log_bound("nfl", x, lo, S))
     # larger K at the same P_DL needs smaller p_d: the jammer needs more power
     xs = [required_jamming("nadl", 0.01, design(K, 0.999), S).x_db for K in (1, 10, 100, 1000)]

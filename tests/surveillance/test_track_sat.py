@@ -19,15 +19,10 @@ from motionsig_cli.experiments.satellite_tracking import (
     Timeline,
     TrackSatJob,
 )
+from motionsig_cli.surveillance import clock
 from motionsig_cli.surveillance.clock import (
     ClockModel,
-    alpha_of,
-    convergence_rule,
-    mvn_constant,
-    mvn_constant_quad,
     psi,
-    psi_large,
-    psi_small,
 )
 from motionsig_cli.surveillance.clock_tracking import (
     clock_error_recursion,
@@ -83,7 +78,7 @@ def test_psi_at_table_4_3_alphas():
     exact = {("I", 5): 0.0993, ("I", 50): 0.4020, ("I", 500): 0.9267, ("II", 5): 0.0408, ("II", 50): 0.1799,
              ("II", 500): 0.6366}  # fmt: skip
     for row in st.table_4_3_printed():
-        a = alpha_of(row["sigma0_ns"], row["sigma_ns"], PRINTED_42[row["example"]]["beta"])
+        a = clock.alpha_of(row["sigma0_ns"], row["sigma_ns"], PRINTED_42[row["example"]]["beta"])
         assert a == pytest.approx(row["alpha"], rel=5e-3)
         p = psi(a)
         assert abs(p - exact[(row["example"], int(row["sigma0_ns"]))]) <= 5e-4
@@ -115,17 +110,17 @@ def test_psi_approximations_error_bands():
     """T3: small-α form within 1 % for α ≤ 0.01 and 6 % for α ≤ 0.3; large-α form within 1 % for α ≥ 3
     and 5 % for α ≥ 1."""
     a = np.geomspace(1e-8, 0.3, 400)
-    rel = np.abs(psi_small(a) / psi(a) - 1)
+    rel = np.abs(clock.psi_small(a) / psi(a) - 1)
     assert rel[a <= 0.01].max() < 0.01 and rel.max() < 0.06
     a = np.geomspace(1.0, 1e6, 400)
-    rel = np.abs(psi_large(a) / psi(a) - 1)
+    rel = np.abs(clock.psi_large(a) / psi(a) - 1)
     assert rel[a >= 3].max() < 0.01 and rel.max() < 0.05
 
 
 def test_convergence_rule_restores_ln_point_one():
     """Text after 4.5.37: s_n = (1 − (1−ψ)^{n+1})/ψ reaches 90 % of 1/ψ after ln 0.1/ln(1 − ψ) − 1 steps."""
     for p in (0.1, 0.4, 0.9):
-        n = convergence_rule(p)
+        n = clock.convergence_rule(p)
         assert 1 - (1 - p) ** (n + 1) == pytest.approx(0.9, rel=1e-12)
 
 
@@ -264,8 +259,8 @@ def test_gauss_newton_least_squares_recovers_exact_fix():
 
 def test_mandelbrot_van_ness_constant_closed_form():
     for rho in (0.55, 0.75, 0.9, 0.95):
-        assert mvn_constant(rho) == pytest.approx(mvn_constant_quad(rho), rel=1e-7)
-    assert mvn_constant(0.5 + 1e-9) == pytest.approx(1.0, rel=1e-6)
+        assert clock.mvn_constant(rho) == pytest.approx(clock.mvn_constant_quad(rho), rel=1e-7)
+    assert clock.mvn_constant(0.5 + 1e-9) == pytest.approx(1.0, rel=1e-6)
 
 
 def test_clock_model_covariances():
@@ -307,7 +302,7 @@ def test_recursion_equals_brute_force_covariance(ex, s0):
     V, g = orc.tracker_mse_oracle(50.0, s0, beta, 60, outage_start=40, return_gains=True)
     np.testing.assert_allclose(rec.V, V, rtol=1e-9)
     np.testing.assert_allclose(rec.gain[1:], g[1:], rtol=1e-9, atol=1e-15)
-    gs = psi(alpha_of(s0, 50.0, beta))
+    gs = psi(clock.alpha_of(s0, 50.0, beta))
     rec = clock_error_recursion(50.0, s0, np.full(61, beta), ~tl.outage(), gain=gs)
     np.testing.assert_allclose(
         rec.V, orc.tracker_mse_oracle(50.0, s0, beta, 60, outage_start=40, gains=gs), rtol=1e-9
