@@ -15,6 +15,7 @@ that catches ``ValueError`` keeps working. The command layer maps ``field`` to i
 from __future__ import annotations
 
 import math
+import operator
 from collections.abc import Collection
 from typing import Any
 
@@ -92,14 +93,14 @@ def positive(field: str, value: float, *, unit: str = "") -> float:
 
 def integer(field: str, value: Any, lo: int | None = None, hi: int | None = None) -> int:
     """An integer (not a bool) in [lo, hi]."""
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float)
-        or (isinstance(value, float) and not math.isfinite(value))
-        or value != int(value)
-    ):
+    if isinstance(value, bool):
         raise ConfigError(field, value, "is not an integer")
-    n = int(value)
+    try:
+        n = operator.index(value)  # int and NumPy integers
+    except TypeError:
+        if not (isinstance(value, float) and math.isfinite(value) and value == int(value)):
+            raise ConfigError(field, value, "is not an integer") from None
+        n = int(value)  # an integral float, 3.0
     if (lo is not None and n < lo) or (hi is not None and n > hi):
         lo_s = "-inf" if lo is None else str(lo)
         hi_s = "inf" if hi is None else str(hi)

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol, TypeVar, runtime_checkable
 
-from motionsig_cli.config import ConfigError
+from motionsig_cli.config import ConfigError, integer
 
 R = TypeVar("R")
 
@@ -99,8 +99,10 @@ class Engine:
     connect_timeout: float = 5.0
 
     def __post_init__(self) -> None:
-        if isinstance(self.workers, bool) or int(self.workers) != self.workers or self.workers < 1:
-            raise EngineError("workers", f"must be an integer >= 1, got {self.workers}")
+        try:
+            integer("workers", self.workers, 1)
+        except ConfigError:
+            raise EngineError("workers", f"must be an integer >= 1, got {self.workers!r}") from None
         if self.scheduler is not None and not self.scheduler.strip():
             raise EngineError("scheduler", "is empty; give an address like tcp://10.0.0.5:8786 or 'local'")
 

@@ -51,8 +51,13 @@ def test_integer_rejects_non_integers_and_out_of_range(value):
         integer("n", value, 0, 10)
 
 
-def test_integer_accepts_integral_floats():
+def test_integer_accepts_integral_floats_and_numpy_integers():
+    import numpy as np
+
     assert integer("n", 3.0, 0, 10) == 3
+    assert integer("n", np.int64(7), 0, 10) == 7 and type(integer("n", np.int32(7))) is int
+    with pytest.raises(ConfigError):
+        integer("n", np.bool_(True))
 
 
 def test_one_of():

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from motionsig_cli.config import ConfigError
+from motionsig_cli.config import ConfigError, in_range, integer
 from motionsig_cli.errors import InputError
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.models.vehicle2d import Vehicle2D
@@ -129,10 +129,8 @@ def read_record_1d(t: Table) -> VehicleRecord:
     y = finite_column(t, "y")
     meta = t.meta
     try:
-        f_c = float(meta["f_c"])
-        m_rho = int(meta["m_rho"])
-        if m_rho < 1:
-            raise ValueError(f"m_rho must be >= 1, got {m_rho}")
+        f_c = in_range("f_c", meta["f_c"], 0.0)
+        m_rho = integer("m_rho", meta["m_rho"], 1)
         vehicle = Vehicle1D(
             T=float(meta["T"]), K=tuple(meta["K"]), a_sig=float(meta["a_sig"]), R=float(meta["R"])
         )

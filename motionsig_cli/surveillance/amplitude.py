@@ -381,7 +381,7 @@ class Laplace(ScaleDensity):
 
     def sample_tilted(self, rng: np.random.Generator, r: float, size: int) -> np.ndarray:
         if not abs(r) * self.beta < 1.0:
-            raise ConfigError("r", r, f"is outside the Laplace MGF's domain |rho| < {1 / self.beta:g}")
+            raise ValueError(f"tilt r = {r:g} is outside the Laplace MGF's domain |rho| < {1 / self.beta:g}")
         e = rng.exponential(1.0, (2, size))  # x = β(E₁ − E₂); the tilt rescales each exponential
         return self.beta * (e[0] / (1.0 - self.beta * r) - e[1] / (1.0 + self.beta * r))
 
@@ -448,8 +448,10 @@ class Discrete(DensityDefaults):
         x, w = np.asarray(self.x, float), np.asarray(self.w, float)
         if x.ndim != 1 or x.shape != w.shape or x.size == 0:
             raise ConfigError("w", self.w, "must be non-empty and as long as the atoms x")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(w)) and np.all(w >= 0.0)):
-            raise ConfigError("x", self.x, "must be finite, with weights w >= 0")
+        if not np.all(np.isfinite(x)):
+            raise ConfigError("x", self.x, "must be finite")
+        if not (np.all(np.isfinite(w)) and np.all(w >= 0.0)):
+            raise ConfigError("w", self.w, "must be finite and >= 0")
         if abs(w.sum() - 1.0) > 1e-9:
             raise ConfigError("w", self.w, f"must sum to 1; they sum to {w.sum():.12g}")
         if abs(np.dot(w, x)) > 1e-9 * max(1.0, np.abs(x).max()):

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import expit
 
-from motionsig_cli.config import ConfigError, integer
+from motionsig_cli.config import ConfigError, integer, positive
 from motionsig_cli.surveillance.amplitude import AmplitudeDensity
 
 LOG_SWITCH = 30.0  # g above which ln(1 − q + qΦ) is formed by logaddexp instead of log1p(q expm1 g)
@@ -47,8 +47,7 @@ class MANModel:
             raise ConfigError("N", self.N, "is not an integer")
         integer("N", int(self.N), 1)
         t = self.tau_over_alpha
-        if not (math.isfinite(t) and t > 0.0):
-            raise ConfigError("tau_over_alpha", t, "is not a finite number > 0")
+        positive("tau_over_alpha", t)
         if not 2.0 * t < 1.0:
             raise ConfigError(
                 "tau_over_alpha",

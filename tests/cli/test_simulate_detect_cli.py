@@ -140,7 +140,7 @@ def bad_mrho_meta(lines, first):
 BAD_RECORDS = [
     (drop_R_meta, "missing metadata 'R'"),
     (bad_T_meta, "metadata 'T' must be a positive number"),
-    (bad_mrho_meta, "bad metadata: m_rho must be >= 1"),
+    (bad_mrho_meta, "bad metadata: m_rho = 0 is not in "),
     (rename_y, "missing column 'y'"),
     (repeat_a_row, "time is not increasing"),
     (drop_a_row, "non-uniform time"),

@@ -62,7 +62,8 @@ def test_2d_round_trip_and_degrees(rec2, tmp_path):
     [
         (lambda s: s.replace("k,t,y,", "k,t,yy,"), "missing column 'y'"),
         (lambda s: s.replace("# R: 0.001\n", ""), "missing metadata 'R'"),
-        (lambda s: s.replace("# m_rho: 20", "# m_rho: 0"), "bad metadata: m_rho must be >= 1"),
+        (lambda s: s.replace("# m_rho: 20", "# m_rho: 0"), "bad metadata: m_rho = 0 is not in "),
+        (lambda s: s.replace("# m_rho: 20", "# m_rho: 20.5"), "bad metadata: m_rho = 20.5 is not an integer"),
         (lambda s: s.replace("# R: 0.001", "# R: -1"), "bad metadata: R = -1"),
         (lambda s: s.replace('# codes: "corrected"', '# codes: "gold"'), "bad metadata"),
         (lambda s: s.replace("# T: 0.05", '# T: "fast"'), "metadata 'T' must be a positive number"),
