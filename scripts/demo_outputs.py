@@ -91,20 +91,33 @@ def record(out_dir: Path, root: Path) -> None:
         print(f"{name} rc={res.returncode} {line[:100]}", file=sys.stderr)
 
 
+def _is_note(key: str, value: object) -> bool:
+    """A free-text note: a :data:`REWORDED` key holding words (a one-word value such as ``radar: "origin"``
+    is a parameter, and is compared)."""
+    return key in REWORDED and isinstance(value, str) and " " in value.strip()
+
+
 def _blank_reworded(value: object) -> object:
     """A metadata value with the text of every :data:`REWORDED` key (at any depth) replaced."""
     if isinstance(value, dict):
-        return {k: "(text)" if k in REWORDED else _blank_reworded(v) for k, v in value.items()}
+        return {k: "(text)" if _is_note(k, v) else _blank_reworded(v) for k, v in value.items()}
     if isinstance(value, list):
         return [_blank_reworded(v) for v in value]
     return value
+
+
+def _json_or_text(text: str) -> object:
+    try:
+        return json.loads(text)
+    except ValueError:
+        return text
 
 
 def _normalise(text: str) -> list[str]:
     out = []
     for line in text.splitlines():
         m = re.match(r"# ([A-Za-z0-9_]+): (.*)$", line)
-        if m and m.group(1) in REWORDED:
+        if m and m.group(1) in REWORDED and _is_note(m.group(1), _json_or_text(m.group(2))):
             out.append(f"# {m.group(1)}: (text)")
         elif m and m.group(2).startswith("{"):  # nested metadata (a record's input_meta)
             try:

@@ -217,6 +217,11 @@ def test_demo_outputs_reads_every_motionsig_line_of_the_demo_target():
     text = (Path(__file__).resolve().parents[2] / "Makefile").read_text()
     demo = text.split("\ndemo:", 1)[1].split("\n\n", 1)[0]
     assert len(lines) == demo.count("\t$(BIN)/motionsig ") > 10
+    # a reworded note is exempt from the comparison, a one-word parameter under the same key is not
+    before = '# assumptions: "T, m_rho: spec"\n# radar: "origin"\n# x: {"radar": "origin", "note": "a b"}'
+    after = '# assumptions: "assumed: T, m_rho"\n# radar: "origin"\n# x: {"radar": "origin", "note": "c d"}'
+    assert demo_outputs._normalise(before) == demo_outputs._normalise(after)
+    assert demo_outputs._normalise('# radar: "origin"') != demo_outputs._normalise('# radar: "sensor"')
 
 
 def test_help_is_plain_text_and_keeps_bracketed_units(capsys):
