@@ -22,6 +22,7 @@ import csv
 import io
 import json
 import math
+import re
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -48,6 +49,7 @@ class Table:
         meta: Provenance: command, every resolved parameter, convention, seed, version.
         lines: For tables read from a file, the 1-based source line of each row (for errors).
         source: For tables read from a file, its name (``<stdin>`` for ``-``).
+        header_line: For tables read from a file, the 1-based line of the header (0: unknown).
     """
 
     columns: tuple[str, ...]
@@ -55,6 +57,7 @@ class Table:
     meta: dict[str, Any] = field(default_factory=dict)
     lines: tuple[int, ...] = ()
     source: str = ""
+    header_line: int = 0
 
     def column(self, name: str) -> list[Any]:
         """The raw values of one column (raises :class:`InputError` naming the file if absent)."""
@@ -153,63 +156,189 @@ def render(table: Table, fmt: str) -> str:
     raise ValueError(f"unknown format {fmt!r}; expected one of {', '.join(FORMATS)}")
 
 
-def read_table(source: str | Path, *, required: Sequence[str] = ()) -> Table:
-    """Read a table written by :func:`format_csv` (or any CSV with a header row).
+MAX_ROWS = 10_000_000
+"""Default row limit of :func:`read_table`: a longer input is refused before it is held in memory."""
+
+
+def read_table(source: str | Path, *, required: Sequence[str] = (), max_rows: int = MAX_ROWS) -> Table:
+    """Read a table written by :func:`format_csv` or :func:`format_json` (or any CSV with a header row).
+
+    The format is recognised from the content: a document whose first non-blank character is ``{`` is
+    the JSON the commands write (``{"meta": {...}, "columns": [...], "data": [{...}, ...]}``), anything
+    else CSV with optional leading ``# key: value`` metadata lines (values JSON; other text is kept as
+    a string). CSV is read line by line, and reading stops with an error at row ``max_rows + 1``, so a
+    file far too long for the command is refused without being held in memory.
 
     Args:
         source: A path, or ``-`` for standard input.
         required: Columns that must be present.
+        max_rows: Most data rows accepted.
 
     Raises:
-        InputError: unreadable file, no header, ragged row or missing column; the message names
-            the file and, for row errors, the line.
+        InputError: unreadable file, no header, ragged row, too many rows or missing column; the
+            message names the file and, for row errors, the line.
     """
     name = "<stdin>" if str(source) == "-" else str(source)
     try:
         if str(source) == "-":
-            stream = getattr(sys.stdin, "buffer", None)  # bytes, decoded strictly like a file
-            raw: bytes | str = stream.read() if stream is not None else sys.stdin.read()
+            buffer = getattr(sys.stdin, "buffer", None)  # bytes, decoded strictly like a file
+            stream: Any = (
+                io.TextIOWrapper(buffer, encoding="utf-8-sig", errors="strict", newline="")
+                if buffer is not None
+                else sys.stdin
+            )
+            table = _read_stream(stream, name, max_rows)
         else:
-            raw = Path(source).read_bytes()
-        text = (
-            raw.decode("utf-8-sig") if isinstance(raw, bytes) else raw.removeprefix("\ufeff")
-        )  # tolerate a BOM
+            with open(source, encoding="utf-8-sig", errors="strict", newline="") as stream:
+                table = _read_stream(stream, name, max_rows)
     except OSError as exc:
         raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
     except UnicodeDecodeError:
         raise InputError(f"{name}: not a UTF-8 text file") from None
+    for col in required:
+        table.column(col)
+    return table
+
+
+def _read_stream(stream: Any, name: str, max_rows: int) -> Table:
+    """CSV (line by line) or JSON from an open text stream."""
+    first = ""
+    head: list[str] = []
+    for line in stream:
+        head.append(line)
+        if line.strip():
+            first = line.lstrip().removeprefix("\ufeff")[:1]
+            break
+    if first == "{":
+        return _read_json("".join(head) + stream.read(), name, max_rows)
+    lines = _chain(head, stream)
     meta: dict[str, Any] = {}
     body: list[tuple[int, str]] = []
-    for lineno, line in enumerate(text.splitlines(), start=1):
+    lineno = 0
+    header: tuple[int, str] | None = None
+    for lineno, line in enumerate(lines, start=1):
         stripped = line.strip()
         if not stripped:
             continue
         if stripped.startswith("#"):
-            key, sep, value = stripped[1:].partition(":")
-            if sep:
-                value = value.strip()
-                try:
-                    meta[key.strip()] = json.loads(value)
-                except json.JSONDecodeError:
-                    meta[key.strip()] = value
+            if header is None:  # metadata lines before the header; later comments are skipped
+                key, sep, value = stripped[1:].partition(":")
+                if sep:
+                    value = value.strip()
+                    try:
+                        meta[key.strip()] = json.loads(value)
+                    except json.JSONDecodeError:
+                        meta[key.strip()] = value
             continue
+        if header is None:
+            header = (lineno, line)
+            continue
+        if len(body) >= max_rows:
+            raise InputError(f"{name}:{lineno}: more than {max_rows} data rows (the limit for this input)")
         body.append((lineno, line))
-    if not body:
+    if header is None:
         raise InputError(f"{name}: no header row (empty input?)")
-    parsed = list(csv.reader([line for _, line in body]))
-    if len(parsed) != len(body):
-        raise InputError(f"{name}: a quoted field spans several lines (not supported)")
-    columns = tuple(c.strip() for c in parsed[0])
+    columns = tuple(c.strip() for c in _csv_line(header[1], name, header[0]))
     if len(set(columns)) != len(columns):
-        raise InputError(f"{name}:{body[0][0]}: duplicate column names in header")
+        raise InputError(f"{name}:{header[0]}: duplicate column names in header")
     rows: list[tuple[Any, ...]] = []
-    lines: list[int] = []
-    for (lineno, _), cells in zip(body[1:], parsed[1:], strict=True):
+    for ln, line in body:
+        cells = _csv_line(line, name, ln)
         if len(cells) != len(columns):
-            raise InputError(f"{name}:{lineno}: expected {len(columns)} fields, found {len(cells)}")
+            raise InputError(f"{name}:{ln}: expected {len(columns)} fields, found {len(cells)}")
         rows.append(tuple(c.strip() for c in cells))
-        lines.append(lineno)
-    table = Table(columns=columns, rows=rows, meta=meta, lines=tuple(lines), source=name)
-    for col in required:
-        table.column(col)
-    return table
+    return Table(
+        columns=columns,
+        rows=rows,
+        meta=meta,
+        lines=tuple(ln for ln, _ in body),
+        source=name,
+        header_line=header[0],
+    )
+
+
+def _chain(head: list[str], stream: Any) -> Any:
+    yield from head
+    yield from stream
+
+
+def _csv_line(line: str, name: str, lineno: int) -> list[str]:
+    """One CSV line's cells (a quoted field may not span lines)."""
+    rows = list(csv.reader([line.rstrip("\r\n")]))
+    if len(rows) != 1 or line.count('"') % 2:
+        raise InputError(f"{name}:{lineno}: a quoted field is not closed on its line (not supported)")
+    return rows[0]
+
+
+_JSON_TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|[{}\[\]\n]')
+
+
+def _json_record_lines(text: str) -> list[int]:
+    """1-based line of each object that is an element of a top-level array (the records of ``data``)."""
+    lines: list[int] = []
+    stack: list[str] = []
+    line = 1
+    for m in _JSON_TOKEN.finditer(text):
+        tok = m.group()
+        if tok == "\n":
+            line += 1
+        elif tok in "{[":
+            if tok == "{" and stack == ["{", "["]:
+                lines.append(line)
+            stack.append(tok)
+        elif tok in "}]":
+            if stack:
+                stack.pop()
+        else:
+            line += tok.count("\n")
+    return lines
+
+
+def _read_json(text: str, name: str, max_rows: int) -> Table:
+    """The JSON document of :func:`format_json`; each record's line is found for error messages."""
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{name}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg})") from None
+    if not isinstance(doc, dict) or not isinstance(doc.get("data"), list):
+        raise InputError(f'{name}: a JSON table needs an object with a "data" list of records')
+    data = doc["data"]
+    meta = doc.get("meta", {})
+    if not isinstance(meta, dict):
+        raise InputError(f'{name}: "meta" must be an object')
+    if len(data) > max_rows:
+        raise InputError(f"{name}: more than {max_rows} data records (the limit for this input)")
+    record_lines = _json_record_lines(text) if "\n" in text else []
+    if len(record_lines) != len(data):
+        record_lines = [1] * len(data)  # records on one line, or objects nested oddly: no line numbers
+    columns = doc.get("columns")
+    if columns is None:
+        columns = list(dict.fromkeys(k for rec in data if isinstance(rec, dict) for k in rec))
+    if not isinstance(columns, list) or not all(isinstance(c, str) for c in columns):
+        raise InputError(f'{name}: "columns" must be a list of names')
+    if len(set(columns)) != len(columns):
+        raise InputError(f"{name}: duplicate column names")
+    rows: list[tuple[Any, ...]] = []
+    for rec, ln in zip(data, record_lines, strict=True):
+        if not isinstance(rec, dict):
+            raise InputError(f"{name}:{ln}: a record is not an object")
+        extra = set(rec) - set(columns)
+        if extra:
+            raise InputError(f"{name}:{ln}: field {sorted(extra)[0]!r} is not one of the columns")
+        rows.append(tuple(_json_cell(rec.get(c)) for c in columns))
+    return Table(
+        columns=tuple(columns), rows=rows, meta=meta, lines=tuple(record_lines), source=name, header_line=1
+    )
+
+
+def _json_cell(value: Any) -> Any:
+    """A JSON value as the CSV reader would give it: null → empty cell, booleans as words."""
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int | float):
+        return value
+    if isinstance(value, str):
+        return value
+    return json.dumps(value)

@@ -7,13 +7,17 @@ and writes the table of :func:`motionsig_cli.experiments.vehicle_record.simulate
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from typing import Annotated
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from motionsig_cli.cli import common
 from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, CodesVariant, Output, SeedOpt, choices, command
+
+if TYPE_CHECKING:
+    from motionsig_cli.tables import Table
 
 Example = choices("Example", "Which example of the mode-signature paper.", one_d="1d", two_d="2d")
 SigAxes = choices(
@@ -22,8 +26,8 @@ SigAxes = choices(
 DbConvention = choices(
     "DbConvention",
     "How an ANR (signature-amplitude-to-noise ratio) given in dB is read.",
-    "paper-ln",
     "log10",
+    "paper-ln",
 )
 
 
@@ -71,7 +75,8 @@ AnrPairOpt = Annotated[
     int | None,
     typer.Option(
         "--anr-pair",
-        help="2d: Fig 7's (angle, range) ANR pair 1-4 = (9.2, 37.1) ... (101.3, 129.2); default 4.",
+        help="2d: Fig 7's (angle, range) ANR pair 1-4, in paper dB (10*ln) (9.2, 37.1) ... (101.3, 129.2); "
+        "default 4.",
     ),
 ]
 StartOpt = Annotated[
@@ -83,11 +88,18 @@ SigAxesOpt = Annotated[
 AnrDbOpt = Annotated[
     float | None,
     typer.Option(
-        "--anr-db", help="ANR (signature-amplitude-to-noise ratio a_sig^2/(2R)) in dB instead of --R."
+        "--anr-db",
+        help="ANR (signature-amplitude-to-noise ratio a_sig^2/(2R)) in dB instead of --R; "
+        "true decibels unless --db-convention paper-ln.",
     ),
 ]
 DbConventionOpt = Annotated[
-    DbConvention, typer.Option("--db-convention", help="paper-ln: the paper's 10*ln; log10: true decibels.")
+    DbConvention,
+    typer.Option(
+        "--db-convention",
+        help="How --anr-db is read: log10, true decibels 10*log10(ANR); "
+        "paper-ln, the paper's labels 10*ln(ANR) (48.3 is R = 1e-3 at a_sig 0.5).",
+    ),
 ]
 DurationOpt = Annotated[float, typer.Option("--duration", help="Record length [s].")]
 CodesOpt = Annotated[CodesVariant, typer.Option("--codes", help="Table I codes: corrected or printed.")]
@@ -127,7 +139,7 @@ def simulate(
     start: StartOpt = DEFAULT_START,
     sig_axes: SigAxesOpt = SigAxes.both,
     anr_db: AnrDbOpt = None,
-    db_convention: DbConventionOpt = DbConvention.paper_ln,
+    db_convention: DbConventionOpt = DbConvention.log10,
     duration: DurationOpt = 80.0,
     codes: CodesOpt = CodesVariant.corrected,
     no_signature: NoSignatureOpt = False,
@@ -145,7 +157,8 @@ def simulate(
     \b
     Example:
       motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot fig2.png | motionsig detect
-      motionsig simulate --anr-db 48.3 --f-r 0.1 -o run.csv
+      motionsig simulate --anr-db 21 --f-r 0.1 -o run.csv
+      motionsig simulate --anr-db 48.3 --db-convention paper-ln | motionsig detect
       motionsig simulate --example 2d --anr-pair 3 --plot traj.png | motionsig detect
     """
     output.check()
@@ -183,8 +196,19 @@ def simulate(
             if rec.two_d
             else response_figure(rec.t, rec.x[:, 0], rec.r[:, 0], rec.combined_reference, rec.y)
         )
-    output.emit(rec.table)
+    output.emit(rec.table if anr_db is None else _with_convention(rec.table, anr_db, db_convention.value))
     output.note(rec.summary)
+
+
+def _with_convention(table: Table, anr_db: float, convention: str) -> Table:
+    """The record's table with the --anr-db value as given and its convention in the metadata, after the
+    ANR in both conventions (anr_db_log10, anr_db_paper_ln)."""
+    meta: dict[str, object] = {}
+    for key, value in table.meta.items():
+        meta[key] = value
+        if key == "anr_db_paper_ln":
+            meta.update(anr_db=anr_db, db_convention=convention)
+    return dataclasses.replace(table, meta=meta)
 
 
 def _only_for(where: str, given: dict[str, object]) -> None:

@@ -34,7 +34,9 @@ from motionsig_cli.config import ConfigError, in_range, one_of, positive
 Q0_DIAG = (1e-3, 1e2, 1e-1, 1e1)  # eq (56), per step
 QA_DEFAULT = 1.0  # eq (57) last entry, read as 10^0
 DEFAULT_R = 1e-5  # the best ANR of Figs 4–6 (label 94.3)
-DB_CONVENTIONS = ("paper-ln", "log10")  # the paper's "dB" is 10·ln; log10: true decibels
+# how an ANR in dB is read: log10, true decibels 10·log10(ANR) (the default); paper-ln, the mode-signature
+# paper's "dB" labels, 10·ln(ANR) (94.3 ↔ R = 1e-5, 48.3 ↔ R = 1e-3 at a_sig = 0.5)
+DB_CONVENTIONS = ("log10", "paper-ln")
 
 
 def pole_placement_gain(T: float, wn: float = 4 * math.pi, zeta: float = 0.7) -> tuple[float, float]:
@@ -71,12 +73,13 @@ def check_gain(name: str, K: Any) -> None:
 
 
 def measurement_variance(
-    R: float | None, anr_db: float | None, db_convention: str = "paper-ln", a_sig: float = 0.5
+    R: float | None, anr_db: float | None, db_convention: str = "log10", a_sig: float = 0.5
 ) -> float:
     """The measurement-noise variance R given itself or an ANR in dB (ANR = a_sig²/(2R), eq 58).
 
-    ``db_convention`` ``"paper-ln"`` reads the dB value as the paper's 10·ln(ANR), ``"log10"`` as true
-    decibels. Neither given: R = 1e-5. R itself is checked by :class:`Vehicle1D`.
+    ``db_convention`` ``"log10"`` (the default) reads the dB value as true decibels, ANR = 10^(dB/10);
+    ``"paper-ln"`` as the paper's labels of Figs 4–6, 10·ln(ANR), so ANR = e^(dB/10). Neither given:
+    R = 1e-5. R itself is checked by :class:`Vehicle1D`.
 
     Raises:
         ConfigError: both given, an unknown convention, a_sig ≤ 0 with an ANR (no R gives it), or an ANR

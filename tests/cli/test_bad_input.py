@@ -166,7 +166,7 @@ ENCODE_CSV = [
     ("code,chip,value\nA,0,1\nA,1,-1\nA,2,0\n", "x.csv:4: column 'value': 0 mixes chip conventions"),
     ("code,chip,value\nA,0,1\n", "x.csv:2: code 'A' has 1 chip"),
     ("code,chip,value\nA,99999999999999999999999,1\nA,1,0\n", "x.csv:2: column 'chip'"),
-    ('code,chip,value\n"A\nB",0,1\n', "quoted field spans"),
+    ('code,chip,value\n"A\nB",0,1\n', "quoted field is not closed on its line"),
     ("code,chip,value\nA,0,1\nA,1,0\nB,0,1\nB,1,0\nB,2,1\n", "different lengths"),
 ]
 

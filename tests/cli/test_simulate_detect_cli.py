@@ -60,21 +60,14 @@ def test_simulate_metadata_and_determinism(record, capsys, monkeypatch, tmp_path
 
 
 def test_anr_db_conventions(capsys, monkeypatch, tmp_path):
-    """Spec E5: the seed's 'dB' is 10·ln: 94.3 'dB' ↔ R ≈ 1e-5; in true decibels 94.3 dB is R ≈ 4.6e-11."""
-    _, out, _ = run(capsys, monkeypatch, "simulate", "--anr-db", "94.335", "--duration", "1", "-q")
-    assert table(out, tmp_path).meta["R"] == pytest.approx(1e-5, rel=1e-3)
+    """--anr-db is true decibels by default (94.3 dB is R ≈ 4.6e-11); the paper's 'dB' is 10·ln, read with
+    --db-convention paper-ln: 94.3 'dB' ↔ R ≈ 1e-5."""
     _, out, _ = run(
-        capsys,
-        monkeypatch,
-        "simulate",
-        "--anr-db",
-        "94.3",
-        "--db-convention",
-        "log10",
-        "--duration",
-        "1",
-        "-q",
-    )
+        capsys, monkeypatch, "simulate", "--anr-db", "94.335", "--db-convention", "paper-ln", "--duration",
+        "1", "-q",
+    )  # fmt: skip
+    assert table(out, tmp_path).meta["R"] == pytest.approx(1e-5, rel=1e-3)
+    _, out, _ = run(capsys, monkeypatch, "simulate", "--anr-db", "94.3", "--duration", "1", "-q")
     assert table(out, tmp_path).meta["R"] == pytest.approx(4.6e-11, rel=2e-2)
 
 

@@ -2,6 +2,7 @@
 (eq 58) and the checks of the vehicle's configuration."""
 
 import math
+from decimal import Decimal, localcontext
 
 import numpy as np
 import pytest
@@ -130,13 +131,39 @@ def test_pole_placement_checks_its_arguments(args, field):
 
 
 def test_measurement_variance_from_R_or_an_anr():
-    """ANR = a²/(2R) (eq 58): the paper's 10·ln label 94.335 is R ≈ 1e-5; 94.3 true dB is R ≈ 4.6e-11."""
+    """ANR = a²/(2R) (eq 58), in true decibels by default: 94.3 dB is R ≈ 4.6e-11; the paper's 10·ln label
+    94.335 is R ≈ 1e-5."""
     assert measurement_variance(None, None) == 1e-5
     assert measurement_variance(2e-3, None) == 2e-3
-    assert measurement_variance(None, 94.335) == pytest.approx(1e-5, rel=1e-3)
-    assert measurement_variance(None, 94.3, "log10") == pytest.approx(4.6e-11, rel=2e-2)
-    R = measurement_variance(None, 20.0, "log10", a_sig=2.0)
+    assert measurement_variance(None, 94.3) == pytest.approx(4.6e-11, rel=2e-2)
+    assert measurement_variance(None, 94.3, "log10") == measurement_variance(None, 94.3)
+    assert measurement_variance(None, 94.335, "paper-ln") == pytest.approx(1e-5, rel=1e-3)
+    R = measurement_variance(None, 20.0, a_sig=2.0)
     assert 10 * math.log10(2.0**2 / (2 * R)) == pytest.approx(20.0)
+
+
+@pytest.mark.parametrize("a_sig", [0.5, 2.0])
+def test_anr_db_is_true_decibels_by_default(a_sig):
+    """21 dB is ANR = 10^2.1 (to rounding): R = a²/(2·10^2.1); 21 paper dB is ANR = e^2.1."""
+    with localcontext() as ctx:  # 10^2.1 and e^2.1 to 40 digits, independently of the float code under test
+        ctx.prec = 40
+        true_anr = float(Decimal(10) ** Decimal("2.1"))  # 125.892541179416721...
+        paper_anr = float(Decimal("2.1").exp())  # 8.16616991256765007...
+    assert math.isclose(
+        measurement_variance(None, 21.0, a_sig=a_sig), a_sig**2 / (2 * true_anr), rel_tol=1e-12
+    )
+    got = measurement_variance(None, 21.0, "paper-ln", a_sig=a_sig)
+    assert math.isclose(got, a_sig**2 / (2 * paper_anr), rel_tol=1e-12)
+
+
+def test_paper_labels_with_paper_ln():
+    """The paper's labels of Figs 4–6 (10·ln of ANR = 0.125/R at a_sig = 0.5) with ``paper-ln``: 48.3 is
+    R = 0.125·e^(-4.83) = 9.98e-4 ≈ 1e-3 and 94.3 is 1.0035e-5 ≈ 1e-5 (the labels are rounded to 0.1)."""
+    R = measurement_variance(None, 48.3, "paper-ln")
+    assert math.isclose(R, 0.125 * math.exp(-4.83), rel_tol=1e-12)
+    assert R == pytest.approx(1e-3, rel=2e-3)  # the label is 10·ln(125) = 48.283 rounded: 0.17 % off
+    assert measurement_variance(None, 94.3, "paper-ln") == pytest.approx(1e-5, rel=4e-3)
+    assert measurement_variance(None, 48.3) == pytest.approx(0.125 * 10**-4.83, rel=1e-12)  # not 1e-3
 
 
 @pytest.mark.parametrize(

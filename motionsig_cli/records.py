@@ -1,0 +1,578 @@
+"""Users' measurement records: the one format every reading command accepts.
+
+A record is a table (:func:`motionsig_cli.tables.read_table`): CSV with optional leading ``# key: value``
+metadata lines (values JSON), or the JSON document the commands write. A command declares the *roles* it
+reads (:class:`Role`: ``time``, ``x``, ``y``, ``range``, ``bearing``, ``scan``, ``sensor``, …) in a
+:class:`RecordSpec`; :func:`read_record` finds each role's column, converts it, and checks it.
+
+- **Columns.** A role is found under its own name or one of its aliases (case-insensitive; ``time`` also
+  as ``t`` or ``timestamp``), or where the user maps it: ``--columns time=timestamp,x=east,y=north``
+  (:func:`parse_columns`). Two columns that could both be a role are refused (map one).
+- **Units.** Every physical role has an SI unit (metres, radians, seconds) into which it is converted. A
+  file states another unit in the header (``range [km]``, ``bearing (deg)``), in the metadata
+  (``# units: {"bearing": "deg"}``, or the older ``# bearing_unit: "deg"``), or the user does
+  (``--units bearing=deg``, :func:`parse_units`), in that order of precedence: option, header,
+  metadata. :data:`UNITS` lists the known units.
+- **Times** are seconds (any unit above) or ISO 8601 timestamps (``2026-05-01T12:00:00.250Z``), read
+  relative to the first one (recorded as :attr:`Record.time_origin`); naive and zoned timestamps are
+  not mixed. A time role is finite and increasing (or non-decreasing, where several rows share a scan).
+- **Missing values.** An empty cell, ``nan``, ``NA``, ``null`` (or JSON ``null``) in a role that allows
+  it becomes NaN: the commands make such a step predict-only. Where a role does not allow it the value
+  is refused, naming the file, line and column.
+- **Limits.** A record longer than the command's row limit is refused while it is read, before it is
+  held in memory.
+
+Every failure raises :class:`~motionsig_cli.errors.InputError` with ``file:line: column 'name': …``; a
+bad ``--columns`` or ``--units`` text is a :class:`~motionsig_cli.config.ConfigError` naming the option.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from datetime import datetime
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from motionsig_cli.config import ConfigError, integer, one_of
+from motionsig_cli.errors import InputError
+from motionsig_cli.tables import MAX_ROWS, Table, read_table
+
+__all__ = [
+    "KINDS",
+    "MISSING",
+    "QUANTITIES",
+    "UNITS",
+    "Record",
+    "RecordSpec",
+    "Role",
+    "parse_columns",
+    "parse_units",
+    "read_record",
+    "uniform_grid",
+]
+
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "km": 1e3, "ft": 0.3048, "kft": 304.8, "nmi": 1852.0, "mi": 1609.344},
+    "angle": {"rad": 1.0, "mrad": 1e-3, "deg": math.pi / 180.0},
+    "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0},
+    "speed": {"m/s": 1.0, "km/h": 1 / 3.6, "kn": 1852.0 / 3600.0, "ft/s": 0.3048},
+    "variance_length": {"m2": 1.0, "km2": 1e6},
+}
+"""Known units per quantity, as the factor to the SI unit (the first of each)."""
+QUANTITIES = tuple(UNITS)
+KINDS = ("number", "integer", "time", "label")
+"""How a role's cells are read: a float (SI), an integer, a time (seconds or ISO 8601), or a label."""
+MISSING = frozenset({"", "nan", "na", "n/a", "null", "none", "-"})
+"""Cell texts (lower case) that mean "no measurement"."""
+ORDERS = (None, "increasing", "non-decreasing")
+_HEADER_UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]$")
+
+
+@dataclass(frozen=True)
+class Role:
+    """A quantity a command reads from a record.
+
+    Attributes:
+        name: The role's name (what ``--columns`` maps: ``time``, ``x``, ``range``…).
+        aliases: Other column names that are this role (matched case-insensitively, like the name).
+        kind: One of :data:`KINDS`.
+        quantity: For numbers and times: one of :data:`QUANTITIES` (converted to its SI unit); None for
+            a dimensionless number.
+        unit: The unit assumed when the file and the user state none (the SI unit by default).
+        required: The record must have it.
+        missing: Missing cells are allowed (NaN; integers and labels never).
+        order: For times (and integers such as scans): None, ``"increasing"`` or ``"non-decreasing"``.
+        help: One line for the documentation and the error messages.
+
+    Raises:
+        ConfigError: naming the first bad field.
+    """
+
+    name: str
+    aliases: tuple[str, ...] = ()
+    kind: str = "number"
+    quantity: str | None = None
+    unit: str | None = None
+    required: bool = True
+    missing: bool = False
+    order: str | None = None
+    help: str = ""
+
+    def __post_init__(self) -> None:
+        if not re.fullmatch(r"[a-z][a-z0-9_]*", self.name):
+            raise ConfigError("name", self.name, "is not a lower-case identifier")
+        one_of("kind", self.kind, KINDS)
+        if self.quantity is not None:
+            one_of("quantity", self.quantity, QUANTITIES)
+            if self.unit is not None:
+                one_of("unit", self.unit, tuple(UNITS[self.quantity]))
+        elif self.unit is not None:
+            raise ConfigError("unit", self.unit, "is given for a role without a quantity")
+        if self.kind == "time" and self.quantity not in (None, "time"):
+            raise ConfigError("quantity", self.quantity, "of a time role must be 'time'")
+        if self.missing and self.kind in ("integer", "label", "time"):
+            raise ConfigError("missing", self.missing, f"cells cannot be missing in a {self.kind} role")
+        one_of("order", self.order, ORDERS)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The column names that are this role, lower case."""
+        return tuple(dict.fromkeys(n.lower() for n in (self.name, *self.aliases)))
+
+    @property
+    def si_unit(self) -> str | None:
+        q = "time" if self.kind == "time" else self.quantity
+        return None if q is None else next(iter(UNITS[q]))
+
+
+@dataclass(frozen=True)
+class RecordSpec:
+    """What a command reads: its roles, and the most rows it accepts.
+
+    Attributes:
+        roles: The roles, in the order of the documentation.
+        max_rows: Row limit (a longer record is refused while it is read).
+        what: What a record is, for messages (``"record"``, ``"detections"``…).
+        hint: A hint appended to "missing column" errors.
+    """
+
+    roles: tuple[Role, ...]
+    max_rows: int = MAX_ROWS
+    what: str = "record"
+    hint: str = ""
+
+    def __post_init__(self) -> None:
+        if not self.roles:
+            raise ConfigError("roles", self.roles, "holds no role")
+        names = [r.name for r in self.roles]
+        if len(set(names)) != len(names):
+            raise ConfigError("roles", names, "repeat a name")
+        integer("max_rows", self.max_rows, 1)
+
+    def role(self, name: str) -> Role:
+        for r in self.roles:
+            if r.name == name:
+                return r
+        raise ConfigError("role", name, f"is not one of {', '.join(r.name for r in self.roles)}")
+
+
+@dataclass(frozen=True)
+class Record:
+    """A record read for a command.
+
+    Attributes:
+        values: Role name → values: floats in SI units for numbers and times (NaN: missing), int64 for
+            integers, str objects for labels. Only the roles the record has.
+        lines: (N,) the 1-based line of each row in the file (for messages).
+        columns: Role name → the column it was read from.
+        units: Role name → the unit the column was read in.
+        time_origin: The first timestamp (ISO 8601) when times were timestamps, else None.
+        extra: Columns of the file that no role took.
+        meta: The file's metadata.
+        source: The file's name (``<stdin>`` for standard input).
+        header_line: The line of the header (0 when unknown).
+    """
+
+    values: dict[str, np.ndarray]
+    lines: np.ndarray
+    columns: dict[str, str]
+    units: dict[str, str]
+    time_origin: str | None
+    extra: tuple[str, ...]
+    meta: dict[str, Any]
+    source: str
+    header_line: int = 0
+    table: Table | None = field(default=None, repr=False, compare=False)
+
+    def __len__(self) -> int:
+        return int(self.lines.size)
+
+    def has(self, role: str) -> bool:
+        return role in self.values
+
+    def __getitem__(self, role: str) -> np.ndarray:
+        if role not in self.values:
+            raise InputError(f"{self.source}: no {role!r} column")
+        return self.values[role]
+
+    def where(self, i: int | None, role: str | None = None) -> str:
+        """``file:line: column 'name'`` of row ``i`` (None: the header) and role."""
+        line = self.header_line if i is None else int(self.lines[i])
+        at = f"{self.source}:{line}" if line else self.source
+        return at + (f": column {self.columns.get(role, role)!r}" if role is not None else "")
+
+    def error(self, i: int | None, role: str | None, message: str) -> InputError:
+        """An :class:`InputError` ``file:line: column 'name': message``."""
+        return InputError(f"{self.where(i, role)}: {message}")
+
+    def provenance(self) -> dict[str, Any]:
+        """What was read, for output metadata: file, columns per role, units, time origin."""
+        out: dict[str, Any] = {"input": self.source, "input_columns": dict(self.columns)}
+        if self.units:
+            out["input_units"] = dict(self.units)
+        if self.time_origin is not None:
+            out["time_origin"] = self.time_origin
+        return out
+
+
+def parse_columns(text: str | Mapping[str, str] | None, spec: RecordSpec | None = None) -> dict[str, str]:
+    """``"time=timestamp,x=east"`` → ``{"time": "timestamp", "x": "east"}`` (a mapping passes through).
+
+    Raises:
+        ConfigError: naming ``columns``: an entry without ``=``, an empty name, a role given twice or
+            two roles mapped to one column, or (with ``spec``) a role the command does not read.
+    """
+    if text is None:
+        return {}
+    if isinstance(text, Mapping):
+        items = list(text.items())
+    else:
+        items = []
+        for entry in (e.strip() for e in str(text).split(",")):
+            if not entry:
+                continue
+            role, sep, name = entry.partition("=")
+            if not sep:
+                raise ConfigError("columns", entry, "is not role=column (e.g. time=timestamp)")
+            items.append((role.strip(), name.strip()))
+    out: dict[str, str] = {}
+    for role, name in items:
+        if not role or not name:
+            raise ConfigError("columns", f"{role}={name}", "has an empty role or column name")
+        if role in out:
+            raise ConfigError("columns", role, "is mapped twice")
+        if name in out.values():
+            raise ConfigError("columns", name, "is mapped to two roles")
+        if spec is not None and role not in (r.name for r in spec.roles):
+            raise ConfigError(
+                "columns",
+                role,
+                f"is not a column this command reads ({', '.join(r.name for r in spec.roles)})",
+            )
+        out[role] = name
+    return out
+
+
+def parse_units(text: str | Mapping[str, str] | None, spec: RecordSpec | None = None) -> dict[str, str]:
+    """``"range=km,bearing=deg"`` → a mapping role → unit.
+
+    Raises:
+        ConfigError: naming ``units``: a malformed entry, a role given twice, (with ``spec``) a role the
+            command does not read or that has no unit, or a unit not known for the role's quantity.
+    """
+    if text is None:
+        return {}
+    items = list(text.items()) if isinstance(text, Mapping) else []
+    if not isinstance(text, Mapping):
+        for entry in (e.strip() for e in str(text).split(",")):
+            if not entry:
+                continue
+            role, sep, unit = entry.partition("=")
+            if not sep or not role.strip() or not unit.strip():
+                raise ConfigError("units", entry, "is not role=unit (e.g. bearing=deg)")
+            items.append((role.strip(), unit.strip()))
+    out: dict[str, str] = {}
+    for role, unit in items:
+        if role in out:
+            raise ConfigError("units", role, "is given twice")
+        if spec is not None:
+            r = next((x for x in spec.roles if x.name == role), None)
+            if r is None:
+                raise ConfigError("units", role, f"is not a column this command reads ({_names(spec)})")
+            q = "time" if r.kind == "time" else r.quantity
+            if q is None:
+                raise ConfigError("units", role, "has no unit")
+            if unit not in UNITS[q]:
+                raise ConfigError(
+                    "units", f"{role}={unit}", f"is not a {q.replace('_', ' ')} unit ({', '.join(UNITS[q])})"
+                )
+        out[role] = unit
+    return out
+
+
+def _names(spec: RecordSpec) -> str:
+    return ", ".join(r.name for r in spec.roles)
+
+
+def read_record(
+    source: str | Path | Table,
+    spec: RecordSpec,
+    *,
+    columns: str | Mapping[str, str] | None = None,
+    units: str | Mapping[str, str] | None = None,
+) -> Record:
+    """Read ``source`` (a path, ``-`` for standard input, or a table already read) for ``spec``.
+
+    Raises:
+        ConfigError: a bad ``columns`` or ``units`` text (naming that field).
+        InputError: a missing or ambiguous column, a bad cell, an unknown unit, a time that repeats or
+            goes backwards, too many rows: ``file:line: column 'name': …``.
+    """
+    colmap = parse_columns(columns, spec)
+    unitmap = parse_units(units, spec)
+    t = source if isinstance(source, Table) else read_table(source, max_rows=spec.max_rows)
+    if len(t.rows) > spec.max_rows:
+        raise InputError(f"{t.source}: more than {spec.max_rows} rows (the limit for this {spec.what})")
+    found = _find_columns(t, spec, colmap)
+    lines = np.asarray(t.lines if len(t.lines) == len(t.rows) else range(2, len(t.rows) + 2), dtype=np.int64)
+    rec = Record({}, lines, {}, {}, None, (), dict(t.meta), t.source, t.header_line, t)
+    meta_units = t.meta.get("units") if isinstance(t.meta.get("units"), dict) else {}
+    values: dict[str, np.ndarray] = {}
+    used_units: dict[str, str] = {}
+    origin: str | None = None
+    for role in spec.roles:
+        if role.name not in found:
+            continue
+        col = found[role.name]
+        rec.columns[role.name] = col
+        j = t.columns.index(col)
+        cells = [row[j] for row in t.rows]
+        unit = _unit(rec, role, col, unitmap, meta_units)
+        if unit is not None:
+            used_units[role.name] = unit
+        if role.kind == "time":
+            arr, origin_r = _times(rec, role, cells, unit)
+            origin = origin or origin_r
+        elif role.kind == "number":
+            arr = _numbers(rec, role, cells)
+            if unit is not None:
+                q = role.quantity
+                assert q is not None
+                arr = arr * UNITS[q][unit]
+        elif role.kind == "integer":
+            arr = _integers(rec, role, cells)
+        else:
+            arr = _labels(rec, role, cells)
+        if role.order is not None:
+            _check_order(rec, role, arr)
+        values[role.name] = arr
+    extra = tuple(c for c in t.columns if c not in found.values())
+    return Record(
+        values, lines, rec.columns, used_units, origin, extra, dict(t.meta), t.source, t.header_line, t
+    )
+
+
+def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[str, str]:
+    """Role → column of the table: the user's mapping first, then the names and aliases."""
+    base = {c: _HEADER_UNIT.sub(r"\1", c).strip().lower() for c in t.columns}
+    where = f"{t.source}:{t.header_line}" if t.header_line else t.source
+    found: dict[str, str] = {}
+    for role in spec.roles:
+        if role.name in colmap:
+            want = colmap[role.name]
+            hits = [c for c in t.columns if c == want] or [c for c in t.columns if base[c] == want.lower()]
+            if not hits:
+                raise InputError(
+                    f"{where}: no column {want!r} for --columns {role.name}={want} "
+                    f"(columns: {', '.join(t.columns)})"
+                )
+            found[role.name] = hits[0]
+    taken = set(found.values())
+    for role in spec.roles:
+        if role.name in found:
+            continue
+        hits = [c for c in t.columns if c not in taken and base[c] in role.names]
+        if len(hits) > 1:
+            raise InputError(
+                f"{where}: columns {hits[0]!r} and {hits[1]!r} could both be the {role.name}; "
+                f"say which with --columns {role.name}=NAME"
+            )
+        if hits:
+            found[role.name] = hits[0]
+            taken.add(hits[0])
+        elif role.required:
+            also = f" (or {', '.join(repr(a) for a in role.aliases)})" if role.aliases else ""
+            hint = f"; {spec.hint}" if spec.hint else ""
+            raise InputError(
+                f"{where}: missing column {role.name!r}{also}: columns are {', '.join(t.columns)}; "
+                f"map one with --columns {role.name}=NAME{hint}"
+            )
+    return found
+
+
+def _unit(
+    rec: Record, role: Role, col: str, unitmap: dict[str, str], meta_units: dict[str, Any]
+) -> str | None:
+    """The unit of a role's column: --units, the header's ``[unit]``, the metadata, the role's default."""
+    q = "time" if role.kind == "time" else role.quantity
+    if q is None:
+        return None
+    known = UNITS[q]
+    m = _HEADER_UNIT.match(col)
+    candidates = [
+        (unitmap.get(role.name), "--units"),
+        (m.group(2) if m else None, "header"),
+        (meta_units.get(col, meta_units.get(role.name)), "metadata 'units'"),
+        (rec.meta.get(f"{role.name}_unit"), f"metadata '{role.name}_unit'"),
+    ]
+    for unit, origin in candidates:
+        if unit is None:
+            continue
+        if str(unit) not in known:
+            where = rec.where(None, role.name) if origin == "header" else rec.source
+            raise InputError(
+                f"{where}: unknown {q.replace('_', ' ')} unit {unit!r} in the {origin} "
+                f"(known: {', '.join(known)})"
+            )
+        return str(unit)
+    return role.unit or next(iter(known))
+
+
+def _numbers(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
+    """Floats; missing texts → NaN where allowed; everything else must be a finite number."""
+    try:
+        arr = np.asarray(cells, dtype=np.float64)  # fast path: every cell a number
+        if np.all(np.isfinite(arr)):
+            return arr
+    except (TypeError, ValueError):
+        pass
+    out = np.empty(len(cells))
+    for i, v in enumerate(cells):
+        if isinstance(v, str) and v.strip().lower() in MISSING:
+            if not role.missing:
+                raise rec.error(i, role.name, f"missing value ({role.name} cannot be skipped here)")
+            out[i] = math.nan
+            continue
+        try:
+            x = float(v)
+        except (TypeError, ValueError):
+            raise rec.error(i, role.name, f"{v!r} is not a number") from None
+        if not math.isfinite(x):
+            raise rec.error(i, role.name, f"{v!r} is not finite")
+        out[i] = x
+    return out
+
+
+def _integers(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
+    out = np.empty(len(cells), dtype=np.int64)
+    for i, v in enumerate(cells):
+        try:
+            x = float(v)
+            if not math.isfinite(x) or x != int(x) or abs(x) > 2**53:
+                raise ValueError
+        except (TypeError, ValueError):
+            what = "missing value" if isinstance(v, str) and v.strip().lower() in MISSING else f"{v!r}"
+            raise rec.error(i, role.name, f"{what} is not an integer") from None
+        out[i] = int(x)
+    return out
+
+
+def _labels(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
+    out = np.empty(len(cells), dtype=object)
+    for i, v in enumerate(cells):
+        text = str(v).strip()
+        if text.lower() in MISSING:
+            raise rec.error(i, role.name, "missing value")
+        out[i] = text
+    return out
+
+
+def _times(rec: Record, role: Role, cells: Sequence[Any], unit: str | None) -> tuple[np.ndarray, str | None]:
+    """Seconds: numbers (times the unit) or ISO 8601 timestamps relative to the first."""
+    numeric = True
+    try:
+        arr = np.asarray(cells, dtype=np.float64)
+    except (TypeError, ValueError):
+        numeric = False
+    if numeric:
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise rec.error(int(bad[0]), role.name, f"time {cells[bad[0]]!r} is not finite")
+        return arr * UNITS["time"][unit or "s"], None
+    stamps: list[datetime] = []
+    for i, v in enumerate(cells):
+        text = str(v).strip()
+        try:
+            float(text)
+            raise rec.error(
+                i, role.name, f"{text!r} is a number among ISO 8601 timestamps (one form per column)"
+            )
+        except ValueError:
+            pass
+        if text.lower() in MISSING:
+            raise rec.error(i, role.name, "missing time")
+        try:
+            stamps.append(datetime.fromisoformat(text))
+        except ValueError:
+            raise rec.error(
+                i,
+                role.name,
+                f"{text!r} is neither seconds nor an ISO 8601 time (e.g. 2026-05-01T12:00:00.5Z)",
+            ) from None
+        if (stamps[-1].tzinfo is None) != (stamps[0].tzinfo is None):
+            raise rec.error(i, role.name, "mixes timestamps with and without a time zone")
+    t0 = stamps[0]
+    # exact differences in microseconds (timedelta is exact), then seconds
+    us = np.array([(s - t0) // _MICROSECOND for s in stamps], dtype=np.float64)
+    return us / 1e6, t0.isoformat()  # correctly rounded seconds
+
+
+_MICROSECOND = datetime(2000, 1, 1, 0, 0, 0, 1) - datetime(2000, 1, 1)
+
+
+def _check_order(rec: Record, role: Role, arr: np.ndarray) -> None:
+    d = np.diff(arr)
+    bad = d < 0 if role.order == "non-decreasing" else d <= 0
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0]) + 1
+        what = "time" if role.kind == "time" else role.name
+        if d[i - 1] == 0:
+            raise rec.error(i, role.name, f"{what} repeats the previous row's ({_fmt(rec, role, arr[i])})")
+        raise rec.error(
+            i,
+            role.name,
+            f"{what} goes backwards ({_fmt(rec, role, arr[i])} after {_fmt(rec, role, arr[i - 1])})",
+        )
+
+
+def _fmt(rec: Record, role: Role, v: float) -> str:
+    if role.kind == "time":
+        return f"{v:.9g} s" + (" after the first timestamp" if rec.time_origin else "")
+    return f"{v:g}"
+
+
+def uniform_grid(
+    rec: Record, times: np.ndarray, T: float | None = None, *, role: str = "time", rel_tol: float = 1e-3
+) -> tuple[np.ndarray, float]:
+    """Steps of a uniform grid under increasing ``times``: (k, T) with ``times ≈ times[0] + k T``.
+
+    T is given, or estimated: a first guess from the spacings near the smallest one (their median), the
+    median of Δt/k over the record (Δt = t − t₀, k the nearest step), and, once every time is within
+    tolerance, least squares T̂ = Σ k Δt / Σ k²; so timestamps with jitter and records with gaps (k
+    jumps by more than one) are both read. A time further than ``rel_tol`` · T from its grid point is refused
+    (non-uniform sampling), naming its line; so is T ≤ 0.
+
+    Returns:
+        (k, T): int64 step indices starting at 0, and the period [s].
+    """
+    times = np.asarray(times, float)
+    if times.size < 2:
+        raise rec.error(None, None, f"need at least 2 times, found {times.size}")
+    dt = times - times[0]
+    estimated = T is None
+    if T is None:  # robust first guess, then least squares once every time is on the grid
+        d = np.diff(times)
+        T0 = float(np.median(d[d < 1.5 * np.min(d)]))
+        k = np.rint(dt / T0)
+        T = float(np.median(dt[k > 0] / k[k > 0]))
+    if not (math.isfinite(T) and T > 0):
+        raise rec.error(None, role, f"sample period {T!r} is not > 0")
+    k = np.rint(dt / T)
+    off = np.abs(dt - k * T)
+    bad = np.flatnonzero(off > rel_tol * T)
+    if bad.size:
+        i = int(bad[0])
+        raise rec.error(
+            i,
+            role,
+            f"time {times[i]:.9g} s is {off[i] / T:.3g} periods off the {T:.6g} s grid (non-uniform sampling "
+            "is not supported here: resample, or give the period)",
+        )
+    if estimated:
+        T = float(np.dot(k, dt) / np.dot(k, k))
+    return k.astype(np.int64), T
