@@ -211,63 +211,66 @@ def _read_stream(stream: Any, name: str, max_rows: int) -> Table:
             break
     if first == "{":
         return _read_json("".join(head) + stream.read(), name, max_rows)
-    lines = _chain(head, stream)
     meta: dict[str, Any] = {}
-    body: list[tuple[int, str]] = []
-    lineno = 0
-    header: tuple[int, str] | None = None
-    for lineno, line in enumerate(lines, start=1):
-        stripped = line.strip()
-        if not stripped:
-            continue
-        if stripped.startswith("#"):
-            if header is None:  # metadata lines before the header; later comments are skipped
-                key, sep, value = stripped[1:].partition(":")
-                if sep:
-                    value = value.strip()
-                    try:
-                        meta[key.strip()] = json.loads(value)
-                    except json.JSONDecodeError:
-                        meta[key.strip()] = value
-            continue
-        if header is None:
-            header = (lineno, line)
-            continue
-        if len(body) >= max_rows:
-            raise InputError(f"{name}:{lineno}: more than {max_rows} data rows (the limit for this input)")
-        body.append((lineno, line))
+    linenos: list[int] = []  # line of each non-comment line handed to the CSV parser
+
+    def body() -> Any:
+        for lineno, line in enumerate(_chain(head, stream), start=1):
+            stripped = line.strip()
+            if not stripped:
+                continue
+            if stripped.startswith("#"):
+                if not linenos:  # metadata lines before the header; later comments are skipped
+                    key, sep, value = stripped[1:].partition(":")
+                    if sep:
+                        value = value.strip()
+                        try:
+                            meta[key.strip()] = json.loads(value)
+                        except json.JSONDecodeError:
+                            meta[key.strip()] = value
+                continue
+            linenos.append(lineno)
+            yield line
+
+    try:
+        return _parse_csv(csv.reader(body(), strict=True), linenos, meta, name, max_rows)
+    except csv.Error as exc:
+        at = f"{name}:{linenos[-1]}" if linenos else name
+        raise InputError(f"{at}: not readable as CSV ({exc})") from None
+
+
+def _parse_csv(reader: Any, linenos: list[int], meta: dict[str, Any], name: str, max_rows: int) -> Table:
+    """The header and rows of a CSV reader fed by ``_read_stream`` (which fills ``linenos``)."""
+    header = next(reader, None)
     if header is None:
         raise InputError(f"{name}: no header row (empty input?)")
-    columns = tuple(c.strip() for c in _csv_line(header[1], name, header[0]))
+    if len(linenos) != 1:
+        raise InputError(f"{name}:{linenos[0]}: a quoted field is not closed on its line (not supported)")
+    columns = tuple(c.strip() for c in header)
     if len(set(columns)) != len(columns):
-        raise InputError(f"{name}:{header[0]}: duplicate column names in header")
+        raise InputError(f"{name}:{linenos[0]}: duplicate column names in header")
+    n = len(columns)
     rows: list[tuple[Any, ...]] = []
-    for ln, line in body:
-        cells = _csv_line(line, name, ln)
-        if len(cells) != len(columns):
-            raise InputError(f"{name}:{ln}: expected {len(columns)} fields, found {len(cells)}")
+    for cells in reader:
+        if len(linenos) != len(rows) + 2:
+            raise InputError(
+                f"{name}:{linenos[len(rows) + 1]}: a quoted field is not closed on its line (not supported)"
+            )
+        if len(cells) != n:
+            raise InputError(f"{name}:{linenos[-1]}: expected {n} fields, found {len(cells)}")
+        if len(rows) >= max_rows:
+            raise InputError(
+                f"{name}:{linenos[-1]}: more than {max_rows} data rows (the limit for this input)"
+            )
         rows.append(tuple(c.strip() for c in cells))
     return Table(
-        columns=columns,
-        rows=rows,
-        meta=meta,
-        lines=tuple(ln for ln, _ in body),
-        source=name,
-        header_line=header[0],
+        columns=columns, rows=rows, meta=meta, lines=tuple(linenos[1:]), source=name, header_line=linenos[0]
     )
 
 
 def _chain(head: list[str], stream: Any) -> Any:
     yield from head
     yield from stream
-
-
-def _csv_line(line: str, name: str, lineno: int) -> list[str]:
-    """One CSV line's cells (a quoted field may not span lines)."""
-    rows = list(csv.reader([line.rstrip("\r\n")]))
-    if len(rows) != 1 or line.count('"') % 2:
-        raise InputError(f"{name}:{lineno}: a quoted field is not closed on its line (not supported)")
-    return rows[0]
 
 
 _JSON_TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|[{}\[\]\n]')
