@@ -560,3 +560,84 @@ def calibration_roc_figure(
     if title:
         fig.suptitle(title)
     return fig
+
+
+def maneuver_record_figure(
+    z: np.ndarray,
+    scan: np.ndarray,
+    first: int,
+    tracks: dict[str, np.ndarray],
+    speeds: dict[str, np.ndarray],
+    declarations: dict[str, list[tuple[int, int]]],
+    mu: np.ndarray | None = None,
+    model_names: tuple[str, ...] = (),
+    title: str = "",
+) -> Figure:
+    """One track record through the trackers of the maneuver paper: the measured positions and each method's
+    track in the plane (left, GLR/MLR declarations as ▲ on the track); against scan (right) the estimated
+    speed, the declarations (one row per method: ▲ at the declaration scan, a bar back to the estimated
+    onset) with the missed scans, and the IMM model probabilities.
+
+    Args:
+        z: (K, 2) measured positions [m] of the grid scans (NaN: missed).
+        scan: (K,) scan numbers of the grid.
+        first: grid index of the first tracked scan (tracks[m][i] is grid scan first + i).
+        tracks, speeds: method → (K − first, 2) positions [m] and (K − first,) speeds [m/s].
+        declarations: method → [(grid index of the declaration, grid index of the estimated onset)].
+        mu: (K − first, r) IMM model probabilities, or None.
+    """
+    fig = Figure(figsize=(13, 7), layout="constrained")
+    gs = fig.add_gridspec(3, 2, width_ratios=(1.1, 1.0), height_ratios=(3.0, 1.4, 2.2))
+    ax = fig.add_subplot(gs[:, 0])
+    a_v = fig.add_subplot(gs[0, 1])
+    a_d = fig.add_subplot(gs[1, 1], sharex=a_v)
+    a_mu = fig.add_subplot(gs[2, 1], sharex=a_v)
+    ok = ~np.any(np.isnan(z), axis=1)
+    ax.plot(z[ok, 0] / 1e3, z[ok, 1] / 1e3, ".", color="0.55", ms=3, label="measured")
+    k_tr = scan[first:]
+    colors = {m: f"C{i}" for i, m in enumerate(tracks)}
+    for m, pos in tracks.items():
+        ax.plot(pos[:, 0] / 1e3, pos[:, 1] / 1e3, color=colors[m], lw=1.0, label=m)
+        a_v.plot(k_tr, speeds[m], color=colors[m], lw=0.9, label=m)
+    rows = [*declarations, "missed"]
+    for row, m in enumerate(declarations):
+        decl = declarations[m]
+        if not decl:
+            continue
+        g = np.array([d[0] for d in decl])
+        n = np.array([d[1] for d in decl])
+        p = tracks[m][g - first]
+        ax.plot(p[:, 0] / 1e3, p[:, 1] / 1e3, "^", color=colors[m], mec="k", mew=0.5, ms=6,
+                label=f"{m} declarations ({g.size})")  # fmt: skip
+        a_d.hlines(np.full(g.size, row), scan[n], scan[g], color=colors[m], lw=2.0, alpha=0.6)
+        a_d.plot(scan[g], np.full(g.size, row), "^", color=colors[m], mec="k", mew=0.5, ms=6)
+    missed = scan[~ok]
+    a_d.plot(missed, np.full(missed.size, len(rows) - 1), "|", color="0.4", ms=8)
+    a_d.set_yticks(range(len(rows)), [*(f"{m}" for m in declarations), f"missed ({missed.size})"])
+    a_d.set_ylim(-0.7, len(rows) - 0.3)
+    a_d.invert_yaxis()
+    a_d.set_title("declarations (▲; bar: back to the estimated onset) and missed scans", fontsize="medium")
+    ax.set_xlabel("x [km]")
+    ax.set_ylabel("y [km]")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_title("measured positions and tracks", fontsize="medium")
+    ax.legend(fontsize="x-small")
+    a_v.set_ylabel("speed [m/s]")
+    a_v.set_title("estimated speed", fontsize="medium")
+    a_v.legend(fontsize="x-small", ncol=2)
+    if mu is not None:
+        for j in range(mu.shape[1]):
+            name = model_names[j] if j < len(model_names) else f"model {j + 1}"
+            a_mu.plot(k_tr, mu[:, j], color=f"C{j}", lw=1.0, label=f"μ {name}")
+        a_mu.legend(fontsize="x-small", ncol=3)
+    else:
+        a_mu.text(0.5, 0.5, "no IMM among the methods", ha="center", va="center", transform=a_mu.transAxes)
+    a_mu.set_ylim(0, 1)
+    a_mu.set_ylabel("μ_j(k)")
+    a_mu.set_xlabel("scan k")
+    a_mu.set_title("IMM model probabilities", fontsize="medium")
+    for a in (ax, a_v, a_d, a_mu):
+        a.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    return fig

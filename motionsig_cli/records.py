@@ -139,12 +139,14 @@ class RecordSpec:
         max_rows: Row limit (a longer record is refused while it is read).
         what: What a record is, for messages (``"record"``, ``"detections"``…).
         hint: A hint appended to "missing column" errors.
+        columns_option: The option that maps this record's columns (named in errors).
     """
 
     roles: tuple[Role, ...]
     max_rows: int = MAX_ROWS
     what: str = "record"
     hint: str = ""
+    columns_option: str = "--columns"
 
     def __post_init__(self) -> None:
         if not self.roles:
@@ -288,11 +290,15 @@ def parse_units(text: str | Mapping[str, str] | None, spec: RecordSpec | None = 
             if q is None:
                 raise ConfigError("units", role, "has no unit")
             if unit not in UNITS[q]:
-                raise ConfigError(
-                    "units", f"{role}={unit}", f"is not a {q.replace('_', ' ')} unit ({', '.join(UNITS[q])})"
-                )
+                raise ConfigError("units", f"{role}={unit}", f"is not {_a(q)} unit ({', '.join(UNITS[q])})")
         out[role] = unit
     return out
+
+
+def _a(quantity: str) -> str:
+    """``"a length"``, ``"an angle"``."""
+    words = quantity.replace("_", " ")
+    return ("an " if words[0] in "aeiou" else "a ") + words
 
 
 def _names(spec: RecordSpec) -> str:
@@ -368,7 +374,7 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
             hits = [c for c in t.columns if c == want] or [c for c in t.columns if base[c] == want.lower()]
             if not hits:
                 raise InputError(
-                    f"{where}: no column {want!r} for --columns {role.name}={want} "
+                    f"{where}: no column {want!r} for {spec.columns_option} {role.name}={want} "
                     f"(columns: {', '.join(t.columns)})"
                 )
             found[role.name] = hits[0]
@@ -380,7 +386,7 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
         if len(hits) > 1:
             raise InputError(
                 f"{where}: columns {hits[0]!r} and {hits[1]!r} could both be the {role.name}; "
-                f"say which with --columns {role.name}=NAME"
+                f"say which with {spec.columns_option} {role.name}=NAME"
             )
         if hits:
             found[role.name] = hits[0]
@@ -390,7 +396,7 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
             hint = f"; {spec.hint}" if spec.hint else ""
             raise InputError(
                 f"{where}: missing column {role.name!r}{also}: columns are {', '.join(t.columns)}; "
-                f"map one with --columns {role.name}=NAME{hint}"
+                f"map one with {spec.columns_option} {role.name}=NAME{hint}"
             )
     return found
 

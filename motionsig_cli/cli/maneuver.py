@@ -5,7 +5,10 @@ Monte Carlo over runs or one measurement record.
 Views: ``scans`` (eqs 14–15 per scan, RMS error, mean model probabilities, declaration rate), ``events``
 (detection delay and onset error after each true input change), ``summary`` (one row per σ and method: RMS
 error per phase, false alarms, detection of each change — the comparison table), ``measurements`` (the
-simulated records, to pipe into ``--input``) and, with ``--input``, the per-scan track of one record.
+simulated records, to pipe into ``--input``) and, with ``--input``, the per-scan track of one record: a CSV or
+JSON export with a time (seconds or ISO 8601) and/or scan column and the positions x, y (``--columns``,
+``--units``); missed scans are predict-only steps, σ is given, in the metadata or estimated
+(:mod:`motionsig_cli.experiments.maneuver_record`).
 
 The command parses the options and writes the results; the configurations of
 :mod:`motionsig_cli.experiments.maneuver` check every value, and its :class:`ManeuverJob` is the Monte Carlo.
@@ -78,11 +81,21 @@ MethodOpt = Annotated[
 ]
 SigmaOpt = Annotated[
     str | None,
-    _opt("--sigma", "Measurement noise σ per axis [m], 1e-3 to 1e7, comma-separated (default 100,200)."),
+    _opt(
+        "--sigma",
+        "Measurement noise σ per axis [m], 1e-3 to 1e7, comma-separated (default 100,200). With --input: one "
+        "σ, or 'estimate' (from the positions' second differences); default the record's metadata 'sigma', "
+        "else estimated.",
+    ),
 ]
 PresetOpt = Annotated[Preset, _opt("--preset", "literal (as printed) or turn90 (exact 90° turns).")]
 TOpt = Annotated[
-    float | None, _opt("--T", "Scan period [s], 1e-3 to 3600 (assumed: 1; the paper does not state it).")
+    float | None,
+    _opt(
+        "--T",
+        "Scan period [s], 1e-3 to 3600 (assumed: 1; the paper does not state it). With --input: default the "
+        "record's metadata 'T', else the period of its times, else 1; must agree with the times (0.1 %).",
+    ),
 ]
 ScansOpt = Annotated[int, _opt("--scans", "Scans per run, 3 to 100000 (paper: 450).")]
 RunsOpt = Annotated[int, _opt("--runs", "Monte Carlo runs, 1 to 1e6 (paper: 500).")]
@@ -91,6 +104,14 @@ TransitionOpt = Annotated[
     str | None, _opt("--transition", "IMM transition matrix, rows separated by ';' (default: the paper's).")
 ]
 Mu0Opt = Annotated[str | None, _opt("--mu0", "Initial model probabilities (default 0.8,0.1,0.1).")]
+ImmQOpt = Annotated[
+    str | None,
+    _opt(
+        "--imm-q",
+        "IMM acceleration-increment variances q1,q2,q3 [(m/s²)²] of the CV and the two CA models, each 0 to "
+        "1e6 (default the paper's 0,0.001,0.0144).",
+    ),
+]
 Q0Opt = Annotated[float, _opt("--q0", "GLR/MLR/CV filter acceleration psd q̃0 [m²/s³], 0 to 1e6.")]
 WindowOpt = Annotated[int, _opt("--window", "GLR/MLR onset window s [scans], 1 to 200.")]
 GlrThresholdOpt = Annotated[
@@ -113,7 +134,21 @@ ResponseOpt = Annotated[
 ]
 ViewOpt = Annotated[View, _opt("--view", "scans, events, summary or measurements.")]
 InputOpt = Annotated[
-    str | None, _opt("--input", "Track one record (CSV: scan, z_x, z_y; '-' for stdin) instead.", "-i")
+    str | None,
+    _opt(
+        "--input",
+        "Track one record instead: CSV or JSON with time (t, timestamp: seconds or ISO 8601) and/or scan, and "
+        "x (z_x, east), y (z_y, north) [m]; '-' for stdin. Empty or NaN cells and absent scans are missed "
+        "scans.",
+        "-i",
+    ),
+]
+ColumnsOpt = Annotated[
+    str | None,
+    _opt("--columns", "With --input: which column is which role, e.g. time=Timestamp,x=East_m,y=North_m."),
+]
+UnitsOpt = Annotated[
+    str | None, _opt("--units", "With --input: units of the columns, e.g. x=km,y=km,time=ms (default m, s).")
 ]
 PlotCompareOpt = Annotated[
     Path | None, _opt("--plot-compare", "Also draw RMS error and declarations of every method.")
@@ -132,6 +167,7 @@ def maneuver(
     g2: G2Opt = G2.paper_fixed,
     transition: TransitionOpt = None,
     mu0: Mu0Opt = None,
+    imm_q: ImmQOpt = None,
     q0: Q0Opt = 1.0,
     window: WindowOpt = 10,
     glr_threshold: GlrThresholdOpt = CHI2_2_999,
@@ -142,6 +178,8 @@ def maneuver(
     response: ResponseOpt = 30,
     view: ViewOpt = View.scans,
     input_file: InputOpt = None,
+    columns: ColumnsOpt = None,
+    units: UnitsOpt = None,
     plot_compare: PlotCompareOpt = None,
     *,
     output: Output,
@@ -157,6 +195,7 @@ def maneuver(
       motionsig maneuver --runs 100 --plot figs.png                  # Figs 2-4 and the IMM probabilities
       motionsig maneuver --method all --view summary --plot-compare cmp.png
       motionsig maneuver --view measurements --runs 1 --sigma 100 | motionsig maneuver --input - --method glr
+      motionsig maneuver --input export.csv --columns x=East,y=North --units x=km,y=km --plot track.png
       motionsig maneuver --runs 5000 --method all --workers 8 --checkpoint ckpt/   # resumable if interrupted
 
     --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary); the
@@ -167,12 +206,20 @@ def maneuver(
     output.check(plot_compare=plot_compare)
     engine = parallel.engine()
     methods = _methods(method, exp.METHODS)
+    extra = _probabilities(transition, mu0)
+    if imm_q is not None:
+        extra["imm_q"] = tuple(common.checked("--imm-q", common.float_list, imm_q, what="variance"))
     cfg = exp.TrackerConfig(g2=g2.value, q0=q0, window=window, glr_threshold=glr_threshold,
                             mlr_threshold=mlr_threshold, sigma_u=mlr_sigma_u, correction=correction.value,
-                            continuation=continuation.value, **_probabilities(transition, mu0))  # fmt: skip
+                            continuation=continuation.value, **extra)  # fmt: skip
     if input_file is not None:
-        _track_record(input_file, methods, cfg, sigma, T, view, plot_compare, output)
+        _track_record(input_file, methods, cfg, sigma, T, columns, units, view, plot_compare, output)
         return
+    for name, given in (("--columns", columns), ("--units", units)):
+        if given is not None:
+            raise typer.BadParameter("describes the --input record; give --input FILE", param_hint=name)
+    if sigma is not None and sigma.strip().lower() == "estimate":
+        raise typer.BadParameter("'estimate' estimates σ from an --input record", param_hint="--sigma")
     sigmas = (
         (100.0, 200.0) if sigma is None else common.checked("--sigma", common.float_list, sigma, what="σ")
     )
@@ -202,30 +249,41 @@ def maneuver(
 
 
 def _track_record(
-    path: str, methods: tuple[str, ...], cfg: exp.TrackerConfig, sigma: str | None, T: float | None, view: View,
-    plot_compare: Path | None, output: Output,
+    path: str, methods: tuple[str, ...], cfg: exp.TrackerConfig, sigma: str | None, T: float | None,
+    columns: str | None, units: str | None, view: View, plot_compare: Path | None, output: Output,
 ) -> None:  # fmt: skip
-    """Track one measurement record with every requested method."""
-    from motionsig_cli.cli.io import read_table
-    from motionsig_cli.experiments import maneuver as exp
+    """Track one measurement record with every requested method (and draw it with --plot)."""
+    from motionsig_cli.experiments import maneuver_record as mr
 
     if view is not View.scans:
         raise typer.BadParameter(
             "with --input the output is the per-scan track; leave --view out", param_hint="--view"
         )
-    if output.plot is not None or plot_compare is not None:
-        raise typer.BadParameter("figures are drawn from Monte Carlo runs, not from one record",
-                                 param_hint="--plot" if output.plot is not None else "--plot-compare")  # fmt: skip
+    if plot_compare is not None:
+        raise typer.BadParameter(
+            "compares Monte Carlo runs; with --input, --plot draws the record's tracks",
+            param_hint="--plot-compare",
+        )
     if output.out is not None and path != "-" and Path(path).resolve() == output.out.resolve():
         raise typer.BadParameter("is the --input file", param_hint="--out")
-    s = None
-    if sigma is not None:
+    s: float | str | None = None
+    if sigma is not None and sigma.strip().lower() == "estimate":
+        s = "estimate"
+    elif sigma is not None:
         vals = common.checked("--sigma", common.float_list, sigma, what="σ")
         if len(vals) != 1:
-            raise typer.BadParameter("give one σ with --input", param_hint="--sigma")
+            raise typer.BadParameter("give one σ with --input (or 'estimate')", param_hint="--sigma")
         s = vals[0]
-    t = read_table(path, required=("scan", "z_x", "z_y"))
-    if s is None and "sigma" not in t.meta:
-        raise typer.BadParameter("the record's metadata has no 'sigma'; give it", param_hint="--sigma")
-    output.emit(exp.track_record(t, methods, cfg, sigma=s, T=T))
-    output.note(f"maneuver: tracked {len(t.rows)} scans of {t.source} with {', '.join(methods)}")
+    rec = mr.read_track_record(path, columns=columns, units=units, T=T)
+    result = mr.track_record(rec, methods, cfg, sigma=s)
+    if output.plot is not None:
+        from motionsig_cli.plotting import maneuver_record_figure
+
+        output.figure(maneuver_record_figure(**result.figure))
+    output.emit(result.table)  # after the figure: all or nothing
+    if result.sigma_estimated:
+        output.note(
+            f"maneuver: no σ given (--sigma) or in the record's metadata: estimated σ = "
+            f"{result.table.meta['sigma']:.4g} m from the second differences of the positions"
+        )
+    output.note(f"maneuver: {result.note}")

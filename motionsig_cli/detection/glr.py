@@ -35,6 +35,21 @@ covariance (Σ⁻¹ + Σ_u⁻¹)⁻¹.
 * ``paper``: the paper's form, x̂_{k|k−1} += M_k û, P_{k|k−1} += M_k Σ_û M_kᵀ, then the update with z_k is
   redone (z_k enters both û and the update, so the covariance is slightly optimistic).
 
+**Missed scans** (a NaN measurement: no detection, a gap in a record) are predict-only steps: ξ_{k|k} =
+ξ_{k|k−1}, P_{k|k} = P_{k|k−1}, i.e. K_k = 0. The onset statistics follow from the same bias propagation with
+K_k = 0. The truth minus the *updated* estimate at a missed scan keeps the bias M_k(n) u of the prediction
+(nothing corrects it), so
+
+    M_{k+1}(n) = F_ξ (I − K_k H_ξ) M_k(n) = F_ξ M_k(n)                          (missed scan k)
+
+— the signature matrices still propagate — while scan k contributes no innovation: Σ(n)⁻¹ and e(n) are
+sums over the *measured* scans j = n+1..k only (ΔJ(n) is still e(n)ᵀΣ(n)e(n) and stays χ²_p under H0 at a
+fixed n, with as many terms as measured scans). The onset window counts scans, missed ones included (the
+onsets tested at scan k are n = k−s..k−1 whatever was measured, except an onset with no measured scan after it
+yet, which has no statistic), and no declaration is made at a missed scan (its statistics are those of the scan
+before, less the onset that left the window). With every scan measured the recursion is the one above, bit for
+bit.
+
 **Continuation.** Later onsets are restricted to n ≥ the detection scan; the end of a maneuver is detected as
 a new jump. The filter carries the current input u in its state (see :func:`input_tracker`); the correction
 moves its mean by ≈ û and, with ``continuation="estimate"`` (default), gives it the covariance Σ_û, so later
@@ -193,7 +208,8 @@ def input_tracker(
     x block of which is the bias propagation of the module docstring (M_{n+1}(n) = G).
 
     Args:
-        z: (B, N, m) measurements of the scans to process.
+        z: (B, N, m) measurements of the scans to process; a NaN (in any component) makes that run's scan a
+            missed scan, a predict-only step (module docstring); ±inf is refused.
         model: the input model (F, G, Q, H, R).
         x0: (B, n) or (n,) updated estimate at the scan before z[:, 0]; P0: (n, n) or (B, n, n).
         cfg: method, window, threshold, MLR prior, correction, continuation.
@@ -202,8 +218,12 @@ def input_tracker(
     z = np.asarray(z, float)
     if z.ndim != 3:
         raise ValueError(f"z must be (runs, scans, m); got shape {z.shape}")
-    if not np.all(np.isfinite(z)):
-        raise ValueError("measurements must be finite")
+    measured = ~np.any(np.isnan(z), axis=-1)  # (B, N): a NaN anywhere in z_k is a missed scan
+    if np.any(np.isinf(z)):
+        raise ValueError("measurements must be finite (NaN: a missed scan)")
+    every = bool(measured.all())
+    if not every:
+        z = np.where(measured[..., None], z, 0.0)  # any finite value: the update is discarded there
     B, N, m = z.shape
     n, p = model.G.shape
     if model.H.shape[0] != m:
@@ -228,6 +248,7 @@ def input_tracker(
     info = np.zeros((B, s, p, p))
     e = np.zeros((B, s, p))
     onset_of = np.full((B, s), -1, dtype=np.int64)  # onset held by each slot (−1: empty)
+    fed = np.zeros((B, s), dtype=bool)  # the slot's onset has a measured scan after it (testable)
     out_x = np.empty((B, N, n))
     out_P = np.empty((B, N, n, n)) if keep_P else None
     out_stat = np.full((B, N), -np.inf)
@@ -244,13 +265,24 @@ def input_tracker(
         Pp = F @ P @ F.T + Q
         Pp = 0.5 * (Pp + np.swapaxes(Pp, -1, -2))
         up = joseph_update(xp, Pp, z[:, k], H, R)
-        x, P = up.x, up.P
+        seen = None if every else measured[:, k]  # (B,) runs measured at scan k (None: all of them)
+        if seen is not None and seen.all():
+            seen = None
+        if seen is None:
+            x, P, K, S_inv, nu = up.x, up.P, up.K, up.S_inv, up.nu
+        else:  # predict-only where missed: K_k = 0, no innovation
+            x = np.where(seen[:, None], up.x, xp)
+            P = np.where(seen[:, None, None], up.P, Pp)
+            K = np.where(seen[:, None, None], up.K, 0.0)
+            S_inv = np.where(seen[:, None, None], up.S_inv, 0.0)  # a zero weight: Ψᵀ S⁻¹ (·) adds nothing
+            nu = np.where(seen[:, None], up.nu, 0.0)
         if detecting:
-            valid = onset_of >= 0  # (B, s)
+            fed |= True if seen is None else seen[:, None]
+            valid = (onset_of >= 0) & fed  # (B, s): onsets n = k−s..k−1 with an innovation after them
             Psi = H @ M  # Ψ_k(n) = H M_k(n), (B, s, m, p)
-            PsiT_Sinv = np.swapaxes(Psi, -1, -2) @ up.S_inv[:, None]  # Ψᵀ S⁻¹, (B, s, p, m)
-            info += PsiT_Sinv @ Psi  # Σ(n)⁻¹ += Ψ_kᵀ S_k⁻¹ Ψ_k
-            e += (PsiT_Sinv @ up.nu[:, None, :, None])[..., 0]  # e(n) += Ψ_kᵀ S_k⁻¹ ν_k
+            PsiT_Sinv = np.swapaxes(Psi, -1, -2) @ S_inv[:, None]  # Ψᵀ S⁻¹, (B, s, p, m)
+            info += PsiT_Sinv @ Psi  # Σ(n)⁻¹ += Ψ_kᵀ S_k⁻¹ Ψ_k (measured scans only)
+            e += (PsiT_Sinv @ nu[:, None, :, None])[..., 0]  # e(n) += Ψ_kᵀ S_k⁻¹ ν_k
             if valid.any():
                 with np.errstate(divide="ignore", invalid="ignore"):
                     Sigma, _, _ = spd_inv_logdet(info)  # Σ(n) = MSE of û(n); NaN in empty slots
@@ -269,13 +301,15 @@ def input_tracker(
                 out_dJ[bi, k, k - 1 - onset_of[bi, si]] = dJ[bi, si]  # column d: onset k − 1 − d
                 out_score[bi, k, k - 1 - onset_of[bi, si]] = score[bi, si]
                 hit = np.isfinite(stat) & (stat > cfg.threshold)
+                if seen is not None:
+                    hit &= seen  # no new evidence at a missed scan: no declaration
                 if np.any(hit):
                     b = np.flatnonzero(hit)
                     Mb = M[b, best[b]]  # M_k(n̂), (b, n + p, p)
                     cov_u = Sigma[b, best[b]] if cfg.method == "glr" else post[b, best[b]]
                     u_hat = (cov_u @ e[b, best[b]][..., None])[..., 0]  # û = Σ e (GLR) or the posterior mean
                     if cfg.correction == "exact":
-                        A = (eye - up.K[b] @ H) @ Mb  # bias of the updated estimate per unit input
+                        A = (eye - K[b] @ H) @ Mb  # bias of the updated estimate per unit input
                         xb = x[b] + (A @ u_hat[..., None])[..., 0]
                         Pb = P[b] + A @ cov_u @ np.swapaxes(A, -1, -2)
                     else:  # the paper's step 4: correct the prediction, redo the update with z_k
@@ -299,7 +333,8 @@ def input_tracker(
             info[:, slot] = 0.0
             e[:, slot] = 0.0
             onset_of[:, slot] = k
-            M = (F @ (eye - up.K @ H))[:, None] @ M
+            fed[:, slot] = False
+            M = (F @ (eye - K @ H))[:, None] @ M  # = F_ξ M_k(n) at a missed scan (K_k = 0)
         out_x[:, k] = x[:, :n]
         if out_P is not None:
             out_P[:, k] = P[:, :n, :n]

@@ -20,6 +20,12 @@ candidates' statistics are correlated differently, so their maxima are not excha
 ``weights="exact"`` multiplies the two gains J_{H0} − J_cos and J_{H0} − J_sin by c_cos and c_sin
 (eqs 38, 40), with c = Σ_k z_k² / (c_r R) over the horizon, instead of dropping them as eq (42) does.
 
+Missing samples (NaN in ``y``; for the radar a whole [range, bearing] row) are predict-only steps of
+every filter of a bank: no update and no term in any J, the covariances propagated. Λ then compares the
+likelihoods of the samples that are present (the exact prediction-error decomposition over them). The
+Kalman bank runs one Riccati recursion per missing pattern among the records; the sigma-point bank
+masks per record and step. The FFT path (:mod:`motionsig_cli.detection.lmp_fft`) cannot skip a sample.
+
 Every configuration checks its own fields and raises :class:`~motionsig_cli.config.ConfigError` naming
 the field.
 """
@@ -35,7 +41,16 @@ from typing import Literal
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, one_of, positive
-from motionsig_cli.filters.kalman import Progress, expected_costs_white_noise, innovation_costs, riccati
+from motionsig_cli.filters.kalman import MissingSamples as MissingSamples  # re-exported for the callers
+from motionsig_cli.filters.kalman import (
+    Progress,
+    expected_costs_white_noise,
+    innovation_costs,
+    missing_patterns,
+    missing_steps,
+    riccati,
+    shared_progress,
+)
 from motionsig_cli.filters.unscented import (
     BankCosts,
     SigmaMeasurement,
@@ -208,10 +223,10 @@ def progress_steps(n_samples: int, cfg: LMPConfig | RadarLMPConfig, filter: str 
 
 
 def checked_horizons(y: np.ndarray, horizons: Sequence[int]) -> np.ndarray:
-    """The horizons (samples) as an int array, checked against records y (B, N, …): finite
-    measurements, every horizon in 1..N."""
-    if not np.all(np.isfinite(y)):
-        raise ValueError("measurements contain NaN or inf")
+    """The horizons (samples) as an int array, checked against records y (B, N, …): measurements
+    finite or NaN (a missing sample; ±inf is refused), every horizon in 1..N."""
+    if np.isinf(y).any():
+        raise ValueError("measurements contain inf")
     N = y.shape[1]
     hz = np.asarray(horizons, dtype=int)
     if hz.size == 0 or hz.min() < 1 or hz.max() > N:
@@ -230,21 +245,25 @@ def lmp_detect(
     filter: Literal["kf", "ukf"] = "kf",
     sigma: SigmaPointParams | None = None,
     progress: Progress = None,
+    block: int | None = None,
 ) -> LMPResult:
     """Evaluate eq (52) for every candidate on B measurement records at once.
 
     Args:
-        y: Position measurements, (B, N) (or (N,)).
+        y: Position measurements, (B, N) (or (N,)); NaN marks a missing sample (predict-only).
         chips: Bipolar codes of the modes, (M, n_ρ).
         vehicle: The model (T, K, R) the filters assume; R_KF = c_r · vehicle.R.
         m_rho: Samples per chip.
         cfg: Detector settings.
         horizons: Horizons in samples.
-        filter: ``"kf"`` (Riccati shared by all records) or ``"ukf"`` (the sigma-point bank on the same
-            linear model: it must reproduce the KF numbers, the cross-check of the two banks).
+        filter: ``"kf"`` (Riccati shared by all records with the same missing samples) or ``"ukf"`` (the
+            sigma-point bank on the same linear model: it must reproduce the KF numbers, the cross-check of
+            the two banks).
         sigma: Sigma-point parameters for ``"ukf"``.
         progress: Called with the time steps done by the H1 bank, per block of steps; they add up to
             :func:`progress_steps` (the H0 filter, one of 2C + 1, is not counted).
+        block: ``"kf"``: evaluate the innovations in consecutive blocks of this many records (see
+            :func:`~motionsig_cli.filters.kalman.innovation_costs`); None: all at once.
     """
     if filter == "ukf":
         return _lmp_detect_ukf_1d(
@@ -252,7 +271,8 @@ def lmp_detect(
         )
     y = np.atleast_2d(np.asarray(y, dtype=float))
     hz = checked_horizons(y, horizons)
-    N = y.shape[1]
+    groups = missing_patterns(missing_steps(y))
+    B, N = y.shape
     cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
     C = len(cands)
     R_kf = np.array([[cfg.c_r * vehicle.R]])
@@ -260,8 +280,6 @@ def lmp_detect(
     F0 = transition_h0(vehicle, cfg.A_r)
     H0m = np.array([[1.0, 0.0, 0.0, 0.0]])
     Q0 = np.diag(cfg.Q0)
-    g0 = riccati(lambda k: F0, H0m, Q0, R_kf, cfg.P0 * np.eye(4), N, 1)
-    J0 = innovation_costs(lambda k: F0, H0m, g0, np.zeros(4), y, hz, include_logdet=cfg.include_logdet)[0]
     # H1: 2C filters (cos block then sin block), 5 states, time-varying a-column (eq 44)
     z_cos, z_sin, zd_cos, zd_sin = replica_bank(
         chips, cands.mode, cands.tau, cands.f_c, vehicle.T, m_rho, N, cfg.zdot
@@ -279,24 +297,50 @@ def lmp_detect(
 
     H1m = np.array([[1.0, 0.0, 0.0, 0.0, 0.0]])
     Q1 = np.diag([*cfg.Q0, cfg.Q_a])
-    g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(5), N, 2 * C, progress=progress)
-    J1 = innovation_costs(
-        F1_at, H1m, g1, np.zeros(5), y, hz, include_logdet=cfg.include_logdet, progress=progress
-    )
-    J_cos, J_sin = J1[:C], J1[C:]
-    if cfg.center == "h0-noise":  # centre every J on its expectation under white noise of variance R
-        R_true = np.array([[vehicle.R]])
-        J0 = J0 - expected_costs_white_noise(lambda k: F0, H0m, g0, R_true, N, hz)[0][None, :]
-        E1 = expected_costs_white_noise(F1_at, H1m, g1, R_true, N, hz, progress=progress)
-        J_cos, J_sin = J_cos - E1[:C, None, :], J_sin - E1[C:, None, :]
-    if cfg.weights == "paper":
-        Lam = 2 * J0[None] - J_cos - J_sin  # eq (52)
-    else:
-        csum_cos = np.cumsum(z_cos**2, axis=1)[:, hz - 1] / R_kf[0, 0]  # c_cos over each horizon, eq (36)
-        csum_sin = np.cumsum(z_sin**2, axis=1)[:, hz - 1] / R_kf[0, 0]
-        Lam = csum_cos[:, None, :] * (J0[None] - J_cos) + csum_sin[:, None, :] * (
+    tell = shared_progress(progress, len(groups))
+
+    def bank(skip: np.ndarray | None, yg: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """J0 (b, H), J_cos and J_sin (C, b, H) of records yg (b, N) that miss the samples ``skip``."""
+        g0 = riccati(lambda k: F0, H0m, Q0, R_kf, cfg.P0 * np.eye(4), N, 1, skip=skip)
+        J0 = innovation_costs(
+            lambda k: F0, H0m, g0, np.zeros(4), yg, hz, include_logdet=cfg.include_logdet, block=block
+        )[0]
+        g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(5), N, 2 * C, progress=tell, skip=skip)
+        J1 = innovation_costs(
+            F1_at, H1m, g1, np.zeros(5), yg, hz, include_logdet=cfg.include_logdet, progress=tell, block=block
+        )
+        J_cos, J_sin = J1[:C], J1[C:]
+        if cfg.center == "h0-noise":  # centre every J on its expectation under white noise of variance R
+            R_true = np.array([[vehicle.R]])
+            J0 = J0 - expected_costs_white_noise(lambda k: F0, H0m, g0, R_true, N, hz)[0][None, :]
+            E1 = expected_costs_white_noise(F1_at, H1m, g1, R_true, N, hz, progress=tell)
+            J_cos, J_sin = J_cos - E1[:C, None, :], J_sin - E1[C:, None, :]
+        return J0, J_cos, J_sin
+
+    def statistic(
+        skip: np.ndarray | None, J0: np.ndarray, J_cos: np.ndarray, J_sin: np.ndarray
+    ) -> np.ndarray:
+        if cfg.weights == "paper":
+            return 2 * J0[None] - J_cos - J_sin  # eq (52)
+        zc2, zs2 = z_cos**2, z_sin**2
+        if skip is not None:  # c sums over the samples that are present
+            zc2, zs2 = zc2 * ~skip, zs2 * ~skip
+        csum_cos = np.cumsum(zc2, axis=1)[:, hz - 1] / R_kf[0, 0]  # c_cos over each horizon, eq (36)
+        csum_sin = np.cumsum(zs2, axis=1)[:, hz - 1] / R_kf[0, 0]
+        return csum_cos[:, None, :] * (J0[None] - J_cos) + csum_sin[:, None, :] * (
             J0[None] - J_sin
         )  # eqs (38), (40)
+
+    if len(groups) == 1:
+        skip = groups[0][0]
+        J0, J_cos, J_sin = bank(skip, y)
+        return LMPResult(cands, hz, J0, J_cos, J_sin, statistic(skip, J0, J_cos, J_sin))
+    J0 = np.empty((B, hz.size))
+    J_cos, J_sin, Lam = (np.empty((C, B, hz.size)) for _ in range(3))
+    for skip, idx in groups:  # one Riccati recursion per missing pattern (not per record or filter)
+        j0, jc, js = bank(skip, y[idx])
+        J0[idx], J_cos[:, idx], J_sin[:, idx] = j0, jc, js
+        Lam[:, idx] = statistic(skip, j0, jc, js)
     return LMPResult(cands, hz, J0, J_cos, J_sin, Lam)
 
 

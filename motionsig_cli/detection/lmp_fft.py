@@ -30,6 +30,11 @@ past of the periodic convolution (the bank's filtered replica starts from rest a
 Q_a > 0 the amplitude wanders and (★) no longer holds: the bank is then the reference.
 ``lmp_detect_projection`` evaluates (★) exactly with the time-varying filters (no FFT), the oracle
 that isolates the steady-state approximation.
+
+Missing samples: the FFT form needs every sample (the steady-state filter and the periodic convolution
+assume an unbroken record), so both paths here refuse a NaN measurement with
+:class:`~motionsig_cli.filters.kalman.MissingSamples` (its ``index`` names the first one); the filter bank
+(:func:`~motionsig_cli.detection.lmp.lmp_detect`) skips missing samples.
 """
 
 from __future__ import annotations
@@ -42,10 +47,23 @@ import scipy.linalg
 
 from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.lmp import Candidates, LMPConfig, LMPResult, candidate_grid, checked_horizons
-from motionsig_cli.filters.kalman import riccati
+from motionsig_cli.filters.kalman import MissingSamples, riccati
 from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column, transition_h0
 from motionsig_cli.signals.signature import replica_bank
 
+__all__ = [
+    "FFT_CANNOT_SKIP",
+    "MissingSamples",
+    "check_fft_config",
+    "lmp_detect_fft",
+    "lmp_detect_projection",
+    "periodic_replicas",
+    "regressor_impulse",
+    "steady_state",
+    "whitened_innovations",
+]
+
+FFT_CANNOT_SKIP = "the FFT path cannot skip a missing sample: use the filter bank (method bank)"
 H_POS = np.array([[1.0, 0.0, 0.0, 0.0]])
 E_VEL = np.array([0.0, 1.0, 0.0, 0.0])  # the a-column enters the ẋ row (eq 44)
 MAX_TAIL = 1_000_000  # impulse-response samples kept at most
@@ -140,9 +158,14 @@ def periodic_replicas(
 
 
 def _checked_inputs(y: np.ndarray, horizons: Sequence[int], cfg: LMPConfig) -> tuple[np.ndarray, np.ndarray]:
-    """Records (B, N) and horizons of the FFT and projection paths, checked as :func:`lmp_detect` does."""
+    """Records (B, N) and horizons of the FFT and projection paths, checked as :func:`lmp_detect` does, and
+    no missing sample (:class:`MissingSamples` names the first)."""
     check_fft_config(cfg)
     y = np.atleast_2d(np.asarray(y, dtype=float))
+    nan = np.isnan(y)
+    if nan.any():
+        b, k = np.argwhere(nan)[0]
+        raise MissingSamples(FFT_CANNOT_SKIP, int(k), int(b))
     return y, checked_horizons(y, horizons)
 
 

@@ -16,6 +16,9 @@ All scores are log likelihood ratios, accumulated scan by scan: log LR(k) = log 
   sequential product c = ∏_{s=1}^{S−1} N(x^{s+1}; x^{(1:s)}, P^{(1:s)} + P^{s+1}) (the slides' P^{s}
   corrected to P^{s+1}).
 
+Sensors may differ (noise, field of view, p_D, clutter): :class:`SensorModel` per sensor in
+``TrackExistenceModel.sensor_models``; without them every sensor shares the model's values.
+
 A new fusion rule is one scoring function and one entry of :data:`FUSION_METHODS`; the command's
 ``--methods`` choices and help, and the experiment, are read from there.
 """
@@ -25,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -39,6 +43,7 @@ __all__ = [
     "FusionMethod",
     "FusionOptions",
     "ScanData",
+    "SensorModel",
     "TrackExistenceModel",
     "check_methods",
     "log_gauss",
@@ -84,10 +89,40 @@ def log_product_constant(means: Sequence[np.ndarray], covs: Sequence[np.ndarray]
     return out
 
 
+def _log_rho(clutter_rate: float, meas: MeasurementModel) -> float:
+    """log ρ_F = log(λ_F / |FoV|), with a tiny floor on λ_F when it is 0."""
+    return math.log(max(clutter_rate, 1e-300) / meas.fov_volume)
+
+
+@dataclass(frozen=True)
+class SensorModel:
+    """One sensor's own values where the sensors differ: its measurement model (noise R, field of view),
+    the p_D its filters assume and its clutter rate λ_F (mean false alarms per scan)."""
+
+    meas: MeasurementModel
+    pd: float
+    clutter_rate: float
+
+    def __post_init__(self) -> None:
+        in_range("pd", self.pd, 0.0, 1.0, lo_open=True)
+        in_range("clutter_rate", self.clutter_rate, 0.0)
+
+    @property
+    def log_rho(self) -> float:
+        """log ρ_F of this sensor (as :attr:`TrackExistenceModel.log_rho`)."""
+        return _log_rho(self.clutter_rate, self.meas)
+
+
 @dataclass(frozen=True)
 class TrackExistenceModel:
     """What every method knows: motion model, sensors, measurement model, clutter density, p_D and the
-    track prior."""
+    track prior.
+
+    ``m0_cov`` is one (4, 4) prior covariance, or (R, 4, 4): one per filter batch row (tracks started
+    from different detections). ``sensor_models``: empty (every sensor has ``meas``, ``pd`` and
+    ``clutter_rate``), or one :class:`SensorModel` per sensor, of the kind of ``meas`` (whose noise,
+    ``pd`` and ``clutter_rate`` are then unused).
+    """
 
     F: np.ndarray
     Q: np.ndarray
@@ -96,12 +131,21 @@ class TrackExistenceModel:
     pd: float
     clutter_rate: float
     m0_cov: np.ndarray
+    sensor_models: tuple[SensorModel, ...] = ()
 
     def __post_init__(self) -> None:
         in_range("pd", self.pd, 0.0, 1.0, lo_open=True)
         in_range("clutter_rate", self.clutter_rate, 0.0)
         if len(self.sensors) < 1:
             raise ConfigError("sensors", len(self.sensors), "rows: at least one sensor is needed")
+        if self.sensor_models:
+            if len(self.sensor_models) != len(self.sensors):
+                raise ConfigError(
+                    "sensor_models", len(self.sensor_models), f"models for {len(self.sensors)} sensors"
+                )
+            for sm in self.sensor_models:
+                if sm.meas.kind != self.meas.kind:
+                    raise ConfigError("sensor_models", sm.meas.kind, f"is not the model's {self.meas.kind}")
         low = float(np.linalg.eigvalsh(self.Q).min())
         if low < -1e-12:
             raise ConfigError("Q", low, "is its smallest eigenvalue: Q must be positive semi-definite")
@@ -116,7 +160,23 @@ class TrackExistenceModel:
     @property
     def log_rho(self) -> float:
         """log ρ_F, the clutter density in measurement space (−inf-safe: a tiny floor when λ_F = 0)."""
-        return math.log(max(self.clutter_rate, 1e-300) / self.meas.fov_volume)
+        return _log_rho(self.clutter_rate, self.meas)
+
+    def sensor(self, s: int) -> tuple[MeasurementModel, float, float]:
+        """(measurement model, p_D, log ρ_F) of sensor ``s``."""
+        if not self.sensor_models:
+            return self.meas, self.pd, self.log_rho
+        sm = self.sensor_models[s]
+        return sm.meas, sm.pd, sm.log_rho
+
+    @cached_property
+    def _per_sensor(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(S, 2, 2) noise, (S,) p_D, (S,) log ρ_F of the sensors."""
+        return (
+            np.stack([sm.meas.R for sm in self.sensor_models]),
+            np.array([sm.pd for sm in self.sensor_models]),
+            np.array([sm.log_rho for sm in self.sensor_models]),
+        )
 
 
 @dataclass(frozen=True)
@@ -142,9 +202,24 @@ class FusionOptions:
 
 
 def _update(
-    model: TrackExistenceModel, m: np.ndarray, P: np.ndarray, Z: np.ndarray, V: np.ndarray, sensor: np.ndarray
+    model: TrackExistenceModel,
+    m: np.ndarray,
+    P: np.ndarray,
+    Z: np.ndarray,
+    V: np.ndarray,
+    sensor: np.ndarray,
+    s: int | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    return local_update(m, P, Z, V, sensor, model.meas, model.pd, model.log_rho)
+    """Sensor ``s``'s update of its filters, or (``s`` None) of a sensor-major stack of every sensor's
+    filters (S·R rows), each row with its own sensor's values."""
+    if not model.sensor_models:
+        return local_update(m, P, Z, V, sensor, model.meas, model.pd, model.log_rho)
+    if s is not None:
+        meas, pd, log_rho = model.sensor(s)
+        return local_update(m, P, Z, V, sensor, meas, pd, log_rho)
+    noise, pd_s, log_rho_s = model._per_sensor
+    rows = np.repeat(np.arange(model.n_sensors), m.shape[0] // model.n_sensors)
+    return local_update(m, P, Z, V, sensor, model.meas, pd_s[rows], log_rho_s[rows], noise[rows])
 
 
 def _stacked(scan: ScanData, S: int, R: int) -> tuple[np.ndarray, np.ndarray]:
@@ -171,7 +246,7 @@ def score_ckf(
         m, P = m @ F.T, F @ P @ F.T + Q
         lam = np.zeros(R)
         for s in range(S):  # sequential by construction: each sensor updates the running estimate
-            m, P, lp = _update(model, m, P, scan.Z[s], scan.valid[s], model.sensors[s])
+            m, P, lp = _update(model, m, P, scan.Z[s], scan.valid[s], model.sensors[s], s)
             lam += lp
         total = total + lam
         out[:, k] = total

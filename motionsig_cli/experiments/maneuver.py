@@ -20,8 +20,8 @@ in task order — so a result is byte-identical on 1 worker, N workers or a Dask
 
 **Reports.** :class:`ManeuverStudy` is what the command asks for (a job and a view of its results);
 :func:`report` turns the job's result into the table (per scan, per input change or one summary row per σ and
-method), the one-line summary and the figures' data. :func:`measurement_table` writes the simulated records
-and :func:`track_record` tracks one record read from a file.
+method), the one-line summary and the figures' data. :func:`measurement_table` writes the simulated records;
+one record read from a file is tracked by :mod:`motionsig_cli.experiments.maneuver_record`.
 """
 
 from __future__ import annotations
@@ -46,8 +46,6 @@ from motionsig_cli.detection.glr import (
     input_tracker,
 )
 from motionsig_cli.engine import Engine, run_job, tasks_of, trials_per_task
-from motionsig_cli.errors import InputError
-from motionsig_cli.experiments.record_reading import finite_column
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.models.motion import (
     G2_FORMS,
@@ -93,7 +91,7 @@ __all__ = [
     "report",
     "run_trackers",
     "track",
-    "track_record",
+    "track_from",
 ]
 
 METHODS = ("imm", "glr", "mlr", "cv")
@@ -120,8 +118,9 @@ MAX_SECONDS = 600.0
 """Largest estimated run time of a :class:`ManeuverStudy`."""
 MAX_MEASUREMENT_ROWS = 1_000_000
 """Largest table of simulated records (:func:`measurement_table`)."""
-MAX_COORD = 1e9
-"""Largest |measurement| accepted from a record [m] (a million km; squares stay far from overflow)."""
+IMM_Q_RANGE = (0.0, 1e6)
+"""IMM acceleration-increment variances accepted [(m/s²)²]: 0 is a noise-free model; 1e6, a random acceleration
+of 1 km/s² per scan, is far beyond any vehicle (and keeps q G Gᵀ far from overflow)."""
 
 
 @dataclass(frozen=True)
@@ -217,6 +216,9 @@ class TrackerConfig:
         sigma_u: MLR prior standard deviation σ_u of each input [m/s²], in
             :data:`~motionsig_cli.detection.glr.SIGMA_U_RANGE`.
         correction, continuation: see :class:`~motionsig_cli.detection.glr.GLRConfig`.
+        imm_q: the IMM models' acceleration-increment variances (q₁, q₂, q₃) [(m/s²)²]: model j's process
+            noise is q_j G_j G_jᵀ (:func:`~motionsig_cli.models.motion.imm_models`); default the paper's
+            Q₁ = 0, Q₂ = 0.001 I, Q₃ = 0.0144 I (§IV), each in :data:`IMM_Q_RANGE`.
     """
 
     g2: str = "paper-fixed"
@@ -229,9 +231,11 @@ class TrackerConfig:
     sigma_u: float = 20.0
     correction: str = "exact"
     continuation: str = "estimate"
+    imm_q: tuple[float, ...] = Q_PAPER
 
     def __post_init__(self) -> None:
         one_of("g2", self.g2, G2_FORMS)
+        object.__setattr__(self, "imm_q", _check_imm_q(self.imm_q))
         Pi = check_transition("Pi", self.Pi, r=3)
         mu0 = check_distribution("mu0", self.mu0, r=3)
         object.__setattr__(self, "Pi", tuple(tuple(row) for row in Pi.tolist()))
@@ -258,7 +262,20 @@ class TrackerConfig:
         """The detector settings as a record's provenance names them."""
         return {"q0": self.q0, "window": self.window, "glr_threshold": self.glr_threshold,
                 "mlr_threshold": self.mlr_threshold, "sigma_u": self.sigma_u, "correction": self.correction,
-                "continuation": self.continuation, "g2": self.g2}  # fmt: skip
+                "continuation": self.continuation, "g2": self.g2, "imm_q": list(self.imm_q)}  # fmt: skip
+
+
+def _check_imm_q(q: Any) -> tuple[float, ...]:
+    """Three acceleration-increment variances, one per IMM model, each in :data:`IMM_Q_RANGE`."""
+    try:
+        vals = tuple(float(v) for v in q)
+    except (TypeError, ValueError):
+        raise ConfigError("imm_q", q, "is not three variances (one per IMM model: CV, CA, CA)") from None
+    if len(vals) != 3:
+        raise ConfigError("imm_q", vals, "is not three variances (one per IMM model: CV, CA, CA)")
+    for v in vals:
+        in_range("imm_q", v, *IMM_Q_RANGE, unit="(m/s²)²")
+    return vals
 
 
 def _check_sigma(field_name: str, sigma: float) -> float:
@@ -359,26 +376,55 @@ class Tracks:
 
 
 def track(method: str, z: np.ndarray, T: float, sigma: float, cfg: TrackerConfig) -> Tracks:
-    """Run one tracker on measurement records z (B, N, 2) of scans 1..N."""
-    one_of("method", method, METHODS)
+    """Run one tracker on measurement records z (B, N, 2) of scans 1..N (two-point initialisation on scans
+    1 and 2, which must be measured; a NaN later is a missed scan, a predict-only step)."""
     z = np.asarray(z, float)
     if z.ndim != 3 or z.shape[1] < 3 or z.shape[2] != 2:
         raise ValueError(f"z must be (runs, scans >= 3, 2); got shape {z.shape}")
+    return track_from(method, z[:, 0], z[:, 1], z[:, 2:], T, sigma, cfg)
+
+
+def track_from(
+    method: str,
+    z_a: np.ndarray,
+    z_b: np.ndarray,
+    z: np.ndarray,
+    T: float,
+    sigma: float,
+    cfg: TrackerConfig,
+    *,
+    init_gap: int = 1,
+    first_scan: int = FIRST_SCAN,
+) -> Tracks:
+    """Run one tracker from a two-point initialisation on ``z_a``, ``z_b`` (B, 2), ``init_gap`` scans apart,
+    over the following scans z (B, N, 2) (NaN rows: missed scans, predict-only).
+
+    The velocity of the initialisation is (z_b − z_a)/(init_gap T) and its covariance that of
+    :func:`~motionsig_cli.models.motion.two_point_init` with the period init_gap·T (the two measured scans
+    nearest the start need not be adjacent). ``first_scan`` is the scan number of z[:, 0]: the declared
+    onsets are returned in that numbering.
+    """
+    one_of("method", method, METHODS)
+    integer("init_gap", init_gap, 1)
+    z = np.asarray(z, float)
+    if z.ndim != 3 or z.shape[2] != 2 or z.shape[1] < 1:
+        raise ValueError(f"z must be (runs, scans >= 1, 2); got shape {z.shape}")
     R = sigma * sigma * np.eye(2)
+    T_init = T if init_gap == 1 else init_gap * T
     if method == "imm":
-        ms = imm_models(T, g2=cfg.g2, Pi=np.asarray(cfg.Pi), mu0=np.asarray(cfg.mu0))
-        x0, P0 = two_point_init(z[:, 0], z[:, 1], T, sigma, n=6)
-        tr = imm_filter(z[:, 2:], H_POS6, R, ms, x0, P0)
+        ms = imm_models(T, g2=cfg.g2, q=cfg.imm_q, Pi=np.asarray(cfg.Pi), mu0=np.asarray(cfg.mu0))
+        x0, P0 = two_point_init(z_a, z_b, T_init, sigma, n=6)
+        tr = imm_filter(z, H_POS6, R, ms, x0, P0)
         return Tracks(tr.x, mu=tr.mu)
     F, G, Q = cv_input_model(T, cfg.q0)
-    x0, P0 = two_point_init(z[:, 0], z[:, 1], T, sigma, n=4)
+    x0, P0 = two_point_init(z_a, z_b, T_init, sigma, n=4)
     it = input_tracker(
-        z[:, 2:], InputModel(F, G, Q, H_POS4, R), x0, P0, cfg.glr("none" if method == "cv" else method)
+        z, InputModel(F, G, Q, H_POS4, R), x0, P0, cfg.glr("none" if method == "cv" else method)
     )
     state = np.concatenate([it.x, it.u_cur], axis=-1)
     if method == "cv":
         return Tracks(state)
-    onset = np.where(it.onset >= 0, it.onset + FIRST_SCAN, -1)  # local index 0 is scan 3
+    onset = np.where(it.onset >= 0, it.onset + first_scan, -1)  # local index 0 is scan first_scan
     return Tracks(state, detected=it.detected, onset=onset, u_jump=it.u_jump, stat=it.stat)
 
 
@@ -863,7 +909,7 @@ def report(study: ManeuverStudy, results: Results) -> ManeuverReport:
     result (:meth:`ManeuverJob.reduce`)."""
     job = study.job
     sc, cfg, methods = job.sc, job.cfg, job.methods
-    ms = imm_models(sc.T, g2=cfg.g2, Pi=np.asarray(cfg.Pi), mu0=np.asarray(cfg.mu0))
+    ms = imm_models(sc.T, g2=cfg.g2, q=cfg.imm_q, Pi=np.asarray(cfg.Pi), mu0=np.asarray(cfg.mu0))
     cols, rows = _VIEW_ROWS[study.view](sc, results, methods, study.response)
     meta = make_meta(
         "maneuver",
@@ -886,7 +932,7 @@ def report(study: ManeuverStudy, results: Results) -> ManeuverReport:
             "G2": cfg.g2,
             "transition": ms.Pi.tolist(),
             "mu0": ms.mu0.tolist(),
-            "Q": list(Q_PAPER),
+            "Q": list(cfg.imm_q),
             "models": list(ms.names),
             "init": "two-point differencing at scan 2",
         },
@@ -930,7 +976,8 @@ def report(study: ManeuverStudy, results: Results) -> ManeuverReport:
 
 def measurement_table(job: ManeuverJob) -> Table:
     """The simulated records of the job's runs (every σ), one row per run and scan, with the truth: the input
-    of :func:`track_record`. At most :data:`MAX_MEASUREMENT_ROWS` rows."""
+    of :func:`motionsig_cli.experiments.maneuver_record.track_record`. At most :data:`MAX_MEASUREMENT_ROWS`
+    rows."""
     sc = job.sc
     if job.runs * sc.scans * len(job.sigmas) > MAX_MEASUREMENT_ROWS:
         raise ConfigError(
@@ -951,86 +998,4 @@ def measurement_table(job: ManeuverJob) -> Table:
     meta = make_meta("maneuver", view="measurements", sigma=sigma, T=sc.T, preset=sc.preset, runs=job.runs,
                      seed=job.seed, scans=sc.scans)  # fmt: skip
     cols = ("sigma", "run", "scan", "t", "z_x", "z_y", "x_true", "y_true")
-    return Table(columns=cols, rows=rows, meta=meta)
-
-
-# ----------------------------------------------------------------------------------- one record
-def _record(t: Table) -> tuple[np.ndarray, np.ndarray]:
-    """Scans and measurements (N, 2) of a record: columns scan, z_x, z_y with consecutive integer scans (no
-    gaps), finite values within :data:`MAX_COORD`, at least 3 scans, one run and one σ."""
-    for col in ("run", "sigma"):
-        if col in t.columns and len(set(t.column(col))) > 1:
-            raise InputError(f"{t.source}: several values of {col!r} in one file; track one record at a time")
-    if len(t.rows) < 3:
-        raise InputError(
-            f"{t.source}: need at least 3 scans (two initialise the trackers), found {len(t.rows)}"
-        )
-    scans = t.numeric("scan", integer=True)
-    steps = np.diff(scans)
-    if np.any(steps != 1):
-        i = int(np.flatnonzero(steps != 1)[0]) + 1
-        what = "missing scan(s)" if steps[i - 1] > 1 else "scans out of order or repeated"
-        raise InputError(f"{t.source}:{t.lines[i]}: {what}: scan {scans[i]} after {scans[i - 1]}")
-    z = np.stack([finite_column(t, "z_x"), finite_column(t, "z_y")], axis=-1)
-    big = np.flatnonzero(np.any(np.abs(z) > MAX_COORD, axis=1))
-    if big.size:
-        raise InputError(f"{t.source}:{t.lines[big[0]]}: |measurement| exceeds {MAX_COORD:g} m")
-    return scans, z
-
-
-def _meta_number(t: Table, key: str, lo: float, hi: float, unit: str) -> float | None:
-    """A positive number of the record's metadata in [lo, hi] (None if absent)."""
-    if key not in t.meta:
-        return None
-    value = t.meta[key]
-    if isinstance(value, bool):
-        raise InputError(f"{t.source}: metadata {key!r} must be a number, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{t.source}: metadata {key!r} must be a number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{t.source}: metadata {key!r} must be a finite number > 0, got {v:g}")
-    try:
-        return in_range(key, v, lo, hi, unit=unit)
-    except ConfigError as exc:
-        raise InputError(f"{t.source}: metadata {key!r} = {exc.detail}") from None
-
-
-def track_record(
-    t: Table,
-    methods: Sequence[str],
-    cfg: TrackerConfig,
-    *,
-    sigma: float | None = None,
-    T: float | None = None,
-) -> Table:
-    """Track one measurement record (a table with columns scan, z_x, z_y: see :func:`_record`) with every
-    method; the per-scan state, model probabilities and declarations.
-
-    ``sigma`` and ``T`` default to the record's metadata (``sigma``, ``T``; T = 1 s if absent): a bad value
-    given here is a :class:`ConfigError`, a bad value of the record an :class:`InputError`.
-    """
-    _check_methods(methods)
-    scans, z = _record(t)
-    s = _check_sigma("sigma", sigma) if sigma is not None else _meta_number(t, "sigma", *SIGMA_RANGE, "m")
-    if s is None:
-        raise InputError(f"{t.source}: the record's metadata has no 'sigma'")
-    T_ = in_range("T", T, *T_RANGE, unit="s") if T is not None else _meta_number(t, "T", *T_RANGE, "s") or 1.0
-    rows = []
-    for m in methods:
-        with _numerics(s, T_), np.errstate(all="ignore"):
-            tr = track(m, z[None], T_, s, cfg)
-        for i in range(tr.state.shape[1]):
-            st = tr.state[0, i]
-            mu = tr.mu[0, i] if tr.mu is not None else (None, None, None)
-            det = bool(tr.detected[0, i]) if tr.detected is not None else None
-            onset = (
-                int(scans[0] - 1 + tr.onset[0, i]) if (tr.onset is not None and tr.onset[0, i] >= 0) else None
-            )
-            rows.append((m, int(scans[i + 2]), *(float(v) for v in st), *(None if v is None else float(v) for v in mu),
-                         det, onset))  # fmt: skip
-    cols = ("method", "scan", "x", "vx", "y", "vy", "ax", "ay", "mu_1", "mu_2", "mu_3", "declared", "onset")
-    meta = make_meta("maneuver", input=t.source, sigma=s, T=T_, methods=list(methods), config=cfg.meta(),
-                     transition=[list(row) for row in cfg.Pi], mu0=list(cfg.mu0))  # fmt: skip
     return Table(columns=cols, rows=rows, meta=meta)

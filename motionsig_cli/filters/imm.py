@@ -13,6 +13,12 @@ One cycle (§IV), for every run b and model j at once (the only loop is over sca
 7. output, eqs (12)–(13)          X̂ = Σ_j μ_j X̂_j,  P = Σ_j μ_j [P_j + (X̂_j − X̂)(·)ᵀ]  (eq 13 as printed
                                   reuses the mixing weights μ_ij and P_0j; it is the combined covariance).
 
+**Missed scans** (a NaN measurement) are predict-only: steps 1–4 run (mixing and model-matched
+prediction), the update is skipped (X̂_j(k|k) = X̂_j(k|k−1), P_j(k|k) = P_j(k|k−1)), and every model gets the
+likelihood Λ_j = 1 (log Λ_j = 0), so step 6 gives μ_j(k) = c̄_j: the model probabilities are propagated by
+the Markov chain alone. Runs are independent: each run's missed scans are its own (vectorised with a mask),
+and with every scan measured the recursion is the one above, bit for bit.
+
 Steps 1, 2 and 6 run in the log domain (log-sum-exp), so a model whose likelihood underflows a double
 keeps a finite log-probability and the probabilities never become 0/0. A model with c̄_j = 0 (unreachable,
 e.g. switched off with p_ij = 0 and μ_j = 0) gets the mixing weights μ_{i|j} = μ_i: its estimate stays
@@ -48,7 +54,8 @@ class IMMTrack:
         x: (B, N, n) combined estimates X̂(k|k), eq (12).
         P: (B, N, n, n) combined covariances (eq 13 corrected), or None when not kept.
         log_mu: (B, N, r) log model probabilities log μ_j(k).
-        loglik: (B, N, r) model-conditioned innovation log-likelihoods log Λ_j(k), eq (11).
+        loglik: (B, N, r) model-conditioned innovation log-likelihoods log Λ_j(k), eq (11); 0 at a missed
+            scan (likelihood 1 for every model).
     """
 
     x: np.ndarray
@@ -75,7 +82,8 @@ def imm_filter(
     """Run the IMM over measurement records.
 
     Args:
-        z: (B, N, m) measurements of the scans to process (the first is the scan after initialisation).
+        z: (B, N, m) measurements of the scans to process (the first is the scan after initialisation); a NaN
+            (in any component) makes that run's scan a missed scan, a predict-only step (module docstring).
         H: (m, n) measurement matrix; R: (m, m) measurement noise covariance.
         models: the r models, transition matrix and initial probabilities (μ at the initialisation scan).
         x0: (B, n) or (n,) initial estimate, shared by every model-conditioned filter (§IV).
@@ -93,8 +101,12 @@ def imm_filter(
     r, n = models.r, models.n
     if H.shape != (m, n) or R.shape != (m, m):
         raise ValueError(f"H must be ({m}, {n}) and R ({m}, {m}); got {H.shape} and {R.shape}")
-    if not np.all(np.isfinite(z)):
-        raise ValueError("measurements must be finite")
+    measured = ~np.any(np.isnan(z), axis=-1)  # (B, N)
+    if np.any(np.isinf(z)):
+        raise ValueError("measurements must be finite (NaN: a missed scan)")
+    every = bool(measured.all())
+    if not every:
+        z = np.where(measured[..., None], z, 0.0)  # any finite value: the update is discarded there
     Phi, Qd = models.Phi, models.Qd
     PhiT = np.swapaxes(Phi, 1, 2)
     with np.errstate(divide="ignore"):
@@ -123,9 +135,15 @@ def imm_filter(
         Xp = np.einsum("jnm,bjm->bjn", Phi, X0)  # X̂_j(k|k−1) = Φ_j X̂_0j
         Pp = Phi @ P0j @ PhiT + Qd  # P_j(k|k−1) = Φ_j P_0j Φ_jᵀ + G_j Q_j G_jᵀ
         up = joseph_update(Xp, Pp, z[:, k, None, :], H, R)
-        X, P = up.x, up.P
+        seen = None if every else measured[:, k]  # (B,) runs measured at scan k (None: all of them)
+        if seen is None or seen.all():
+            X, P, loglik = up.x, up.P, up.loglik
+        else:  # predict-only where missed, likelihood 1 for every model
+            X = np.where(seen[:, None, None], up.x, Xp)
+            P = np.where(seen[:, None, None, None], up.P, 0.5 * (Pp + np.swapaxes(Pp, -1, -2)))
+            loglik = np.where(seen[:, None], up.loglik, 0.0)
         # 5–6: likelihoods (eq 11) and model probabilities, log domain
-        s = up.loglik + log_cbar  # log Λ_j c̄_j
+        s = loglik + log_cbar  # log Λ_j c̄_j
         log_mu = s - logsumexp(s, axis=1)[:, None]
         # 7: output, eqs (12)–(13) corrected
         mu = np.exp(log_mu)
@@ -135,5 +153,5 @@ def imm_filter(
             d = X - xc[:, None, :]
             P_out[:, k] = np.einsum("bj,bjnm->bnm", mu, P) + np.einsum("bj,bjn,bjm->bnm", mu, d, d)
         lm_out[:, k] = log_mu
-        ll_out[:, k] = up.loglik
+        ll_out[:, k] = loglik
     return IMMTrack(x_out, P_out, lm_out, ll_out)

@@ -44,8 +44,9 @@ def local_update(
     valid: np.ndarray,
     sensor: np.ndarray,
     model: MeasurementModel,
-    pd: float,
-    log_rho: float,
+    pd: float | np.ndarray,
+    log_rho: float | np.ndarray,
+    noise: np.ndarray | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One sensor's update of a batch of filters (the local update of the module docstring).
 
@@ -54,8 +55,13 @@ def local_update(
         Z: (R, M, 2) measurements (padded); valid: (R, M) mask.
         sensor: (2,) sensor position, or (R, 2): one per filter (a batch of several sensors' filters).
         model: measurement model.
-        pd: detection probability in (0, 1]; with pd = 1 the j = 0 term is omitted.
-        log_rho: log of the clutter density ρ_F in measurement space.
+        pd: detection probability in (0, 1]; with pd = 1 the j = 0 term is omitted. Or (R,): one per
+            filter (filters of sensors with different p_D in one batch).
+        log_rho: log of the clutter density ρ_F in measurement space, or (R,): one per filter.
+        noise: (R, 2, 2): one measurement noise covariance per filter (default: ``model.R`` for all).
+
+    Per-filter values give, filter by filter, the same numbers as a call with that filter's scalars:
+    log p_D and log(1 − p_D) are taken with :mod:`math` for each distinct value.
 
     Returns:
         (m⁺, P⁺, log p̄) with shapes (R, 4), (R, 4, 4), (R,).
@@ -63,14 +69,19 @@ def local_update(
     zhat = model.h(m, sensor)
     H = model.jacobian(m, sensor)
     HP = H @ P
-    S = HP @ np.swapaxes(H, -1, -2) + model.R
+    Rn = model.R if noise is None else noise
+    S = HP @ np.swapaxes(H, -1, -2) + Rn
     S = 0.5 * (S + np.swapaxes(S, -1, -2))
     nu = Z - zhat[:, None, :]
     if model.angular is not None:
         nu[..., model.angular] = wrap_angle(nu[..., model.angular])
-    logw = math.log(pd) - log_rho + log_gauss_2(nu, S)  # log p*ʲ
+    if np.ndim(pd) == 0 and np.ndim(log_rho) == 0:
+        logw = math.log(pd) - log_rho + log_gauss_2(nu, S)  # log p*ʲ
+        logw0 = math.log1p(-pd) if pd < 1.0 else -np.inf  # log p*⁰
+    else:  # one p_D and ρ_F per filter
+        log_pd, logw0 = _log_pd(np.broadcast_to(np.asarray(pd, dtype=float), m.shape[:1]))
+        logw = (log_pd - np.broadcast_to(log_rho, m.shape[:1]))[:, None] + log_gauss_2(nu, S)
     logw = np.where(valid, logw, -np.inf)
-    logw0 = math.log1p(-pd) if pd < 1.0 else -np.inf  # log p*⁰
     top = np.maximum(np.max(logw, axis=-1, initial=-np.inf), logw0)
     impossible = np.isneginf(top)  # p_D = 1 and no measurement: Λ = 0, log p̄ = −inf (certain deletion)
     top = np.where(impossible, 0.0, top)
@@ -86,7 +97,16 @@ def local_update(
     nubar = np.einsum("rm,rmi->ri", p, nu)
     m_plus = m + np.einsum("rij,rj->ri", K, nubar)
     IKH = np.eye(4) - K @ H
-    P1 = IKH @ P @ np.swapaxes(IKH, -1, -2) + K @ model.R @ np.swapaxes(K, -1, -2)  # Joseph
+    P1 = IKH @ P @ np.swapaxes(IKH, -1, -2) + K @ Rn @ np.swapaxes(K, -1, -2)  # Joseph
     spread = np.einsum("rm,rmi,rmj->rij", p, nu, nu) - np.einsum("ri,rj->rij", nubar, nubar)
     P_plus = p0[:, None, None] * P + (1.0 - p0)[:, None, None] * P1 + K @ spread @ np.swapaxes(K, -1, -2)
     return m_plus, 0.5 * (P_plus + np.swapaxes(P_plus, -1, -2)), log_pbar
+
+
+def _log_pd(pd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(log p_D, log(1 − p_D)) per filter, −inf for the second where p_D = 1: each distinct value by
+    :mod:`math`, as the scalar path computes it."""
+    values, index = np.unique(pd, return_inverse=True)
+    log_pd = np.array([math.log(v) for v in values])
+    log_miss = np.array([math.log1p(-v) if v < 1.0 else -math.inf for v in values])
+    return log_pd[index], log_miss[index]

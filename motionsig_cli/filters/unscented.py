@@ -22,6 +22,13 @@ The prediction is linear and exact (x ← F x, P ← F P Fᵀ + Q: the models ar
 structure of the LMP banks, F_k^c = F_0 + Σ_r g_r[c, k] e_{row_r} e_{col_r}ᵀ, so the shared F_0 is
 one matrix product over every filter and trial and the time-varying entries are rank-one terms.
 
+Missing samples: a record whose sample k is NaN (every component) skips the update at k — no term in J
+or in the log-determinants, x and P carried to the prediction unchanged; the mask is per (record,
+step), so records with different gaps share one bank. A step no record measures runs the prediction
+only; at a step some records miss, their innovations and gains are zeroed (and their covariances kept
+out of the factorisations, so they are neither repaired nor counted). A sample with some components
+present and some missing is refused (:class:`~motionsig_cli.filters.kalman.MissingSamples`).
+
 Covariance safety: the update P ← P − W Wᵀ (W = P_xy L_S⁻ᵀ) is symmetric to the last bit; a
 Cholesky pivot of P or S at or below zero (a valid input can do this: a singular prior, rounding, or a
 negative W^c_0 from β < 0) is repaired by projecting onto the positive semi-definite matrices (S onto
@@ -39,7 +46,7 @@ from typing import Any
 import numpy as np
 
 from motionsig_cli.config import ConfigError
-from motionsig_cli.filters.kalman import Progress, step_reporter
+from motionsig_cli.filters.kalman import Progress, missing_steps, step_reporter
 from motionsig_cli.models.radar import wrap_angle
 
 JITTER_START = 1e-12  # first relative jitter tried by a repair (× the mean diagonal), then ×100 per retry
@@ -351,12 +358,16 @@ class BankCosts:
         half_logdet: ½ Σ_{j<n} log det(2π S_j), (C, B, H); J + half_logdet = −log-likelihood (eqs 48–49).
         repairs_P: (filter, trial, step) triples whose state covariance needed a jitter repair.
         repairs_S: Likewise for the innovation covariance.
+        x: The state estimate after the last sample (its update, or none where it is missing), (C, B, n).
+        P: Its covariance, (C, B, n, n).
     """
 
     J: np.ndarray
     half_logdet: np.ndarray
     repairs_P: int
     repairs_S: int
+    x: np.ndarray | None = None
+    P: np.ndarray | None = None
 
 
 def ukf_bank_costs(
@@ -381,7 +392,7 @@ def ukf_bank_costs(
         Q: Process noise (n, n).
         meas: Measurement model (m components).
         x0: Prior mean (n,).  P0: Prior covariance (n, n).
-        y: Records (B, N) for m = 1 or (B, N, m).
+        y: Records (B, N) for m = 1 or (B, N, m); a NaN sample (every component) is missing: predict-only.
         horizons: Sample counts at which to read the costs (1 ≤ n ≤ N).
         params: Sigma-point parameters.
         progress: Called with the number of time steps done, once per block of steps (see
@@ -396,8 +407,8 @@ def ukf_bank_costs(
     p = meas.lead
     if m != len(meas.angular) or p > n or trans.g.shape[1] < N - 1:
         raise ValueError("record, measurement model and transitions do not fit together")
-    if not np.all(np.isfinite(y)):
-        raise ValueError("measurements contain NaN or inf")
+    missing = missing_steps(y, "the sigma-point filter")  # (B, N)
+    present = ~missing
     hz = np.asarray(horizons, dtype=int)
     if hz.size == 0 or hz.min() < 1 or hz.max() > N:
         raise ValueError(f"horizons must lie in 1..{N} samples")
@@ -417,9 +428,27 @@ def ukf_bank_costs(
     half_log2pi = 0.5 * m * math.log(2 * math.pi)
     w_e0 = wc0 + 2 * (n - p) * wj  # χ_0 and the 2(n − p) points that move nothing h reads
     tick = step_reporter(progress, N)
+    some_missing = missing.any(axis=0)  # (N,)
+    none_present = ~present.any(axis=0)
+    eye_n = np.eye(n)[:, :, None, None]
     for k in range(N):
+        pk: np.ndarray | None = None  # the records measured at k, where some are not
+        if none_present[k]:  # predict-only for every record
+            if k + 1 in read_at:
+                J_out[:, :, read_at[k + 1]] = J[..., None]
+                LD_out[:, :, read_at[k + 1]] = LD[..., None]
+            if k + 1 < N:
+                x, P = trans.predict(x, P, k, Q)
+            tick(k)
+            continue
+        if some_missing[k]:
+            pk = present[:, k]
         # --- sigma points along the first p columns of chol(P) ------------------------------------
-        L, P, nb = _repaired_cholesky(P, p)  # (n, p, C, B)
+        if pk is None:
+            L, P, nb = _repaired_cholesky(P, p)  # (n, p, C, B)
+        else:  # the missing records' P stays out of the factorisation (and the repair count)
+            L, P_fact, nb = _repaired_cholesky(np.where(pk, P, eye_n), p)
+            P = np.where(pk, P_fact, P)
         rep_P += nb
         xl = x[:p, None]  # (p, 1, C, B)
         step = c * L[:p]  # step[:, j] = c L_j on the lead components, (p, p, C, B)
@@ -437,6 +466,8 @@ def ukf_bank_costs(
                 S[a, b] = w_e0 * e0[a] * e0[b] + wj * ((ep[a] * ep[b]).sum(0) + (em[a] * em[b]).sum(0))
                 S[b, a] = S[a, b]
         S += Rm  # S = Σ W^c_i e_i e_iᵀ + R
+        if pk is not None:
+            S = np.where(pk, S, Rm)  # a missing record's S is never used: keep it out of the repairs
         de = (wj * c) * (ep - em)  # (m, p, C, B)
         Pxy = L[:, None, 0] * de[None, :, 0]  # Σ W^c_i (χ_i − x) e_iᵀ = W c Σ_j L_j (e_{+j} − e_{−j})ᵀ
         for j in range(1, p):
@@ -445,10 +476,15 @@ def ukf_bank_costs(
         Ls, S, nbs = _repaired_cholesky(S, m, floor=Rm[:, :, 0, 0])  # S = L_S L_Sᵀ, (m, m, C, B)
         rep_S += nbs
         nu = _wrap_rows(yk_all[k] - y_hat, ang)  # ν_k, eq (47), bearing wrapped
+        if pk is not None:
+            nu = np.where(pk, nu, 0.0)  # no innovation where the sample is missing
         u = _forward(Ls, nu)  # L_S⁻¹ ν
         J += 0.5 * (u * u).sum(0)  # ½ νᵀ S⁻¹ ν, eq (52)
-        LD += np.log(np.diagonal(Ls, axis1=0, axis2=1)).sum(-1) + half_log2pi  # ½ log det 2πS
+        ld = np.log(np.diagonal(Ls, axis1=0, axis2=1)).sum(-1) + half_log2pi  # ½ log det 2πS
+        LD += ld if pk is None else np.where(pk, ld, 0.0)
         W = _forward(Ls[:, :, None], np.swapaxes(Pxy, 0, 1))  # rows of P_xy L_S⁻ᵀ, (m, n, C, B)
+        if pk is not None:
+            W = np.where(pk, W, 0.0)  # no gain: x and P carry over
         for a in range(m):
             Wa = W[a]
             x += Wa * u[a]  # x + K ν with K = P_xy S⁻¹ = W L_S⁻¹
@@ -462,7 +498,7 @@ def ukf_bank_costs(
         tick(k)
     if not (np.all(np.isfinite(J_out)) and np.all(np.isfinite(LD_out))):
         raise FloatingPointError("the sigma-point bank produced a non-finite cost")
-    return BankCosts(J_out, LD_out, rep_P, rep_S)
+    return BankCosts(J_out, LD_out, rep_P, rep_S, np.moveaxis(x, 0, -1), np.moveaxis(P, (0, 1), (-2, -1)))
 
 
 def linear_measurement(H: np.ndarray, R: np.ndarray) -> SigmaMeasurement:

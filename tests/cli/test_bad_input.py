@@ -390,13 +390,13 @@ MAN = [
     (("--view", "measurements", "--plot", "m.png"), "draws no figure"),
 ]
 MAN_REC = [
-    ("1,0,0\n2,0,450\n4,0,1350\n5,0,1800\n", "bad.csv:5: missing scan"),
-    ("1,0,0\n2,0,450\n3,nan,900\n", "bad.csv:5: column 'z_x' is not finite"),
+    ("1,0,0\n2,0,450\n3,0,900\n1,0,0\n", "bad.csv:6: column 'scan': scan goes backwards"),
+    ("1,0,0\n2,0,450\n3,nan,900\n", "bad.csv: need at least 3 scans with a measurement"),
     ("1,0,0\n2,0,450\n3,inf,900\n", "not finite"),
     ("1,0,0\n2,0,450\n", "at least 3 scans"),
-    ("1,0,0\n2,0,450\n2,0,900\n", "out of order or repeated"),
+    ("1,0,0\n2,0,450\n2,0,900\n", "bad.csv:5: column 'scan': scan repeats"),
     ("1,0,0\n2,abc,450\n3,0,900\n", "bad.csv:4"),
-    ("1,0,0\n2,1e308,450\n3,0,900\n", "bad.csv:4: |measurement| exceeds"),
+    ("1,0,0\n2,1e308,450\n3,0,900\n", "bad.csv:4: column 'z_x': |measurement| 1e+308 m exceeds"),
 ]
 MAN_META = [
     (("--sigma", "0"), "", "Invalid value for --sigma: 0 is not in [0.001, 1e+07] m"),

@@ -5,6 +5,7 @@ import pytest
 
 from motionsig_cli.detection.track_existence import FUSION_METHODS
 from motionsig_cli.experiments import slrt as exp
+from motionsig_cli.tables import read_table
 from tests.cli.helpers import (
     bad_engine_options_test,
     checkpoint_resume,
@@ -111,3 +112,202 @@ def test_checkpoint_resumes_to_the_same_bytes_and_refuses_other_parameters(capsy
 
 
 test_bad_engine_options = bad_engine_options_test(*ENGINE_ARGS)
+
+
+# ------------------------------------------------------------------ --input DETECTIONS --sensor-table SENSORS
+def _per_scan(t, value):
+    """(method, scan) → the value's text, of a one-case curves table or a one-track record table."""
+    return {(m, k): v for m, k, v in zip(t.column("method"), t.column("scan"), t.column(value), strict=True)}
+
+
+@pytest.mark.parametrize("fmt", ["csv", "json"])
+def test_the_files_of_a_simulated_run_reproduce_its_scores_byte_for_byte(capsys, tmp_path, fmt):
+    case = ("--pd", "0.7", "--clutter", "1", "--scans", "12", "--seed", "5")
+    d, s, sim, got = (tmp_path / n for n in (f"d.{fmt}", "s.csv", "sim.csv", "in.csv"))
+    for args, path in ((("--view", "detections", "--runs", "1", "-f", fmt), d), (("--view", "sensors"), s),
+                       (("--runs", "1", "--target-only"), sim)):  # fmt: skip
+        rc, _, err = run(capsys, "slrt", *case, *args, "-o", str(path))
+        assert rc == 0, err
+    rc, _, err = run(capsys, "slrt", "--input", str(d), "--sensor-table", str(s), "-o", str(got))
+    assert rc == 0, err
+    a, b = read_table(sim), read_table(got)
+    want, have = _per_scan(a, "mean_loglr"), _per_scan(b, "log_lr")
+    assert len(want) == 3 * 12 and have == want  # the same full-precision text: the same floats
+    assert b.meta["init"]["rule"].startswith("the file's metadata 'init'")
+    assert set(b.column("track")) == {"1"} and "4 sensor(s), 12 scans" in err
+
+
+def test_views_of_a_run_write_input_files(capsys, tmp_path):
+    rc, out, err = run(
+        capsys, "slrt", "--view", "detections", "--runs", "1", "--scans", "3", "--clutter", "0.2"
+    )
+    t = table(out, tmp_path)
+    assert rc == 0 and t.columns[:5] == ("scan", "time", "sensor", "range [m]", "bearing [rad]")
+    assert t.meta["view"] == "detections" and len(t.meta["init"]) == 4 and t.meta["T"] == 1.0
+    assert set(t.column("origin")) <= {"target", "clutter", ""} and "run 0 of 'target, p_D = 0.9'" in err
+    rc, out, _ = run(capsys, "slrt", "--view", "sensors", "--meas", "cartesian", "-q")
+    t = table(out, tmp_path, "s.csv")
+    assert rc == 0 and t.columns == ("sensor", "x [m]", "y [m]", "sigma_xy [m]", "pd", "clutter", "fov [m]")
+    assert t.column("sensor") == ["radar1", "radar2", "radar3", "radar4"]
+
+
+def test_an_independent_record_is_confirmed_and_clutter_alone_is_not(capsys, tmp_path):
+    from tests.experiments.test_slrt_record import INIT_XVY, write_detections, write_sensors
+
+    s = tmp_path / "radars.csv"
+    write_sensors(s)
+    init = ",".join(repr(v) for v in INIT_XVY)
+    decisions = {}
+    for name, target, seed in (("target", True, 1), ("clutter", False, 2)):
+        d = tmp_path / f"{name}.csv"
+        write_detections(d, seed, target=target)
+        rc, out, err = run(capsys, "slrt", "--input", str(d), "--sensor-table", str(s), "--init", init,
+                           "--view", "decisions")  # fmt: skip
+        assert rc == 0, err
+        t = table(out, tmp_path, f"{name}_out.csv")
+        decisions[name] = dict(zip(t.column("method"), t.column("decision"), strict=True))
+        assert t.meta["per_sensor_values"] is True and t.meta["T"] == 2.0
+    assert decisions == {"target": dict.fromkeys(("ckf", "dkf", "lkf"), "confirmed"),
+                         "clutter": dict.fromkeys(("ckf", "dkf", "lkf"), "deleted")}  # fmt: skip
+    # without --init: one tentative track per detection of the first scan
+    rc, out, err = run(capsys, "slrt", "--input", str(tmp_path / "target.csv"), "--sensor-table", str(s),
+                       "--methods", "ckf", "--view", "decisions")  # fmt: skip
+    t = table(out, tmp_path, "tracks.csv")
+    assert rc == 0 and len(t.rows) > 3 and "confirmed" in t.column("decision") and "track(s): ckf:" in err
+    assert t.meta["init"]["rule"].startswith("one tentative track per detection of scan 1")
+
+
+def test_one_sensor_says_the_methods_coincide(capsys, tmp_path):
+    from tests.experiments.test_slrt_record import INIT_XVY, SENSORS, write_detections, write_sensors
+
+    d, s = tmp_path / "d.csv", tmp_path / "s.csv"
+    write_detections(d, 3, sensors=SENSORS[:1])
+    write_sensors(s, SENSORS[:1])
+    rc, out, err = run(capsys, "slrt", "--input", str(d), "--sensor-table", str(s), "--init",
+                       ",".join(map(str, INIT_XVY)))  # fmt: skip
+    t = table(out, tmp_path)
+    assert rc == 0 and "CKF, DKF and LKF coincide" in err and "coincide" in t.meta["single_sensor"]
+    per = {m: [v for v, mm in zip(t.column("log_lr"), t.column("method"), strict=True) if mm == m]
+           for m in ("ckf", "dkf", "lkf")}  # fmt: skip
+    assert per["ckf"] == per["dkf"] == per["lkf"]
+
+
+def test_input_from_stdin_with_columns_and_units_options(capsys, tmp_path, monkeypatch):
+    import io
+    import sys
+
+    s = tmp_path / "s.csv"
+    s.write_text("id,east,north,sr,sphi,pd,clutter,fov\nA,0,0,0.05,0.2,0.9,1,20\n")
+    text = "ts,radar,rng,az\n0,A,1.0,10\n1,A,1.1,10\n2,A,,\n3,A,1.3,10\n"
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(text.encode())))
+    rc, out, err = run(capsys, "slrt", "--input", "-", "--sensor-table", str(s), "--init", "800,100,170,20",
+                       "--columns", "time=ts,sensor=radar,range=rng,bearing=az",
+                       "--sensor-columns", "sigma_r=sr,sigma_phi=sphi", "--units",
+                       "range=km,bearing=deg,sigma_r=km,x=km,y=km,fov=km")  # fmt: skip
+    t = table(out, tmp_path)
+    assert rc == 0, err
+    assert t.meta["detections"]["input"] == "<stdin>" and t.meta["sensors"][0]["fov_m"] == 20_000.0
+    assert t.meta["sensors"][0]["sigma_r_m"] == 50.0
+    assert [int(v) for v in t.column("detections")[:4]] == [1, 1, 0, 1]
+
+
+SENSOR_TEXT = (
+    "sensor,x,y,sigma_r,sigma_phi,pd,clutter,fov\nA,0,0,50,0.2,0.9,2,20000\nB,1e4,0,50,0.2,0.9,2,20000\n"
+)
+DET_TEXT = "time,sensor,range,bearing\n0,A,100,0.1\n1,B,100,0.1\n"
+
+
+@pytest.mark.parametrize(
+    ("dets", "sensors", "needle"),
+    [
+        ("time,sensor,range,bearing\n0,A,1,0\n0,Q,1,0\n", SENSOR_TEXT, "d.csv:3: column 'sensor': sensor 'Q'"),
+        ("time,sensor,range\n0,A,1\n", SENSOR_TEXT, "d.csv:1: missing column 'bearing'"),
+        ("time,sensor,range,bearing\n0,A,1,abc\n", SENSOR_TEXT, "d.csv:2: column 'bearing': 'abc' is not a number"),
+        ("time,sensor,range,bearing\n1,A,1,0\n0,A,1,0\n", SENSOR_TEXT, "d.csv:3: column 'time': time goes backwards"),
+        ("time,sensor,range,bearing\n0,A,1,0\n1,B,30000,0\n", SENSOR_TEXT,
+         "d.csv:3: column 'range': range 30000 m is beyond the field of view"),
+        ("time,sensor,range [yd],bearing\n0,A,1,0\n", SENSOR_TEXT, "d.csv:1: column 'range [yd]': unknown length unit"),
+        ("", SENSOR_TEXT, "d.csv: no header row"),
+        ("time,sensor,range,bearing\n", SENSOR_TEXT, "d.csv: no detections"),
+        (DET_TEXT, SENSOR_TEXT + "A,5,5,50,0.2,0.9,2,20000\n", "s.csv:4: column 'sensor': sensor 'A' is listed twice"),
+        (DET_TEXT, "", "s.csv: no header row"),
+        ("time,sensor,range,bearing\n2026-05-01T00:00:00Z,A,1,0\n2026-05-01T00:00:01,A,1,0\n", SENSOR_TEXT,
+         "d.csv:3: column 'time': mixes timestamps"),
+    ],
+)  # fmt: skip
+def test_bad_records_are_one_line_naming_file_line_and_column(capsys, tmp_path, dets, sensors, needle):
+    d, s, out = tmp_path / "d.csv", tmp_path / "s.csv", tmp_path / "out.csv"
+    d.write_text(dets)
+    s.write_text(sensors)
+    err = one_line_error(capsys, "slrt", "--input", str(d), "--sensor-table", str(s), "-o", str(out))
+    assert err.startswith("motionsig slrt: error: ") and needle in err, err
+    assert not out.exists()
+
+
+def test_a_record_over_the_row_limit_is_refused(capsys, tmp_path, monkeypatch):
+    from dataclasses import replace
+
+    from motionsig_cli.experiments import slrt_record
+
+    monkeypatch.setattr(slrt_record, "DETECTION_SPEC", replace(slrt_record.DETECTION_SPEC, max_rows=5))
+    d, s = tmp_path / "d.csv", tmp_path / "s.csv"
+    d.write_text("time,sensor,range,bearing\n" + "".join(f"{k},A,1,0\n" for k in range(6)))
+    s.write_text(SENSOR_TEXT)
+    err = one_line_error(capsys, "slrt", "--input", str(d), "--sensor-table", str(s))
+    assert "d.csv:7: more than 5 data rows" in err
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("--pd", "0.5"), "--pd: does not apply with --input"),
+        (("--runs", "3"), "--runs: does not apply with --input"),
+        (("--target-only",), "--no-target/--target-only: does not apply with --input"),
+        (("--workers", "2"), "--workers: does not apply with --input"),
+        (("--view", "sensors"), "--view"),
+        (("--plot-scan", "x.png"), "--plot-scan"),
+        (("--init", "1,2,3"), "--init: [1.0, 2.0, 3.0] is not four numbers"),
+        (("--init-sd", "0,1"), "--init-sd"),
+        (("--units", "bearing=grad"), "--units: 'bearing=grad' is not an angle unit"),
+        (("--units", "speed=m"), "--units: 'speed' is not a column of the detections or sensors"),
+        (("--columns", "nope=x"), "--columns"),
+        (("--sensor-columns", "nope=x"), "--sensor-columns"),
+        (("--T", "0"), "--T"),
+        (("--meas", "cartesian"), "missing column 'x'"),
+    ],
+)
+def test_options_that_do_not_fit_an_input_are_one_line(capsys, tmp_path, args, needle):
+    d, s = tmp_path / "d.csv", tmp_path / "s.csv"
+    d.write_text(DET_TEXT)
+    s.write_text(SENSOR_TEXT)
+    err = one_line_error(capsys, "slrt", "--input", str(d), "--sensor-table", str(s), *args)
+    assert needle in err, err
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("--sensor-table", "s.csv"), "--sensor-table: applies only with --input"),
+        (("--init", "0,0,0,0"), "--init: applies only with --input"),
+        (("--view", "detections", "--runs", "5"), "--runs: --view detections writes one run"),
+        (("--view", "sensors", "--plot", "p.png"), "--plot: --view sensors draws no figure"),
+        (("--input", "d.csv"), "--sensor-table: is needed with --input"),
+        (("--input", "d.csv", "--sensor-table", "s.csv", "-o", "d.csv"), "--out: is the --input file"),
+    ],
+)
+def test_input_options_without_input_and_view_options_are_one_line(
+    capsys, tmp_path, monkeypatch, args, needle
+):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "d.csv").write_text(DET_TEXT)
+    (tmp_path / "s.csv").write_text(SENSOR_TEXT)
+    err = one_line_error(capsys, "slrt", *args)
+    assert needle in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["d.csv", "s.csv"]
+
+
+def test_help_documents_the_input_files(capsys):
+    rc, out, _ = run(capsys, "slrt", "--help")
+    text = " ".join(out.replace("│", " ").split())
+    assert rc == 0 and "--input" in text and "--sensor-table" in text and "--init-sd" in text
+    assert "detected nothing there" in text and "outside its sensor's field of view is refused" in text

@@ -92,7 +92,7 @@ def test_radar_config_and_record_validation():
         RadarLMPConfig(c_r=0.0)
     y = np.ones((1, 10, 2))
     y[0, 4, 0] = np.inf
-    with pytest.raises(ValueError, match="NaN or inf"):
+    with pytest.raises(ValueError, match="contain inf"):  # NaN is a missing sample; inf is refused
         lmp_detect_radar(y, CHIPS, Vehicle2D(), 20, RadarLMPConfig(), [10])
     with pytest.raises(ValueError, match="range and bearing"):
         lmp_detect_radar(np.ones((1, 10, 3)), CHIPS, Vehicle2D(), 20, RadarLMPConfig(), [10])
