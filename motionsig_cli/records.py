@@ -50,6 +50,7 @@ __all__ = [
     "Record",
     "RecordSpec",
     "Role",
+    "grid_period",
     "parse_columns",
     "parse_units",
     "read_record",
@@ -542,16 +543,64 @@ def _fmt(rec: Record, role: Role, v: float) -> str:
     return f"{v:g}"
 
 
+GRID_TOL = 0.05
+"""Default jitter tolerance of :func:`uniform_grid`: a time within 5 % of the period from its grid point
+is read as on the grid (assumed; millisecond time stamps at 20 Hz are 2 % of the period)."""
+
+
+def grid_period(times: np.ndarray, rel_tol: float = GRID_TOL) -> float:
+    """The period of increasing times with jitter and gaps: the coarsest grid that holds every row.
+
+    Each spacing of consecutive rows is a whole number of periods m_i T plus jitter. From a first guess,
+    m_i = round(Δ_i / T) and T = Σ m_i Δ_i / Σ m_i² (over the spacings within 2 ``rel_tol`` of m_i T) are
+    iterated to a fixed point; every m_i is decided locally, so no error accumulates along a long
+    record, and the least squares on the grid they define, Σ k Δt / Σ k² with k_i = Σ_{j<i} m_j over
+    the rows within ``rel_tol`` of it, is the estimate. The first guesses are the median spacing δ and
+    δ/2, δ/3, δ/4 (the median is a gap where most spacings are) and the spacings near the smallest one
+    (where it is at least δ/4: a stray row between two scans must not make the grid fine). Of the
+    estimates that put every row within ``rel_tol`` of its own grid point the largest is taken (the
+    coarsest grid: the fewest missed samples). Where none does, the median's estimate is returned, and
+    :func:`uniform_grid` refuses the row off its grid.
+    """
+    times = np.asarray(times, float)
+    d = np.diff(times)
+    dt = times - times[0]
+    delta = float(np.median(d))
+    guesses = [delta / j for j in (1, 2, 3, 4)]
+    small = float(np.median(d[d < 1.5 * np.min(d)]))
+    if small >= delta / 4:
+        guesses.append(small)
+    found: list[float] = []
+    estimates: list[float] = []
+    for T in guesses:
+        for _ in range(100):
+            m = np.rint(d / T)
+            m[np.abs(d - m * T) > 2 * rel_tol * T] = 0.0  # a spacing off the grid does not pull the fit
+            if not np.any(m > 0):
+                break
+            T_new = float(np.dot(m, d) / np.dot(m, m))
+            if T_new == T:
+                break
+            T = T_new
+        k = np.concatenate([[0.0], np.cumsum(np.rint(d / T))])
+        k[np.abs(dt - k * T) > rel_tol * T] = 0.0  # rows off the grid: left out of the fit
+        if np.dot(k, k) > 0:
+            T = float(np.dot(k, dt) / np.dot(k, k))
+        estimates.append(T)
+        g = np.rint(dt / T)
+        if np.all(np.diff(g) > 0) and np.all(np.abs(dt - g * T) <= rel_tol * T):
+            found.append(T)
+    return max(found) if found else estimates[0]
+
+
 def uniform_grid(
-    rec: Record, times: np.ndarray, T: float | None = None, *, role: str = "time", rel_tol: float = 1e-3
+    rec: Record, times: np.ndarray, T: float | None = None, *, role: str = "time", rel_tol: float = GRID_TOL
 ) -> tuple[np.ndarray, float]:
     """Steps of a uniform grid under increasing ``times``: (k, T) with ``times ≈ times[0] + k T``.
 
-    T is given, or estimated: a first guess from the spacings near the smallest one (their median), the
-    median of Δt/k over the record (Δt = t − t₀, k the nearest step), and, once every time is within
-    tolerance, least squares T̂ = Σ k Δt / Σ k²; so timestamps with jitter and records with gaps (k
-    jumps by more than one) are both read. A time further than ``rel_tol`` · T from its grid point is refused
-    (non-uniform sampling), naming its line; so is T ≤ 0.
+    T is given, or estimated by :func:`grid_period` (timestamps with jitter and records with gaps, where
+    k jumps by more than one, are both read). A time further than ``rel_tol`` · T from its grid point is
+    refused (non-uniform sampling), naming its line; so is T ≤ 0, and two times on one grid point.
 
     Returns:
         (k, T): int64 step indices starting at 0, and the period [s].
@@ -560,12 +609,8 @@ def uniform_grid(
     if times.size < 2:
         raise rec.error(None, None, f"need at least 2 times, found {times.size}")
     dt = times - times[0]
-    estimated = T is None
-    if T is None:  # robust first guess, then least squares once every time is on the grid
-        d = np.diff(times)
-        T0 = float(np.median(d[d < 1.5 * np.min(d)]))
-        k = np.rint(dt / T0)
-        T = float(np.median(dt[k > 0] / k[k > 0]))
+    if T is None:
+        T = grid_period(times, rel_tol)
     if not (math.isfinite(T) and T > 0):
         raise rec.error(None, role, f"sample period {T!r} is not > 0")
     k = np.rint(dt / T)
@@ -579,6 +624,10 @@ def uniform_grid(
             f"time {times[i]:.9g} s is {off[i] / T:.3g} periods off the {T:.6g} s grid (non-uniform sampling "
             "is not supported here: resample, or give the period)",
         )
-    if estimated:
-        T = float(np.dot(k, dt) / np.dot(k, k))
+    same = np.flatnonzero(np.diff(k) == 0)
+    if same.size:
+        i = int(same[0]) + 1
+        raise rec.error(
+            i, role, f"time {times[i]:.9g} s falls on the same {T:.6g} s grid point as the row before"
+        )
     return k.astype(np.int64), T

@@ -180,3 +180,23 @@ def test_role_checks_its_fields(kwargs, field):
     with pytest.raises(ConfigError) as exc:
         Role("x", **kwargs)
     assert exc.value.field == field
+
+
+def test_grid_period_is_not_fooled_by_a_stray_row():
+    """A row 30 ms after a scan of a 1 s grid must not make a 30 ms grid: it is refused, on its own line."""
+    times = np.r_[np.arange(10.0), 4.03]
+    times.sort()
+    rec = Record({}, np.arange(2, 2 + times.size), {"time": "t"}, {}, None, (), {}, "r.csv")
+    with pytest.raises(
+        InputError, match=r"r.csv:7: column 't': time 4.03 s is 0.03 periods off|r.csv:7: .*same"
+    ):
+        uniform_grid(rec, times)
+
+
+def test_millisecond_stamps_at_20_hz_are_on_the_grid():
+    """20 Hz samples stamped to the millisecond are up to 0.5 ms (1 % of T) off their grid points."""
+    k_true = np.r_[0:50, 53:200]
+    times = np.round(0.05 * k_true + 1e-4, 3)
+    rec = Record({}, np.arange(2, 2 + times.size), {"time": "t"}, {}, None, (), {}, "r.csv")
+    k, T = uniform_grid(rec, times)
+    assert k.tolist() == (k_true - k_true[0]).tolist() and abs(T - 0.05) < 1e-5

@@ -11,7 +11,8 @@ metadata or ``--units`` say otherwise]. Columns are mapped with ``--columns role
 **The scan grid.** The trackers' motion models are built for one scan period T, so the record is placed on
 a uniform grid of scans:
 
-* with a time column: the period is estimated from the times (:func:`_period`: the coarsest grid that
+* with a time column: the period is estimated from the times
+  (:func:`~motionsig_cli.records.grid_period`: the coarsest grid that
   holds every row, least squares over it), the rows are placed on the grid and checked by
   :func:`motionsig_cli.records.uniform_grid`: jitter up to :data:`JITTER_TOL` of T from the grid point is
   tolerated (each measurement is then taken at its grid point: assumed), a gap is a run of missed scans, and
@@ -60,7 +61,15 @@ from motionsig_cli.experiments.maneuver import (
     track_from,
 )
 from motionsig_cli.models.motion import imm_models
-from motionsig_cli.records import Record, RecordSpec, Role, parse_columns, read_record, uniform_grid
+from motionsig_cli.records import (
+    Record,
+    RecordSpec,
+    Role,
+    grid_period,
+    parse_columns,
+    read_record,
+    uniform_grid,
+)
 from motionsig_cli.tables import Table, make_meta, read_table
 
 __all__ = [
@@ -268,56 +277,14 @@ def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.
     return k, float(np.dot(k, dt) / np.dot(k, k))
 
 
-def _period(times: np.ndarray) -> float:
-    """The scan period of increasing times with jitter and gaps: the coarsest grid that holds every row.
-
-    Each spacing of consecutive rows is a whole number of periods m_i T plus jitter. From a first guess,
-    m_i = round(Δ_i / T) and T = Σ m_i Δ_i / Σ m_i² (over the spacings within twice :data:`JITTER_TOL` of
-    m_i T) are iterated to a fixed point; every m_i is decided
-    locally, so no error accumulates along a long record, and the least squares on the grid they define,
-    Σ k Δt / Σ k² with k_i = Σ_{j<i} m_j over the rows within :data:`JITTER_TOL` of it, is the estimate. The first guesses are the median spacing δ and
-    δ/2, δ/3, δ/4 (the median is a gap where most spacings are) and the spacings near the smallest one
-    (where it is at least δ/4: a stray row between two scans must not make the grid fine). Of the estimates
-    that put every row within :data:`JITTER_TOL` of its own grid point the largest is taken (the coarsest
-    grid: the fewest missed scans). Where none does, the median's estimate is returned, and the caller
-    refuses the row off its grid (non-uniform sampling, or a stray row).
-    """
-    d = np.diff(times)
-    dt = times - times[0]
-    delta = float(np.median(d))
-    guesses = [delta / j for j in (1, 2, 3, 4)]
-    small = float(np.median(d[d < 1.5 * np.min(d)]))
-    if small >= delta / 4:
-        guesses.append(small)
-    found: list[float] = []
-    estimates: list[float] = []
-    for T in guesses:
-        for _ in range(100):
-            m = np.rint(d / T)
-            m[np.abs(d - m * T) > 2 * JITTER_TOL * T] = 0.0  # a spacing off the grid does not pull the fit
-            if not np.any(m > 0):
-                break
-            T_new = float(np.dot(m, d) / np.dot(m, m))
-            if T_new == T:
-                break
-            T = T_new
-        k = np.concatenate([[0.0], np.cumsum(np.rint(d / T))])
-        k[np.abs(dt - k * T) > JITTER_TOL * T] = 0.0  # rows off the grid: left out of the fit
-        if np.dot(k, k) > 0:
-            T = float(np.dot(k, dt) / np.dot(k, k))
-        estimates.append(T)
-        g = np.rint(dt / T)
-        if np.all(np.diff(g) > 0) and np.all(np.abs(dt - g * T) <= JITTER_TOL * T):
-            found.append(T)
-    return max(found) if found else estimates[0]
-
-
 def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
     """Grid steps k of the rows, T and how it was obtained, from the time column (module docstring).
 
-    The period is estimated from the times (:func:`_period`), the rows are placed on its grid, and T is the
+    The period is estimated from the times (:func:`~motionsig_cli.records.grid_period`), the rows are
+    placed on its grid, and T is the
     least-squares period on that grid. A given T grids the times itself, so a record with more gaps than
-    :func:`_period` copes with is read with ``--T``; it must agree with the estimate (where there is one)
+    :func:`~motionsig_cli.records.grid_period` copes with is read with ``--T``; it must agree with the
+    estimate (where there is one)
     and with the least squares on its own grid, within :data:`T_AGREE`.
     """
     times = rec["time"]
@@ -326,7 +293,7 @@ def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
     estimate: tuple[np.ndarray, float] | None = None
     failure: InputError | None = None
     try:
-        estimate = _grid(rec, times, _period(times))
+        estimate = _grid(rec, times, grid_period(times, JITTER_TOL))
     except InputError as exc:
         failure = exc
 
