@@ -1,9 +1,12 @@
 """``motionsig detect``: the LMP mode detector of eq (52) of the mode-signature paper (LMP mode detection with
-Gold-code signatures, IEEE CDC 2008) on a simulate record, the Monte Carlo study of Figs 4–6
-(``--montecarlo``), its threshold calibration (``--calibrate``) and, for 2-D radar records, Fig 7
-(:mod:`motionsig_cli.cli.detect_radar`).
+Gold-code signatures, IEEE CDC 2008) on a record (a simulate record or a user's own export), the Monte Carlo
+study of Figs 4–6 (``--montecarlo``), its threshold calibration (``--calibrate``) and, for 2-D radar records,
+Fig 7 (:mod:`motionsig_cli.cli.detect_radar`).
 
-The command parses the options, builds the detector's configuration and one run of
+The command parses the options, reads the record
+(:func:`motionsig_cli.experiments.record_reading.read_vehicle_record`: its columns, units, missing samples,
+and the model the filters assume: each quantity from the option of simulate's name, else the record's
+metadata, else simulate's default), builds the detector's configuration and one run of
 :mod:`motionsig_cli.experiments.lmp1d` (a record's :class:`~motionsig_cli.experiments.lmp1d.RecordDetection`,
 or a Monte Carlo job), and writes its table and figure. Every range is checked by those configurations.
 """
@@ -24,16 +27,27 @@ from motionsig_cli.cli.common import (
     command,
     progress_bar,  # by name: a test replaces detect.progress_bar
 )
+from motionsig_cli.cli.simulate import CODES_HELP, DbConvention
 
 if TYPE_CHECKING:
     from motionsig_cli.engine import Engine
+    from motionsig_cli.experiments.record_reading import VehicleRecord
     from motionsig_cli.filters.unscented import SigmaPointParams
-    from motionsig_cli.tables import Table
 
 R_LIST_DEFAULT = "1e-1,1e-2,1e-3,1e-5"
 ANR_PAIRS_DEFAULT = "1,2,3,4"
 # configuration fields whose option is not "--" + the field's name with "-" for "_"
-OPTIONS = {"Q_a": "--Qa", "A_r": "--Ar", "horizons_s": "--horizons"}
+OPTIONS = {
+    "Q_a": "--Qa", "A_r": "--Ar", "horizons_s": "--horizons", "m_rho": "--mrho", "f_c": "--fc",
+    "wn": "--pole-wn", "zeta": "--pole-zeta", "anr_db": "--anr-db",
+}  # fmt: skip
+RECORD_OPTIONS = {
+    "--columns": "columns", "--units": "units", "--T": "T", "--mrho": "m_rho", "--K": "K", "--pole-wn": "wn",
+    "--pole-zeta": "zeta", "--R": "R", "--anr-db": "anr_db", "--fc": "f_c", "--a-sig": "a_sig",
+    "--codes": "codes", "--R-range": "R_range", "--R-bearing": "R_bearing", "--anr-pair": "anr_pair",
+    "--start": "start", "--a-r": "a_r", "--f-r": "f_r", "--sigma-a": "sigma_a",
+}  # fmt: skip
+"""The options that describe a record (refused with --montecarlo and --calibrate) → their field."""
 
 
 TauGrid = choices("TauGrid", "Code-phase search grid.", "chips", "samples")
@@ -46,7 +60,112 @@ ExampleKind = choices("ExampleKind", "Example of the paper for --montecarlo.", o
 Ar = choices("Ar", "Reference random-walk model.", "cv", "identity")
 
 
-SourceArg = Annotated[str, typer.Argument(help="simulate CSV, or - for stdin (ignored with --montecarlo).")]
+SourceArg = Annotated[
+    str,
+    typer.Argument(
+        help="The record: CSV (optional '# key: value' metadata) or the JSON the commands write, - for stdin "
+        "(ignored with --montecarlo)."
+    ),
+]
+ColumnsOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--columns",
+        help="Record: the columns of its roles, role=name,... : time (also t, timestamp; seconds or ISO "
+        "8601) and y (also position, z) for 1d; time with range and bearing, or x and y (radar at the origin), "
+        "for 2d.",
+    ),
+]
+UnitsOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--units",
+        help="Record: units of its columns, role=unit,... (e.g. y=km, bearing=deg, time=ms); default the "
+        "header's [unit], the metadata's, else m, rad, s.",
+    ),
+]
+_REC = "default the record's metadata, else"
+TOpt = Annotated[
+    float | None,
+    typer.Option("--T", help=f"Record: sample interval [s]; {_REC} estimated from the time column."),
+]
+MrhoOpt = Annotated[
+    int | None, typer.Option("--mrho", help=f"Record: samples per chip; {_REC} 20 (assumed).")
+]
+KOpt = Annotated[
+    str | None,
+    typer.Option("--K", help=f"Record: feedback gain k1,k2 the filters assume; {_REC} pole placement."),
+]
+WnOpt = Annotated[
+    float | None,
+    typer.Option("--pole-wn", help="Record: pole placement for K, natural frequency [rad/s] (default 4 pi)."),
+]
+ZetaOpt = Annotated[
+    float | None,
+    typer.Option("--pole-zeta", help="Record: pole placement for K, damping ratio (default 0.7)."),
+]
+ROpt = Annotated[
+    float | None,
+    typer.Option("--R", help=f"1d record: measurement-noise variance [m^2] the filters assume; {_REC} 1e-5."),
+]
+AnrDbOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--anr-db", help="1d record: the ANR a_sig^2/(2R) in dB instead of --R (true decibels unless "
+        "--db-convention paper-ln).",
+    ),
+]  # fmt: skip
+DbConventionOpt = Annotated[
+    DbConvention,
+    typer.Option("--db-convention", help="How --anr-db is read: log10 (true decibels) or paper-ln (10*ln)."),
+]
+FcOpt = Annotated[
+    float | None, typer.Option("--fc", help=f"Record: the signature's carrier frequency f_c [Hz]; {_REC} 1.")
+]
+ASigOpt = Annotated[
+    float | None,
+    typer.Option("--a-sig", help=f"Record: signature amplitude (for --anr-db, --anr-pair); {_REC} 0.5."),
+]
+CodesOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--codes",
+        help=f"Record: {CODES_HELP[0].lower()}{CODES_HELP[1:]} Default the record's metadata, else "
+        "corrected.",
+    ),
+]
+RRangeOpt = Annotated[
+    float | None,
+    typer.Option("--R-range", help=f"2d record: range-noise variance [m^2]; {_REC} Fig 7 pair 4."),
+]
+RBearingOpt = Annotated[
+    float | None,
+    typer.Option("--R-bearing", help=f"2d record: bearing-noise variance [rad^2]; {_REC} Fig 7 pair 4."),
+]
+AnrPairOpt = Annotated[
+    int | None,
+    typer.Option(
+        "--anr-pair", help="2d record: both noise variances from Fig 7's (angle, range) ANR pair 1-4."
+    ),
+]
+_TRUTH = "Record, for the null records of --pfa (the filters do not assume it): the true vehicle's"
+ARefOpt = Annotated[
+    float | None, typer.Option("--a-r", help=f"{_TRUTH} nominal reference amplitude; {_REC} 10.")
+]
+FrOpt = Annotated[
+    float | None, typer.Option("--f-r", help=f"{_TRUTH} nominal reference frequency [Hz]; {_REC} 0.01.")
+]
+SigmaAOpt = Annotated[
+    float | None,
+    typer.Option("--sigma-a", help=f"{_TRUTH} white-acceleration noise [m/s^2]; {_REC} 0.01 (assumed)."),
+]
+StartOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--start",
+        help=f"2d record: the filters' initial position x,y [m]; {_REC} the first measured position.",
+    ),
+]
 CrOpt = Annotated[
     float, typer.Option("--c-r", help="Filter measurement covariance R_KF = c_r R (the paper: 1 or 100).")
 ]
@@ -83,7 +202,11 @@ BetaOpt = Annotated[float, typer.Option("--beta", help="Unscented transform: bet
 KappaOpt = Annotated[float, typer.Option("--kappa", help="Unscented transform: kappa (assumed: 0).")]
 ExampleOpt = Annotated[
     ExampleKind | None,
-    typer.Option("--example", help="--montecarlo: 1d (Figs 4-6) or 2d (Fig 7); records carry their own."),
+    typer.Option(
+        "--example",
+        help="--montecarlo: 1d (Figs 4-6) or 2d (Fig 7). A record says which it is (its metadata or "
+        "columns); this forces it: 1d reads time and y, 2d range and bearing, or x and y.",
+    ),
 ]
 AnrPairsOpt = Annotated[
     str, typer.Option("--anr-pairs", help="2d --montecarlo: Fig 7 (angle, range) ANR pairs 1-4.")
@@ -99,7 +222,8 @@ ArOpt = Annotated[
     ),
 ]
 TauGridOpt = Annotated[
-    TauGrid, typer.Option("--tau-grid", help="chips (31 phases) or samples (all n_rho*m_rho).")
+    TauGrid,
+    typer.Option("--tau-grid", help="chips (n_rho phases: 31 for Table I) or samples (all n_rho*m_rho)."),
 ]
 FcGridOpt = Annotated[
     str | None, typer.Option("--fc-grid", help="Candidate carrier frequencies [Hz]; default the known f_c.")
@@ -127,7 +251,12 @@ HorizonsOpt = Annotated[
     str | None, typer.Option("--horizons", help="Horizons [s], e.g. 10,20,40; default every 10 s.")
 ]
 ThresholdOpt = Annotated[
-    float | None, typer.Option("--threshold", help="Declare 'signature present' when max Lambda >= this.")
+    float | None,
+    typer.Option(
+        "--threshold",
+        help="Record: declare 'signature present' when max Lambda >= this (a fixed threshold; --pfa "
+        "calibrates one).",
+    ),
 ]
 CandidatesOpt = Annotated[
     bool, typer.Option("--candidates", help="Output the full candidate table instead of the argmax.")
@@ -153,9 +282,18 @@ CalibrateOpt = Annotated[
         "~0.05 s per trial, and the default 20/pfa null trials per cell add up.",
     ),
 ]
-PfaOpt = Annotated[float, typer.Option("--pfa", help="--calibrate: target false-alarm probability.")]
+PfaOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--pfa",
+        help="Target false-alarm probability: on a record, test for a signature at a threshold calibrated "
+        "on null records simulated from the record's model (same length and missing samples, no "
+        "signature); with --calibrate, the Monte Carlo's (default 0.01).",
+    ),
+]
 NullTrialsOpt = Annotated[
-    int | None, typer.Option("--null-trials", help="--calibrate: null trials per cell (default 20 / pfa).")
+    int | None,
+    typer.Option("--null-trials", help="--pfa on a record, or --calibrate: null trials (default 20 / pfa)."),
 ]
 
 
@@ -190,8 +328,28 @@ def detect(
     R_list: RListOpt = R_LIST_DEFAULT,
     no_signature: NoSignatureOpt = False,
     calibrate_: CalibrateOpt = False,
-    pfa: PfaOpt = 0.01,
+    pfa: PfaOpt = None,
     null_trials: NullTrialsOpt = None,
+    columns: ColumnsOpt = None,
+    units: UnitsOpt = None,
+    T: TOpt = None,
+    mrho: MrhoOpt = None,
+    K: KOpt = None,
+    pole_wn: WnOpt = None,
+    pole_zeta: ZetaOpt = None,
+    R: ROpt = None,
+    anr_db: AnrDbOpt = None,
+    db_convention: DbConventionOpt = DbConvention.log10,
+    fc: FcOpt = None,
+    a_sig: ASigOpt = None,
+    codes: CodesOpt = None,
+    R_range: RRangeOpt = None,
+    R_bearing: RBearingOpt = None,
+    anr_pair: AnrPairOpt = None,
+    start: StartOpt = None,
+    a_r: ARefOpt = None,
+    f_r: FrOpt = None,
+    sigma_a: SigmaAOpt = None,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     *,
     output: Output,
@@ -199,13 +357,19 @@ def detect(
 ) -> None:
     """LMP mode detector: Lambda(i,tau,f_c) = 2 J_H0 - J_H1,cos - J_H1,sin from a filter bank (eq 52).
 
-    1-D records run a Kalman bank; 2-D radar records (simulate --example 2d) a sigma-point bank.
-    --montecarlo gives Figs 4-6 (1d) or Fig 7 (--example 2d).
+    1-D records run a Kalman bank; 2-D radar records (range, bearing or x, y) a sigma-point bank. A record
+    may be a simulate record or your own export: what it lacks of the model comes from simulate's options
+    (--T, --mrho, --K, --R, --fc, --codes ...), else simulate's defaults (the output's metadata says
+    which); missing samples (empty or NaN cells, absent times) are predict-only steps. The argmax is
+    reported whether or not a signature is present: --pfa P tests for one. --montecarlo gives Figs 4-6
+    (1d) or Fig 7 (--example 2d).
 
     \b
     Example:
       motionsig simulate --mode 2 --tau-chips 5 | motionsig detect
       motionsig simulate --R 1e-3 | motionsig detect --candidates --horizons 62 --plot fig3.png
+      motionsig detect export.csv --columns time=timestamp,y=pos --units y=km --R 1e-3 --pfa 0.01
+      motionsig simulate --codes gold:45,75:5 | motionsig detect
       motionsig detect --montecarlo --trials 50 --fr-list 0.01 --plot fig4.png -o fig4.csv
       motionsig simulate --example 2d | motionsig detect
       motionsig detect --montecarlo --example 2d --trials 50 --plot fig7.png
@@ -215,8 +379,26 @@ def detect(
     output.check()
     engine = parallel.engine()
     sigma = SigmaPointParams(alpha, beta, kappa)
-    table = None if montecarlo or calibrate_ else _read_record(source, example)
-    two_d = example is ExampleKind.two_d or (table is not None and str(table.meta.get("example")) == "2d")
+    record = dict(
+        columns=columns, units=units, T=T, m_rho=mrho, K=K, wn=pole_wn, zeta=pole_zeta, R=R, anr_db=anr_db,
+        f_c=fc, a_sig=a_sig, codes=codes, R_range=R_range, R_bearing=R_bearing, anr_pair=anr_pair, start=start,
+        a_r=a_r, f_r=f_r, sigma_a=sigma_a,
+    )  # fmt: skip
+    record_opts = [opt for opt, key in RECORD_OPTIONS.items() if record[key] is not None]
+    rec = None
+    if montecarlo or calibrate_:
+        _refuse_record_options(record_opts + (["--threshold"] if threshold is not None else []), calibrate_)
+    else:
+        rec = _read_record(source, example, record, db_convention.value)
+        if pfa is not None and threshold is not None:
+            raise typer.BadParameter(
+                "calibrates a threshold: give --pfa or --threshold, not both", param_hint="--pfa"
+            )
+        if pfa is not None and candidates:
+            raise typer.BadParameter("decides on the argmax: not with --candidates", param_hint="--pfa")
+        if null_trials is not None and pfa is None:
+            raise typer.BadParameter("applies with --pfa (or --calibrate)", param_hint="--null-trials")
+    two_d = example is ExampleKind.two_d or (rec is not None and rec.y.ndim == 2)
     _refuse_other_example(
         two_d, {"--Qa": Qa is not None, "--method": method is not Method.bank, "--calibrate": calibrate_,
                 "--Ar": Ar_ is not Ar.cv, "--weights": weights is not Weights.paper,
@@ -230,24 +412,28 @@ def detect(
     hs = _floats("--horizons", horizons, "horizon")
     grid = dict(c_r=c_r, P0=P0, tau_grid=tau_grid.value, include_logdet=include_logdet, zdot=zdot.value)
     grid |= _given(Q0=_floats("--Q0", Q0, "variance"), fc_grid=_floats("--fc-grid", fc_grid, "frequency"))
+    calibration = None if pfa is None or rec is None else (pfa, null_trials, seed)
     if two_d:
         from motionsig_cli.cli.detect_radar import detect_radar
 
         radar = dict(grid, sigma=sigma, **_given(Q1=_floats("--Q1", Q1, "variance")))
-        return detect_radar(output, engine, table, montecarlo, filter_, radar, hs, threshold, candidates,
+        return detect_radar(output, engine, rec, montecarlo, filter_, radar, hs, threshold, candidates,
                             _floats("--fr-list", fr_list or "0.01", "frequency"), anr_pairs, trials, seed,
-                            not no_signature)  # fmt: skip
+                            not no_signature, calibration)  # fmt: skip
     lmp = dict(grid, Q_a=Qa if Qa is not None else 0.0 if method is Method.fft else 1.0, A_r=Ar_.value,
                weights=weights.value, center=center.value)  # fmt: skip
     mc = (_floats("--R-list", R_list, "variance"), hs, trials, seed, method.value)
     if calibrate_:
         return _calibrate(output, engine, lmp, _floats("--fr-list", fr_list or "0.01", "frequency"), *mc,
-                          null_trials, pfa)  # fmt: skip
+                          null_trials, 0.01 if pfa is None else pfa)  # fmt: skip
     if montecarlo:
+        if pfa is not None or null_trials is not None:
+            hint = "--pfa" if pfa is not None else "--null-trials"
+            raise typer.BadParameter("applies to a record or --calibrate, not --montecarlo", param_hint=hint)
         frs = _floats("--fr-list", fr_list or "0.01,0.1,1.0", "frequency")
         return _montecarlo(output, engine, lmp, filter_, frs, *mc, not no_signature)
     kind = "ukf" if filter_ is FilterKind.ukf else "kf"
-    _record(output, table, lmp, method.value, kind, sigma, hs, threshold, candidates)
+    _record(output, engine, rec, lmp, method.value, kind, sigma, hs, threshold, candidates, calibration)
 
 
 def _floats(option: str, text: str | None, what: str) -> tuple[float, ...] | None:
@@ -260,17 +446,29 @@ def _given(**values: Any) -> dict[str, Any]:
     return {k: v for k, v in values.items() if v is not None}
 
 
-def _read_record(source: str, example: ExampleKind | None) -> Table:
-    """The record named by SOURCE; its metadata says which example it is (1d when absent)."""
-    from motionsig_cli.cli.io import InputError, read_table
+def _read_record(
+    source: str, example: ExampleKind | None, record: dict[str, Any], db_convention: str
+) -> VehicleRecord:
+    """The record named by SOURCE, with the model the filters assume (``record``: the record options by
+    field; the metadata, or the columns, say which example it is; --example forces it)."""
+    from motionsig_cli.experiments.record_reading import ModelOptions, read_vehicle_record
 
-    table = read_table(source, required=("t",))
-    kind = str(table.meta.get("example", "1d"))
-    if kind not in ("1d", "2d"):
-        raise InputError(f"{table.source}: unknown example {kind!r} in the metadata")
-    if example is not None and example.value != kind:
-        raise typer.BadParameter(f"the record is a {kind} record ({table.source})", param_hint="--example")
-    return table
+    fields = {k: v for k, v in record.items() if k not in ("columns", "units")}
+    fields |= dict(
+        K=_floats("--K", record["K"], "gain"), start=_floats("--start", record["start"], "coordinate")
+    )
+    model = ModelOptions(**fields, db_convention=db_convention)
+    kind = None if example is None else example.value
+    return read_vehicle_record(
+        source, example=kind, columns=record["columns"], units=record["units"], model=model
+    )
+
+
+def _refuse_record_options(given: list[str], calibrate: bool) -> None:
+    """Options that describe a record are usage errors with --montecarlo and --calibrate."""
+    if given:
+        where = "--calibrate" if calibrate else "--montecarlo"
+        raise typer.BadParameter(f"applies to a record, not {where}", param_hint=given[0])
 
 
 def _refuse_other_example(two_d: bool, given: dict[str, bool]) -> None:
@@ -284,19 +482,21 @@ def _refuse_other_example(two_d: bool, given: dict[str, bool]) -> None:
 
 
 def _record(
-    output: Output, table: Table | None, lmp: dict[str, Any], method: str, kind: str, sigma: SigmaPointParams,
-    hs: tuple[float, ...] | None, threshold: float | None, candidates: bool,
+    output: Output, engine: Engine, rec: VehicleRecord | None, lmp: dict[str, Any], method: str, kind: str,
+    sigma: SigmaPointParams, hs: tuple[float, ...] | None, threshold: float | None, candidates: bool,
+    calibration: tuple[float, int | None, int] | None,
 ) -> None:  # fmt: skip
-    """Eq (52) on one 1-D record, with a progress bar of the bank's time steps."""
-    from motionsig_cli.cli.records import emit_record
+    """Eq (52) on one 1-D record, with a progress bar of the bank's time steps; with ``calibration``
+    (pfa, null trials, seed) at a threshold calibrated on null records first."""
+    from motionsig_cli.cli.records import emit_record, with_null_threshold
     from motionsig_cli.detection.lmp import LMPConfig
     from motionsig_cli.experiments.lmp1d import RecordDetection
-    from motionsig_cli.experiments.record_reading import read_record_1d
 
-    assert table is not None
-    rec = read_record_1d(table)
+    assert rec is not None
     cfg = LMPConfig(**{"fc_grid": (rec.f_c,), **lmp})
     run = RecordDetection(rec, cfg, method, kind, sigma, hs, threshold, candidates)
+    if calibration is not None:
+        run = with_null_threshold(run, method, kind, sigma, *calibration, engine, output)
     with progress_bar("LMP filter bank (time steps)", run.steps, output.quiet) as advance:
         result = run.detect(progress=advance)
     emit_record(output, result, run.title)

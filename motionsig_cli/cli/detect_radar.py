@@ -18,18 +18,20 @@ from motionsig_cli.cli.common import Output, checked, int_list, progress_bar, ru
 if TYPE_CHECKING:
     from motionsig_cli.cli.detect import FilterKind
     from motionsig_cli.engine import Engine
-    from motionsig_cli.tables import Table
+    from motionsig_cli.experiments.record_reading import VehicleRecord
 
 
 def detect_radar(
-    output: Output, engine: Engine, table: Table | None, montecarlo: bool, filter_: FilterKind,
+    output: Output, engine: Engine, rec: VehicleRecord | None, montecarlo: bool, filter_: FilterKind,
     radar: dict[str, Any], hs: tuple[float, ...] | None, threshold: float | None, candidates: bool,
     frs: tuple[float, ...] | None, anr_pairs: str, trials: int, seed: int, signature: bool,
+    calibration: tuple[float, int | None, int] | None = None,
 ) -> None:  # fmt: skip
-    """The 2-D example: the Fig 7 Monte Carlo (``montecarlo``) or eq (52) on the radar record ``table``.
+    """The 2-D example: the Fig 7 Monte Carlo (``montecarlo``) or eq (52) on the radar record ``rec``.
 
     ``radar``: the :class:`~motionsig_cli.detection.lmp.RadarLMPConfig` fields the options set (without
     --fc-grid the grid is the known f_c: 1 Hz for the Monte Carlo, the record's for a record).
+    ``calibration``: (pfa, null trials, seed) of a threshold calibrated on null records (--pfa), or None.
     """
     if filter_.value == "kf":
         raise typer.BadParameter(
@@ -39,23 +41,23 @@ def detect_radar(
         pairs = tuple(checked("--anr-pairs", int_list, anr_pairs, what="pair"))
         _montecarlo(output, engine, radar, frs, pairs, hs, trials, seed, signature)
     else:
-        assert table is not None
-        _record(output, table, radar, hs, threshold, candidates)
+        assert rec is not None
+        _record(output, engine, rec, radar, hs, threshold, candidates, calibration)
 
 
 def _record(
-    output: Output, table: Table, radar: dict[str, Any], hs: tuple[float, ...] | None,
-    threshold: float | None, candidates: bool,
+    output: Output, engine: Engine, rec: VehicleRecord, radar: dict[str, Any], hs: tuple[float, ...] | None,
+    threshold: float | None, candidates: bool, calibration: tuple[float, int | None, int] | None,
 ) -> None:  # fmt: skip
     """Eq (52) with the sigma-point bank on one radar record, with a progress bar of its time steps."""
-    from motionsig_cli.cli.records import emit_record
+    from motionsig_cli.cli.records import emit_record, with_null_threshold
     from motionsig_cli.detection.lmp import RadarLMPConfig
     from motionsig_cli.experiments.lmp2d import RadarRecordDetection
-    from motionsig_cli.experiments.record_reading import read_record_2d
 
-    rec = read_record_2d(table)
     cfg = RadarLMPConfig(**{"fc_grid": (rec.f_c,), **radar})
     run = RadarRecordDetection(rec, cfg, hs, threshold, candidates)
+    if calibration is not None:
+        run = with_null_threshold(run, "bank", "ukf", cfg.sigma, *calibration, engine, output)
     with progress_bar("Sigma-point filter bank (time steps)", run.steps, output.quiet) as advance:
         result = run.detect(progress=advance)
     emit_record(output, result, run.title)

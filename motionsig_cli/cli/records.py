@@ -1,5 +1,6 @@
-"""Command-layer side of ``motionsig detect`` on one ``simulate`` record (1-D or 2-D radar): the
-``--horizons`` option and writing the per-record result (table, Fig 3-style figure, summary line).
+"""Command-layer side of ``motionsig detect`` on one record (1-D or 2-D radar): the ``--horizons`` option,
+the threshold calibrated for the record (``--pfa``), and writing the per-record result (table, Fig 3-style
+figure, summary line).
 
 What is not input/output lives in the core: the checks of a record's contents and its reading back
 (:mod:`motionsig_cli.experiments.record_reading`) and the result table
@@ -9,17 +10,22 @@ What is not input/output lives in the core: the checks of a record's contents an
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import typer
 
-from motionsig_cli.cli.common import Output, OutputFormat, checked, float_list
+from motionsig_cli.cli.common import Output, OutputFormat, checked, float_list, run_job
 from motionsig_cli.config import ConfigError
 
 if TYPE_CHECKING:
+    from motionsig_cli.engine import Engine
+    from motionsig_cli.experiments.lmp1d import RecordDetection
+    from motionsig_cli.experiments.lmp2d import RadarRecordDetection
     from motionsig_cli.experiments.lmp_record import RecordResult, sigma_meta
     from motionsig_cli.experiments.record_reading import finite_column, truth_of, uniform_times
+    from motionsig_cli.filters.unscented import SigmaPointParams
 
 _MOVED = {
     "finite_column": "motionsig_cli.experiments.record_reading",
@@ -36,6 +42,7 @@ __all__ = [
     "sigma_meta",
     "truth_of",
     "uniform_times",
+    "with_null_threshold",
 ]
 
 
@@ -58,6 +65,34 @@ def parse_horizons(text: str | None, duration: float, T: float) -> list[float]:
         return record_horizons(hs, duration, T)
     except ConfigError as exc:
         raise typer.BadParameter(exc.detail, param_hint="--horizons") from None
+
+
+RunT = TypeVar("RunT", "RecordDetection", "RadarRecordDetection")
+
+
+def with_null_threshold(
+    run: RunT, method: str, filter: str, sigma: SigmaPointParams, pfa: float, null_trials: int | None,
+    seed: int, engine: Engine, output: Output,
+) -> RunT:  # fmt: skip
+    """``run`` at the threshold (one per horizon) that null records of its model exceed with probability
+    ``pfa``: :class:`~motionsig_cli.experiments.record_calibration.RecordNullJob` on the engine, with a
+    progress bar of its null trials (and a note when they are too few for ``pfa``)."""
+    if method == "fft":
+        run.missing_checked("the FFT path cannot skip a missing sample: use --method bank")
+    try:
+        from motionsig_cli.experiments.record_calibration import RecordNullJob
+    except ImportError:  # the calibration of one record is not part of this installation
+        raise typer.BadParameter(
+            "needs motionsig_cli.experiments.record_calibration, which this installation lacks; use "
+            "--threshold X",
+            param_hint="--pfa",
+        ) from None
+    job = RecordNullJob(run.record, run.cfg, method, filter, sigma, run.horizons, pfa, null_trials, seed)
+    cal = run_job(job, engine, "null records (no signature)", output.quiet)
+    if cal.warning:
+        output.note(cal.warning)
+    thresholds = tuple(float(v) for v in cal.thresholds)
+    return dataclasses.replace(run, threshold=thresholds, threshold_meta=cal.meta())
 
 
 def emit_record(output: Output, result: RecordResult, title: str) -> None:

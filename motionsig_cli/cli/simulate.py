@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from motionsig_cli.cli import common
-from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, CodesVariant, Output, SeedOpt, choices, command
+from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, SeedOpt, choices, command
 
 if TYPE_CHECKING:
     from motionsig_cli.tables import Table
@@ -102,7 +102,14 @@ DbConventionOpt = Annotated[
     ),
 ]
 DurationOpt = Annotated[float, typer.Option("--duration", help="Record length [s].")]
-CodesOpt = Annotated[CodesVariant, typer.Option("--codes", help="Table I codes: corrected or printed.")]
+CODES_HELP = (
+    "The mode codes (mode i = code i): corrected or printed (Table I); gold:P1,P2 (the Gold family of a "
+    "preferred pair, octal as encode gold takes it, in encode gold --all order), gold:P1,P2:K (its first K "
+    "members) or gold:P1,P2:0,3,7 (members by --index; a-b ranges, u, v, k@a with start offset a); "
+    "mseq:P[,P...] (m-sequences); gps:1-3,7 (GPS C/A PRNs); or a code table file (code,chip,value as "
+    "encode writes it)."
+)
+CodesOpt = Annotated[str, typer.Option("--codes", help=CODES_HELP)]
 NoSignatureOpt = Annotated[bool, typer.Option("--no-signature", help="Simulate H0 (no signature).")]
 ZdotOpt = Annotated[
     str,
@@ -141,7 +148,7 @@ def simulate(
     anr_db: AnrDbOpt = None,
     db_convention: DbConventionOpt = DbConvention.log10,
     duration: DurationOpt = 80.0,
-    codes: CodesOpt = CodesVariant.corrected,
+    codes: CodesOpt = "corrected",
     no_signature: NoSignatureOpt = False,
     zdot: ZdotOpt = "analytic",
     seed: SeedOpt = DEFAULT_SEED_VALUE,
@@ -185,7 +192,7 @@ def simulate(
     theta_value = None if theta.strip().lower() == "random" else common.checked("--theta", float, theta)
     cfg = RecordConfig(
         vehicle, mode=mode, tau=tau, tau_chips=tau_chips, theta=theta_value, f_c=fc, m_rho=mrho,
-        duration=duration, codes=codes.value, signature=not no_signature, zdot=zdot, seed=seed, anr_pair=pair,
+        duration=duration, codes=codes, signature=not no_signature, zdot=zdot, seed=seed, anr_pair=pair,
     )  # fmt: skip
     rec = simulate_record(cfg)
     if output.plot is not None:

@@ -701,10 +701,27 @@ def roc_curve(null_max: np.ndarray, signal_max: np.ndarray) -> tuple[np.ndarray,
 
 
 # ---------------------------------------------------------------------------------------- one record
-def check_threshold(threshold: float | None) -> None:
-    """A decision threshold on max Λ: None (no decision) or a number (±inf allowed, not NaN)."""
-    if threshold is not None and not (isinstance(threshold, int | float) and threshold == threshold):
-        raise ConfigError("threshold", threshold, "is not a number")
+MAX_RECORD_SECONDS = 3600.0  # estimated run time limit of a detection on one record
+BANK_US = {"kf": 2.0, "ukf": 5.0}  # µs per filter and time step of the banks (measured, 2 cores: 1.4-2, 4)
+Threshold = float | tuple[float, ...] | None
+
+
+def check_threshold(threshold: Threshold, n_horizons: int | None = None) -> None:
+    """A decision threshold on max Λ: None (no decision), a number (±inf allowed, not NaN), or one number
+    per horizon (``n_horizons`` of them, a calibrated threshold)."""
+    values = threshold if isinstance(threshold, tuple) else (threshold,)
+    if threshold is None:
+        return
+    if isinstance(threshold, tuple) and n_horizons is not None and len(threshold) != n_horizons:
+        raise ConfigError("threshold", threshold, f"holds {len(threshold)} values for {n_horizons} horizons")
+    for v in values:
+        if not (isinstance(v, int | float) and v == v):
+            raise ConfigError("threshold", threshold, "is not a number")
+
+
+def n_grid_candidates(n_modes: int, n_rho: int, m_rho: int, tau_grid: str, n_fc: int) -> int:
+    """Candidates of :func:`~motionsig_cli.detection.lmp.candidate_grid`, counted without building it."""
+    return n_modes * (n_rho if tau_grid == "chips" else n_rho * m_rho) * n_fc
 
 
 class RecordHorizons:
@@ -722,14 +739,21 @@ class RecordHorizons:
         """Samples the detector runs over (the longest horizon)."""
         return max(self.horizon_samples)
 
+    def missing_checked(self, what: str) -> None:
+        """Refuse a missing sample within the horizons, for a detector (``what``) that cannot skip one."""
+        err = self.record.missing_error(what, self.n_used)
+        if err is not None:
+            raise err
+
 
 @dataclass(frozen=True, eq=False)
 class RecordDetection(RecordHorizons):
     """Eq (52) on one 1-D record (Fig 3): the argmax per horizon, or every candidate's statistic.
 
     Attributes:
-        record: The record (:func:`motionsig_cli.experiments.record_reading.read_record_1d`); the filters
-            assume its vehicle (T, K, a_sig, R).
+        record: The record (:func:`motionsig_cli.experiments.record_reading.read_vehicle_record`); the
+            filters assume its vehicle (T, K, a_sig, R) and search its codes. A missing sample (NaN) is a
+            predict-only step of the bank; the FFT path cannot skip one (an error naming its line).
         cfg: Detector settings.
         method: ``"bank"`` (2C + 1 filters) or ``"fft"`` (one steady-state filter and FFTs).
         filter: ``"kf"`` (Kalman bank) or ``"ukf"`` (the sigma-point bank on the same linear model; it
@@ -737,9 +761,13 @@ class RecordDetection(RecordHorizons):
             filters).
         sigma: Unscented-transform parameters of ``"ukf"``.
         horizons: Horizons [s] (see :func:`~motionsig_cli.experiments.record_reading.record_horizons`);
-            None: every 10 s. The bank keeps its gains up to the longest: at most :data:`MAX_BANK_GB`.
-        threshold: Declare "signature present" when max Λ >= threshold (None: no decision).
+            None: every 10 s. The bank keeps its gains up to the longest: at most :data:`MAX_BANK_GB`
+            and ~:data:`MAX_RECORD_SECONDS` (estimated from :data:`BANK_US`); the FFT path at most
+            :data:`MAX_BANK_GB` of arrays.
+        threshold: Declare "signature present" when max Λ >= threshold: one number, or one per horizon
+            (a threshold calibrated for the record); None: no decision.
         candidates: Every candidate's statistic instead of the argmax.
+        threshold_meta: How a calibrated threshold was found (metadata), or None.
     """
 
     record: VehicleRecord
@@ -748,8 +776,9 @@ class RecordDetection(RecordHorizons):
     filter: Literal["kf", "ukf"] = "kf"
     sigma: SigmaPointParams = field(default_factory=SigmaPointParams)
     horizons: tuple[float, ...] | None = None
-    threshold: float | None = None
+    threshold: Threshold = None
     candidates: bool = False
+    threshold_meta: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         one_of("filter", self.filter, ("kf", "ukf"))
@@ -768,14 +797,30 @@ class RecordDetection(RecordHorizons):
         rec, T = self.record, self.record.vehicle.T
         hs = record_horizons(self.horizons, rec.y.shape[0] * T, T)
         object.__setattr__(self, "horizons", tuple(hs))
-        n_filters = 2 * len(candidate_grid(rec.chips.shape[0], rec.chips.shape[1], rec.m_rho, self.cfg)) + 1
-        need_gb = n_filters * self.n_used * 7 * 8 / 1e9  # gains, S⁻¹, log det per filter and step
-        if need_gb > MAX_BANK_GB and self.method == "bank":
+        self._check_size()
+        check_threshold(self.threshold, len(hs))
+
+    def _check_size(self) -> None:
+        """Refuse, before any work, a run over :data:`MAX_BANK_GB` or ~:data:`MAX_RECORD_SECONDS`."""
+        rec, cfg = self.record, self.cfg
+        n_modes, n_rho = rec.chips.shape
+        C = n_grid_candidates(n_modes, n_rho, rec.m_rho, cfg.tau_grid, len(cfg.fc_grid))
+        n_filters, N, H = 2 * C + 1, self.n_used, len(self.horizons)
+        if self.method == "bank":
+            # gains, S⁻¹, log det per filter and step (7 doubles), the replicas and the a-column (3)
+            need_gb = n_filters * N * 10 * 8 / 1e9
+            seconds = n_filters * N * BANK_US[self.filter] * 1e-6
+            what = f"the bank of {n_filters} filters"
+        else:  # folded innovations per horizon (N or the code period), and the statistic's 10 arrays
+            need_gb = (4 * H * max(N, n_rho * rec.m_rho) * 16 + 10 * C * H * 8) / 1e9
+            seconds = 0.0
+            what = f"the FFT path over {C} candidates"
+        if need_gb > MAX_BANK_GB or seconds > MAX_RECORD_SECONDS:
             raise ConfigError(
-                "horizons", max(hs), f"s is too long for the bank of {n_filters} filters: it would need "
-                f"~{need_gb:.1f} GB (limit {MAX_BANK_GB:g} GB); use shorter horizons or a coarser grid",
+                "horizons", max(self.horizons), f"s is too long for {what}: it would need ~{need_gb:.1f} GB "
+                f"and ~{seconds / 60:.0f} min (limits {MAX_BANK_GB:g} GB, {MAX_RECORD_SECONDS / 60:g} min); "
+                "use shorter horizons, fewer codes or a coarser grid",
             )  # fmt: skip
-        check_threshold(self.threshold)
 
     @property
     def steps(self) -> int:
@@ -788,10 +833,16 @@ class RecordDetection(RecordHorizons):
         return f"horizon {self.horizons[-1]:g} s, R = {self.record.vehicle.R:g}, c_r = {self.cfg.c_r:g}"
 
     def detect(self, progress: Progress = None) -> RecordResult:
-        """Run the detector; ``progress`` is called with the time steps done, per block of steps."""
+        """Run the detector; ``progress`` is called with the time steps done, per block of steps.
+
+        Raises:
+            InputError: a missing sample within the horizons on the FFT path (or a bank that cannot skip
+                one), naming its file line.
+        """
         rec, cfg, hz = self.record, self.cfg, self.horizon_samples
         args = (rec.y[: self.n_used], rec.chips, rec.vehicle, rec.m_rho, cfg, hz)
         if self.method == "fft":
+            self.missing_checked("the FFT path cannot skip a missing sample: use --method bank")
             try:
                 res = lmp_detect_fft(*args)
             except ConfigError:
@@ -799,13 +850,27 @@ class RecordDetection(RecordHorizons):
             except ValueError as exc:  # e.g. an unstable steady-state filter
                 raise ConfigError("method", "fft", f"cannot run: {exc}") from None
         else:
-            res = lmp_detect(*args, filter=self.filter, sigma=self.sigma, progress=progress)
+            try:
+                res = lmp_detect(*args, filter=self.filter, sigma=self.sigma, progress=progress)
+            except ValueError as exc:
+                if np.isnan(args[0]).any():  # a bank without predict-only steps
+                    self.missing_checked(f"the filter bank cannot skip a missing sample ({exc})")
+                raise
         params = dict(
-            source=rec.source, **detector_meta(cfg), horizons_s=list(self.horizons), threshold=self.threshold,
+            source=rec.source, **detector_meta(cfg), horizons_s=list(self.horizons),
+            threshold=list(self.threshold) if isinstance(self.threshold, tuple) else self.threshold,
             filter=self.filter, method=self.method,
-            **(sigma_meta(self.sigma, res.repairs) if self.filter == "ukf" else {}), input_meta=rec.meta,
+            **(sigma_meta(self.sigma, res.repairs) if self.filter == "ukf" else {}),
+            **({"threshold_calibration": self.threshold_meta} if self.threshold_meta else {}),
+            **rec.provenance, input_meta=rec.meta,
         )  # fmt: skip
         return record_result(
             res, list(self.horizons), hz, rec.truth, params, rec.chips.shape, rec.m_rho,
-            candidates=self.candidates, threshold=self.threshold,
+            candidates=self.candidates, threshold=self.threshold, notes=record_notes(rec, self.n_used),
         )  # fmt: skip
+
+
+def record_notes(rec: VehicleRecord, n_used: int) -> tuple[str, ...]:
+    """Remarks for the summary line: the missing samples within the horizons."""
+    n = int(rec.missing[:n_used].sum())
+    return (f"{n} of {n_used} samples missing (predict-only)",) if n else ()

@@ -27,11 +27,14 @@ from motionsig_cli.experiments.lmp1d import (
     CorrectCurves,
     CorrectRates,
     RecordHorizons,
+    Threshold,
     TrialDraw,
     _tuple,
     check_horizons,
     check_threshold,
     check_values,
+    n_grid_candidates,
+    record_notes,
     table1_chips,
     trial_signatures,
 )
@@ -91,28 +94,32 @@ class RadarRecordDetection(RecordHorizons):
     """Eq (52) with the sigma-point bank on one radar record: the argmax per horizon, or every candidate.
 
     Attributes:
-        record: The record (:func:`motionsig_cli.experiments.record_reading.read_record_2d`).
+        record: The record (:func:`motionsig_cli.experiments.record_reading.read_vehicle_record`); a
+            missing sample (a NaN row) is a predict-only step of the bank.
         cfg: Detector settings.
         horizons: Horizons [s] (see :func:`~motionsig_cli.experiments.record_reading.record_horizons`);
             None: every 10 s. The run is refused above ~1 h or ~4 GB (:func:`check_size`).
-        threshold: Declare "signature present" when max Λ >= threshold (None: no decision).
+        threshold: Declare "signature present" when max Λ >= threshold: one number, or one per horizon
+            (a threshold calibrated for the record); None: no decision.
         candidates: Every candidate's statistic instead of the argmax.
+        threshold_meta: How a calibrated threshold was found (metadata), or None.
     """
 
     record: VehicleRecord
     cfg: RadarLMPConfig
     horizons: tuple[float, ...] | None = None
-    threshold: float | None = None
+    threshold: Threshold = None
     candidates: bool = False
+    threshold_meta: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         rec, T = self.record, self.record.vehicle.T
         hs = record_horizons(self.horizons, rec.y.shape[0] * T, T)
         object.__setattr__(self, "horizons", tuple(hs))
-        check_size(
-            "horizons", max(hs), 2 * n_candidates(rec.chips, rec.m_rho, self.cfg) + 1, 1, self.n_used, 1
-        )
-        check_threshold(self.threshold)
+        n_modes, n_rho = rec.chips.shape
+        C = n_grid_candidates(n_modes, n_rho, rec.m_rho, self.cfg.tau_grid, len(self.cfg.fc_grid))
+        check_size("horizons", max(hs), 2 * C + 1, 1, self.n_used, 1)
+        check_threshold(self.threshold, len(hs))
 
     @property
     def steps(self) -> int:
@@ -129,20 +136,31 @@ class RadarRecordDetection(RecordHorizons):
         )
 
     def detect(self, progress: Progress = None) -> RecordResult:
-        """Run the bank; ``progress`` is called with the time steps done, per block of steps."""
+        """Run the bank; ``progress`` is called with the time steps done, per block of steps.
+
+        Raises:
+            InputError: a missing sample within the horizons where the bank cannot skip one, naming its line.
+        """
         rec, cfg, hz = self.record, self.cfg, self.horizon_samples
-        res = lmp_detect_radar(
-            rec.y[: self.n_used], rec.chips, rec.vehicle, rec.m_rho, cfg, hz, progress=progress
-        )
+        y = rec.y[: self.n_used]
+        try:
+            res = lmp_detect_radar(y, rec.chips, rec.vehicle, rec.m_rho, cfg, hz, progress=progress)
+        except ValueError as exc:
+            if np.isnan(y).any():  # a bank without predict-only steps
+                self.missing_checked(f"the filter bank cannot skip a missing sample ({exc})")
+            raise
         params = dict(
             source=rec.source, example="2d", filter="ukf", c_r=cfg.c_r, Q0=list(cfg.Q0), Q1=list(cfg.Q1),
             P0=cfg.P0, tau_grid=cfg.tau_grid, fc_grid=list(cfg.fc_grid), include_logdet=cfg.include_logdet,
-            zdot=cfg.zdot, horizons_s=list(self.horizons), threshold=self.threshold,
-            **sigma_meta(cfg.sigma, res.repairs), input_meta=rec.meta,
+            zdot=cfg.zdot, horizons_s=list(self.horizons),
+            threshold=list(self.threshold) if isinstance(self.threshold, tuple) else self.threshold,
+            **sigma_meta(cfg.sigma, res.repairs),
+            **({"threshold_calibration": self.threshold_meta} if self.threshold_meta else {}),
+            **rec.provenance, input_meta=rec.meta,
         )  # fmt: skip
         return record_result(
             res, list(self.horizons), hz, rec.truth, params, rec.chips.shape, rec.m_rho,
-            candidates=self.candidates, threshold=self.threshold,
+            candidates=self.candidates, threshold=self.threshold, notes=record_notes(rec, self.n_used),
         )  # fmt: skip
 
 

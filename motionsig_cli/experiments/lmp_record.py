@@ -5,6 +5,7 @@ horizon (or every candidate's statistic), the Fig 3-style grid of the statistic,
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -77,14 +78,23 @@ def record_result(
     m_rho: int,
     *,
     candidates: bool,
-    threshold: float | None,
+    threshold: float | Sequence[float] | None,
+    notes: Sequence[str] = (),
 ) -> RecordResult:
     """Tabulate the detector's result at horizons ``hs`` seconds (``hz`` samples); ``params`` (the detector
     settings) go into the metadata with the number of candidates and filters.
 
     A horizon's estimate is correct when the mode matches and the code phase matches modulo the code
-    period n_ρ m_ρ; with a ``threshold`` the decision λ* ≥ threshold is a column.
+    period n_ρ m_ρ; with a ``threshold`` the decision is a column: λ* ≥ threshold for one threshold (a
+    fixed ``--threshold``), λ* > threshold for one per horizon (a threshold calibrated on null records,
+    the order statistic that at most ⌊P_FA n⌋ null maxima exceed; a ``threshold`` column precedes it).
+    ``notes`` are appended to the summary line, which without a threshold says that the argmax is no
+    decision.
     """
+    per_horizon = threshold is not None and not isinstance(threshold, int | float)
+    thresholds: list[float] | None = None
+    if threshold is not None:
+        thresholds = [float(v) for v in threshold] if per_horizon else [float(threshold)] * len(hz)  # type: ignore[union-attr]
     cands = res.candidates
     best, lam_max = res.best()
     margin = res.runner_up_margin()
@@ -129,21 +139,35 @@ def record_result(
                     truth[1],
                     int(cands.mode[c]) == truth[0] and int(cands.tau[c]) % period == truth[1] % period,
                 ]
-            if threshold is not None:
-                row.append(bool(lam_max[0, h] >= threshold))
+            if thresholds is not None:
+                row += [thresholds[h]] if per_horizon else []
+                row.append(_present(float(lam_max[0, h]), thresholds[h], per_horizon))
             rows.append(tuple(row))
         cols = ["horizon_s", "horizon_samples", "mode_hat", "tau_hat", "tau_hat_chips", "fc_hat"]
         cols += ["statistic", "margin", "J0"]
         if truth is not None:
             cols += ["true_mode", "true_tau", "correct"]
         if threshold is not None:
-            cols.append("signature_present")
+            cols += ["threshold", "signature_present"] if per_horizon else ["signature_present"]
         table = Table(tuple(cols), rows, make_meta("detect", **params))
     c = int(best[0, -1])
+    present_last = thresholds is not None and _present(float(lam_max[0, -1]), thresholds[-1], per_horizon)
     summary = (
         f"horizon {hs[-1]:g} s: mode {cands.mode[c] + 1}, tau {cands.tau[c]} samples "
         f"({cands.tau[c] / m_rho:g} chips), statistic {lam_max[0, -1]:.4g}, margin {margin[0, -1]:.3g}"
         + ("" if truth is None else f"; truth mode {truth[0] + 1}, tau {truth[1]}")
         + (f"; {sum(res.repairs)} covariance repairs" if sum(res.repairs) else "")
+        + "".join(f"; {n}" for n in notes)
+        + (
+            "; the argmax is reported whether or not a signature is present: --pfa P (or --threshold X) "
+            "tests for one"
+            if thresholds is None
+            else f"; signature {'present' if present_last else 'absent'} (threshold {thresholds[-1]:.4g})"
+        )
     )
     return RecordResult(table, res, truth, n_modes, m_rho, summary)
+
+
+def _present(lam_max: float, threshold: float, calibrated: bool) -> bool:
+    """The decision "signature present": λ* > a calibrated threshold, λ* ≥ a fixed one."""
+    return lam_max > threshold if calibrated else lam_max >= threshold

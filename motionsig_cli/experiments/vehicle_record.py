@@ -21,6 +21,7 @@ from motionsig_cli.config import ConfigError, integer, one_of, positive
 from motionsig_cli.models.vehicle import Vehicle1D, nominal_reference, simulate_1d
 from motionsig_cli.models.vehicle2d import SEED_ANR_PAIRS, Vehicle2D, anr_pair_variances, simulate_2d
 from motionsig_cli.rng import DEFAULT_SEED
+from motionsig_cli.signals.code_spec import parse_codes
 from motionsig_cli.signals.signature import MAX_TAU, SignatureConfig, finite
 from motionsig_cli.tables import Table, make_meta
 
@@ -51,22 +52,24 @@ COLUMNS_2D = (
 class RecordConfig:
     """What to simulate: the vehicle, the signature it carries, the record length and the seed.
 
-    Checked here, once: mode an integer 1–3 (Table I); tau or tau_chips (not both) an integer code phase
+    Checked here, once: codes a code set (:func:`~motionsig_cli.signals.code_spec.parse_codes`); mode an
+    integer 1 … the number of codes (1–3 for Table I); tau or tau_chips (not both) an integer code phase
     with |tau| ≤ 2^53 samples; theta, f_c, m_rho and T through :class:`SignatureConfig`; duration > 0
-    and between one sample and :data:`MAX_RECORD` samples at the vehicle's T; codes, zdot one of their
+    and between one sample and :data:`MAX_RECORD` samples at the vehicle's T; zdot one of its
     choices; signature a bool; seed an integer ≥ 0; anr_pair (2-D only) 1–4 and the pair the vehicle's
     variances came from.
 
     Attributes:
         vehicle: The 1-D (:class:`Vehicle1D`) or 2-D radar (:class:`Vehicle2D`) vehicle.
-        mode: Table I mode 1–3; None: drawn from the seed.
+        mode: Mode 1 … the number of codes (Table I: 1–3); None: drawn from the seed.
         tau: Code phase [samples]; None (and no tau_chips): drawn on the chip grid.
         tau_chips: Code phase in chips (tau = tau_chips · m_rho).
         theta: Carrier phase [rad]; None: drawn from the seed.
         f_c: Carrier frequency [Hz].
         m_rho: Samples per chip (assumed: 20; the paper does not state it).
         duration: Record length [s]; the record has round(duration / T) samples.
-        codes: Table I codes, ``"corrected"`` or ``"printed"``.
+        codes: The mode codes (mode i carries code i): Table I's ``"corrected"`` or ``"printed"``, or any
+            code set :func:`~motionsig_cli.signals.code_spec.parse_codes` reads (``"gold:45,75:5"``…).
         signature: False simulates H0 (no signature).
         zdot: Signature derivative in the velocity reference, ``"analytic"`` or ``"finite-difference"``.
         seed: Root seed (the record is trial 0).
@@ -93,8 +96,11 @@ class RecordConfig:
     def __post_init__(self) -> None:
         if not isinstance(self.vehicle, Vehicle1D | Vehicle2D):
             raise ConfigError("vehicle", type(self.vehicle).__name__, "is not a Vehicle1D or a Vehicle2D")
-        if self.mode is not None and integer("mode", self.mode) not in range(1, N_MODES + 1):
-            raise ConfigError("mode", self.mode, "is not a Table I mode: 1, 2 or 3")
+        n_modes = parse_codes(self.codes).n_modes
+        if self.mode is not None and integer("mode", self.mode) not in range(1, n_modes + 1):
+            table1 = self.codes in CODES
+            what = "a Table I mode: 1, 2 or 3" if table1 else f"a mode of the {n_modes} codes: 1 to {n_modes}"
+            raise ConfigError("mode", self.mode, f"is not {what}")
         if self.tau is not None and self.tau_chips is not None:
             raise ConfigError("tau_chips", self.tau_chips, "is given together with tau: give one, not both")
         if self.theta is not None:
@@ -117,7 +123,6 @@ class RecordConfig:
             raise ConfigError(
                 "duration", self.duration, f"is shorter than one sample (T = {self.vehicle.T:g} s)"
             )
-        one_of("codes", self.codes, CODES)
         if not isinstance(self.signature, bool):
             raise ConfigError("signature", self.signature, "is not True or False")
         one_of("zdot", self.zdot, ZDOT_METHODS)
@@ -187,11 +192,10 @@ def simulate_record(cfg: RecordConfig) -> SimulatedRecord:
             range is ≤ 0 (R_range).
     """
     from motionsig_cli.experiments.lmp1d import draw_trial, signature_batch
-    from motionsig_cli.signals.correlation import to_bipolar
-    from motionsig_cli.signals.modes import table1_codes
 
     vehicle, n, m_rho = cfg.vehicle, cfg.n_samples, cfg.m_rho
-    chips = to_bipolar(table1_codes(cfg.codes)).astype(float)
+    codes = parse_codes(cfg.codes)
+    chips = codes.chips
     draw = draw_trial(cfg.seed, 0, n, chips.shape[0], chips.shape[1], m_rho, dims=2 if cfg.two_d else 1)
     mode0 = draw.mode if cfg.mode is None else cfg.mode - 1
     tau0 = (
@@ -211,7 +215,7 @@ def simulate_record(cfg: RecordConfig) -> SimulatedRecord:
     tail = dict(
         duration=n * vehicle.T,
         n_samples=n,
-        codes=cfg.codes,
+        codes=codes.spec,
         feedback="true state",
         zdot=cfg.zdot,
         seed=cfg.seed,

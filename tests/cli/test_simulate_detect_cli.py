@@ -113,7 +113,7 @@ def repeat_a_row(lines, first):  # t goes 0.10, 0.10: not increasing
     return [*lines[: first + 3], lines[first + 2], *lines[first + 3 :]]
 
 
-def drop_a_row(lines, first):  # a gap of 2T: non-uniform
+def drop_a_row(lines, first):  # a gap of 2T: one absent sample
     return [*lines[: first + 3], *lines[first + 4 :]]
 
 
@@ -136,8 +136,6 @@ BAD_RECORDS = [
     (bad_mrho_meta, "bad metadata: m_rho = 0 is not in "),
     (rename_y, "missing column 'y'"),
     (repeat_a_row, "time is not increasing"),
-    (drop_a_row, "non-uniform time"),
-    (nan_measurement, "column 'y' is not finite"),
 ]
 
 
@@ -151,6 +149,23 @@ def test_bad_records(record, capsys, monkeypatch, tmp_path, edit, text):
     rc, out, err = run(capsys, monkeypatch, "detect", "-", "--out", str(target), stdin=_edit(record, edit))
     assert rc == 2 and len(err.strip().splitlines()) == 1 and text in err, err
     assert out == "" and not target.exists()
+
+
+@pytest.mark.parametrize(
+    ("edit", "where"), [(drop_a_row, "column 't': no row for t = "), (nan_measurement, "column 'y'")]
+)
+def test_missing_samples_are_predict_only_in_the_bank_and_refused_by_fft(
+    record, capsys, monkeypatch, tmp_path, edit, where
+):
+    """A missing sample (an absent row, a NaN) is a predict-only step of the filter bank; the FFT path, which
+    assumes every sample, refuses it naming the file, line and column."""
+    rc, out, err = run(capsys, monkeypatch, "detect", "-", stdin=_edit(record, edit))
+    assert rc == 0 and "1 of 400 samples missing (predict-only)" in err, err
+    full = run(capsys, monkeypatch, "detect", "-", stdin=record)[1]
+    assert out.splitlines()[-1].split(",")[2:4] == full.splitlines()[-1].split(",")[2:4]  # same mode and τ
+    assert out.splitlines()[-1] != full.splitlines()[-1]  # but not the same statistic: a sample was skipped
+    rc, out, err = run(capsys, monkeypatch, "detect", "-", "--method", "fft", stdin=_edit(record, edit))
+    assert rc == 2 and out == "" and "<stdin>:" in err and where in err and "use --method bank" in err, err
 
 
 BAD_OPTIONS = [

@@ -2,6 +2,7 @@
 record, and the horizons of a record."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -81,10 +82,10 @@ def test_bad_1d_records(rec1, tmp_path, edit, message):
         (lambda s: s.replace('"rad"', '"grad"'), "bearing_unit"),
         (
             lambda s: s.replace("# start: [70.0, -20.0]", "# start: [70.0]"),
-            "start must be a list of two numbers",
+            r"start = \[70.0\] is not a list of two numbers",
         ),
-        (lambda s: s.replace("# m_rho: 20", "# m_rho: 2.5"), "m_rho must be an integer >= 1"),
-        (lambda s: s.replace("# f_c: 1.0", "# f_c: -1"), "f_c must be finite and >= 0"),
+        (lambda s: s.replace("# m_rho: 20", "# m_rho: 2.5"), "m_rho = 2.5 is not an integer"),
+        (lambda s: s.replace("# f_c: 1.0", "# f_c: -1"), r"f_c = -1 is not in \[0, inf\)"),
         (lambda s: s.replace("# start: [70.0, -20.0]", "# start: [0, 0]"), "origin"),
     ],
 )
@@ -107,9 +108,9 @@ def _cells(table: Table, column: str, row: int, value: float) -> Table:
     [
         ("range", 0.0, "range 0 <= 0"),
         ("bearing", 57.3, "degrees in a column labelled radians"),
-        ("range", math.inf, "column 'range' is not finite"),
+        ("range", math.inf, "column 'range': 'inf' is not finite"),
         ("t", 0.0, "time is not increasing"),
-        ("t", 0.21, "non-uniform time"),
+        ("t", 0.21, "periods off the 0.05 s grid"),
     ],
 )
 def test_bad_cells_name_the_line(rec2, tmp_path, column, value, message):
@@ -150,3 +151,150 @@ def test_bad_horizons(hs, message):
     with pytest.raises(ConfigError, match=message) as exc:
         record_horizons(hs, 20.0, 0.05)
     assert exc.value.field == "horizons"
+
+
+# ------------------------------------------------------------------------- users' records (any layout)
+from motionsig_cli.experiments.record_reading import (  # noqa: E402
+    ModelOptions,
+    read_vehicle_record,
+)
+
+
+def _table(columns, rows, meta=None, source="user.csv"):
+    """A table as read from a file: data rows from line 2 on (after the header)."""
+    return Table(tuple(columns), [tuple(str(c) for c in r) for r in rows], meta or {},
+                 tuple(range(2, 2 + len(rows))), source, 1)  # fmt: skip
+
+
+def _grid(n, T=0.05):
+    return [k * T for k in range(n)]
+
+
+def test_an_exact_column_name_wins_over_an_alias_and_an_alias_is_found():
+    t = _grid(40)
+    both = read_vehicle_record(_table(("t", "z", "y"), [(a, 9.0, k) for k, a in enumerate(t)]))
+    assert np.array_equal(both.y, np.arange(40.0))  # y, not its alias z
+    alias = read_vehicle_record(_table(("timestamp", "position"), [(a, 2 * k) for k, a in enumerate(t)]))
+    assert np.array_equal(alias.y, 2 * np.arange(40.0))
+
+
+@pytest.mark.parametrize(
+    ("columns", "meta", "options", "layout"),
+    [
+        (("t", "y"), {}, {}, "1d"),
+        (("t", "x", "y"), {}, {}, "cartesian"),
+        (("t", "x", "y"), {"example": "1d"}, {}, "1d"),  # the metadata says
+        (("t", "x", "pos"), {}, {"columns": "y=pos"}, "1d"),  # y mapped alone: a 1-D position
+        (("t", "x", "y"), {}, {"example": "1d"}, "1d"),
+        (("t", "range", "bearing", "x", "y"), {}, {}, "polar"),  # the measurements, not the true x, y
+        (("t", "r", "b"), {}, {"columns": "range=r,bearing=b"}, "polar"),
+    ],
+)
+def test_the_layout(columns, meta, options, layout):
+    rows = [(a, 50.0 + k, 0.1) + (1.0,) * (len(columns) - 3) for k, a in enumerate(_grid(40))]
+    rec = read_vehicle_record(_table(columns, [r[: len(columns)] for r in rows], meta), **options)
+    assert (rec.y.ndim == 1) == (layout == "1d")
+    assert ("measurement" in rec.provenance) == (layout == "cartesian")
+
+
+def test_x_y_are_converted_exactly_and_the_start_is_the_first_position():
+    x, y = np.array([70.0, 69.5, -3.0]), np.array([-20.0, -19.0, 4.0])
+    rec = read_vehicle_record(_table(("time", "x", "y"), list(zip(_grid(3), x, y, strict=True))))
+    assert np.array_equal(rec.y[:, 0], np.hypot(x, y)) and np.array_equal(rec.y[:, 1], np.arctan2(y, x))
+    assert rec.vehicle.start == (pytest.approx(70.0, abs=1e-12), pytest.approx(-20.0, abs=1e-12))
+    assert rec.provenance["model_sources"]["start"] == "record (the first measured position, assumed)"
+
+
+def test_gaps_and_empty_cells_are_missing_samples():
+    t = _grid(10)
+    rows = [(a, float(k)) for k, a in enumerate(t) if k != 4]  # sample 4 absent
+    rows[6] = (rows[6][0], "")  # sample 7 (line 8): an empty cell
+    rec = read_vehicle_record(_table(("t", "y"), rows))
+    assert rec.y.shape == (10,) and np.flatnonzero(np.isnan(rec.y)).tolist() == [4, 7]
+    assert rec.lines.tolist() == [2, 3, 4, 5, 0, 6, 7, 8, 9, 10]
+    assert rec.vehicle.T == 0.05 and rec.provenance["missing_samples"] == 2
+    err = rec.missing_error("cannot skip")
+    where = "user.csv:6: column 't': no row for t = 0.2 s (absent before this line)"
+    assert str(err) == f"{where}: missing measurement (2 missing): cannot skip"
+    assert rec.missing_error("x", n_used=4) is None
+    rows = [(a, 50.0, "" if k == 3 else 0.1) for k, a in enumerate(t)]  # 2-D: a bearing missing
+    rec2 = read_vehicle_record(_table(("t", "range", "bearing"), rows))
+    assert np.isnan(rec2.y[3]).all() and not np.isnan(np.delete(rec2.y, 3, axis=0)).any()
+    assert rec2.first_missing == (3, "user.csv:5: column 'bearing'")
+
+
+def test_the_sample_period():
+    t = [k * 0.05 for k in range(40)]  # 0.05 * k: the least-squares estimate is 0.05 within rounding
+    rec = read_vehicle_record(_table(("t", "y"), [(a, 0.0) for a in t]))
+    assert rec.vehicle.T == 0.05 and rec.provenance["model_sources"]["T"].startswith("record (estimated")
+    finer = read_vehicle_record(_table(("t", "y"), [(a, 0.0) for a in t]), model=ModelOptions(T=0.025))
+    assert finer.y.size == 79 and int(np.isnan(finer.y).sum()) == 39  # every other sample absent
+    with pytest.raises(ConfigError) as exc:
+        read_vehicle_record(_table(("t", "y"), [(a, 0.0) for a in t]), model=ModelOptions(T=0.07))
+    assert exc.value.field == "T" and "the times give T = 0.05 s" in exc.value.reason
+    meta = {"T": 0.1}
+    with pytest.raises(InputError, match=r"T = 0\.1 s from the metadata"):
+        read_vehicle_record(_table(("t", "y"), [(a, 0.0) for a in t], meta))
+
+
+def test_model_sources_option_record_default(rec1, tmp_path):
+    """A complete simulate record: every quantity from the record, no provenance added; an option wins over
+    the record and says so; another code set drops the record's truth."""
+    plain = read_vehicle_record(_write(rec1, tmp_path / "a.csv"))
+    assert plain.provenance == {} and plain.truth == (2, 140) and plain.codes == "corrected"
+    opts = ModelOptions(R=1e-2, f_c=1.0, codes="gold:45,75:3")
+    rec = read_vehicle_record(_write(rec1, tmp_path / "a.csv"), model=opts)
+    src = rec.provenance["model_sources"]
+    assert rec.vehicle.R == 1e-2 and src["R"] == "option (the record says 0.001)"
+    assert src["f_c"] == "option (as the record)" and src["codes"] == "option (the record says 'corrected')"
+    assert src["T"] == "record" and rec.truth is None and rec.codes == "gold:45,75:3"
+
+
+def test_a_simulate_record_missing_a_key_needs_its_option(rec1, tmp_path):
+    def edit(s):
+        return s.replace("# R: 0.001\n", "")
+
+    with pytest.raises(InputError, match="missing metadata 'R'"):
+        read_vehicle_record(_write(rec1, tmp_path / "c.csv", edit))
+    rec = read_vehicle_record(_write(rec1, tmp_path / "c.csv", edit), model=ModelOptions(anr_db=20.0))
+    assert rec.vehicle.R == pytest.approx(0.125 / 100) and rec.provenance["model_sources"]["R"].startswith(
+        "option"
+    )
+
+
+def test_a_users_metadata_fills_what_it_has():
+    meta = {"T": 0.05, "m_rho": 10, "K": [40, 10], "R": 0.002, "codes": "gps:1,2"}
+    rec = read_vehicle_record(_table(("t", "y"), [(a, 0.0) for a in _grid(40)], meta))
+    assert (rec.m_rho, rec.vehicle.K, rec.vehicle.R, rec.chips.shape) == (10, (40.0, 10.0), 0.002, (2, 1023))
+    src = rec.provenance["model_sources"]
+    assert src["m_rho"] == "record" and src["f_c"] == "default (assumed)" and rec.truth is None
+    bad_values = (
+        ("K", [1], "K = [1] is not a list of two numbers"),
+        ("codes", "gold", "codes = 'gold'"),
+        ("a_sig", "big", "a_sig = 'big' is not a number"),
+    )
+    for key, bad, text in bad_values:
+        with pytest.raises(InputError, match=f"user.csv: bad metadata: {re.escape(text)}"):
+            read_vehicle_record(_table(("t", "y"), [(a, 0.0) for a in _grid(40)], {**meta, key: bad}))
+
+
+def test_bearing_units_and_limits():
+    rows = [(a, 70.0, 10.0) for a in _grid(40)]
+    deg = read_vehicle_record(_table(("t", "range", "bearing"), rows), units="bearing=deg")
+    assert deg.y[0, 1] == pytest.approx(math.radians(10.0), rel=1e-15)
+    with pytest.raises(
+        InputError,
+        match=r"user.csv:2: column 'bearing': bearing 10 is outside \[-3.14159, 3.14159\] rad \(degrees",
+    ):
+        read_vehicle_record(_table(("t", "range", "bearing"), rows))
+    rows[5] = (rows[5][0], 70.0, 200.0)
+    with pytest.raises(
+        InputError, match=r"user.csv:7: column 'bearing': bearing 200 is outside \[-180, 180\] deg$"
+    ):
+        read_vehicle_record(_table(("t", "range", "bearing"), rows), units="bearing=deg")
+
+
+def test_default_horizons_of_coarse_or_long_records():
+    assert record_horizons(None, 40.0, 10.0) == [10.0, 20.0, 30.0, 40.0]
+    assert record_horizons(None, 2e9, 1e9) == [1e9, 2e9]  # never shorter than a sample
+    assert len(record_horizons(None, 50_000.0, 0.05)) == 1000  # at most 1000 by default
