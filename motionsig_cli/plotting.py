@@ -187,9 +187,11 @@ def rms_error_figure(
     outage: tuple[int, int] | None = None,
     title: str = "",
     bands: list[tuple[np.ndarray, np.ndarray, str]] = (),
+    unit: str = "ft",
 ) -> Figure:
-    """ATC-10 Figs 4.2/4.3: RMS position error [ft] against update number n on a log ordinate, with the
-    three-satellite outage shaded. ``series`` = (label, values, matplotlib style)."""
+    """ATC-10 Figs 4.2/4.3: RMS position error (in ``unit``, the report's feet by default) against update
+    number n on a log ordinate, with the three-satellite outage shaded. ``series`` = (label, values,
+    matplotlib style)."""
     fig = Figure(figsize=(8, 4.6), layout="constrained")
     ax = fig.add_subplot()
     if outage is not None and outage[1] > outage[0]:
@@ -199,7 +201,7 @@ def rms_error_figure(
     for label, y, style in series:
         ax.semilogy(n, y, label=label, **style)
     ax.set_xlabel("update n (one per second)")
-    ax.set_ylabel(r"RMS position error $\sqrt{E\|\xi_{p_n}\|^2}$ [ft]")
+    ax.set_ylabel(rf"RMS position error $\sqrt{{E\|\xi_{{p_n}}\|^2}}$ [{unit}]")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize="x-small", ncol=2, loc="upper left")
     if title:

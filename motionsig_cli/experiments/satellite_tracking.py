@@ -11,6 +11,12 @@ Conventions (project decision, see the errata page):
 - ``report``: c = 1 ft/ns, r_sat = 9.235 Earth radii, and the printed b3 (the frame-dependent
   1'(U'U)⁻¹1) — this reproduces Tables 4.2 and 4.3.
 
+Geometries: the report's form (:class:`Constellation`: sub-satellite points on one orbit radius about a
+spherical Earth, Table 4.1 or a user's points) or any receivers (:class:`ReceiverGeometry`: ground
+stations or satellites at ECEF positions, the aircraft WGS-84 geodetic, positions that may change from
+epoch to epoch for the Monte Carlo). The constants, the RMS curves and the Monte Carlo take either.
+Columns carry their unit (:class:`Units`): the report's feet and nanoseconds, or metres and seconds.
+
 Every configuration checks its own fields (:class:`~motionsig_cli.config.ConfigError` names the field);
 the ``*_report`` functions return the table a command writes, its one-line summary and what its figure
 draws.
@@ -39,10 +45,20 @@ from motionsig_cli.surveillance.clock_tracking import (
     pseudo_measurement,
     table_4_3_values,
 )
+from motionsig_cli.surveillance.geodesy import (
+    WGS84_A,
+    WGS84_B,
+    ecef_to_geodetic,
+    enu_rotation,
+    geodetic_to_ecef,
+)
 from motionsig_cli.surveillance.multilateration import (
+    BETA_REL_TOL,
     C_FT_PER_NS_EXACT,
     C_FT_PER_NS_REPORT,
     C_M_PER_NS,
+    COND_LIMIT,
+    FOOT_M,
     R_EARTH_KM,
     RSAT_GEO_KM,
     RSAT_REPORT_RE,
@@ -101,6 +117,53 @@ class ParamSource(StrEnum):
 
     table = "table"
     geometry = "geometry"
+
+
+class Units(StrEnum):
+    """The units of a command's columns (each column name carries its unit: ``rms_ft`` or ``rms_m``).
+
+    - ``report``: the report's tables: errors in feet, times in nanoseconds; positions, ranges and the
+      orbit radius in km (as the report's geometry and the constellation view);
+    - ``si``: metres and seconds throughout.
+
+    The default is ``report`` for the report's constellations (Table 4.1, ``--sats``) and ``si`` for a
+    user's receivers table (our choice). The options keep their own units whatever the columns' (σ, σ0 in
+    ns; the aircraft's altitude in km).
+    """
+
+    report = "report"
+    si = "si"
+
+
+UNIT_NAMES = {Units.report: {"length": "ft", "time": "ns", "distance": "km"},
+              Units.si: {"length": "m", "time": "s", "distance": "m"}}  # fmt: skip
+"""Column suffixes per unit system: errors (length), times, positions and ranges (distance)."""
+UNIT_FACTORS = {Units.report: {"length": 1.0, "time": 1.0, "distance": 1.0},
+                Units.si: {"length": FOOT_M, "time": 1e-9, "distance": 1e3}}  # fmt: skip
+"""Factors from the internal units (errors in ft, times in ns, distances in km) to each unit system."""
+UNIT_TEXT = {Units.report: "report: errors in ft, times in ns, positions and ranges in km",
+             Units.si: "si: metres and seconds"}  # fmt: skip
+
+
+def unit_suffix(units: Units | str, quantity: str) -> str:
+    """The column suffix of ``quantity`` (``length``, ``time`` or ``distance``) in ``units``."""
+    return UNIT_NAMES[Units(units)][quantity]
+
+
+def unit_factor(units: Units | str, quantity: str) -> float:
+    """The factor from the internal unit of ``quantity`` (ft, ns, km) to ``units``."""
+    return UNIT_FACTORS[Units(units)][quantity]
+
+
+def in_unit(value: Any, units: Units | str, quantity: str) -> Any:
+    """``value`` (a number or an array, in the internal unit of ``quantity``: ft, ns or km) in ``units``;
+    nanoseconds become seconds by a division, correctly rounded (50 ns → 5e-08 s)."""
+    u = Units(units)
+    if u is Units.report:
+        return value
+    if quantity == "time":
+        return value / 1e9
+    return value * UNIT_FACTORS[u][quantity]
 
 
 PARAMS = ("auto", "table", "geometry")
@@ -201,6 +264,7 @@ class Constellation:
         triplet: 0-based indices of the three distinct satellites kept in an outage.
         labels: satellite names (default the 1-based numbers of Table 4.1), non-empty and distinct.
         name: for metadata.
+        provenance: what was read when the points came from a receivers table (for metadata).
     """
 
     lat_deg: tuple[float, ...]
@@ -210,6 +274,7 @@ class Constellation:
     triplet: tuple[int, int, int] = (0, 1, 2)
     labels: tuple[str, ...] = ()
     name: str = ""
+    provenance: dict[str, Any] = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         K = len(self.lat_deg)
@@ -313,6 +378,262 @@ class Constellation:
         return self.warnings()
 
 
+def line_of_sight_blocked(receivers_m: np.ndarray, point_m: np.ndarray) -> np.ndarray:
+    """True where the straight line from a receiver to ``point`` passes through the Earth (the WGS-84
+    ellipsoid; refraction ignored, assumed). Broadcasts: receivers (..., K, 3), point (..., 3) [m].
+
+    In coordinates scaled by (1/a, 1/a, 1/b) the ellipsoid is the unit sphere; the segment r + t d,
+    t ∈ [0, 1], is blocked when its point nearest the centre lies strictly inside the segment and inside
+    the sphere. A receiver below the surface (a negative altitude) therefore sees every point above its
+    local horizon and none below it.
+    """
+    scale = np.array([1.0 / WGS84_A, 1.0 / WGS84_A, 1.0 / WGS84_B])
+    r = np.asarray(receivers_m, dtype=float) * scale
+    d = np.asarray(point_m, dtype=float)[..., None, :] * scale - r
+    dd = np.einsum("...i,...i->...", d, d)
+    t = -np.einsum("...i,...i->...", r, d) / np.where(dd > 0, dd, 1.0)
+    nearest = r + np.clip(t, 0.0, 1.0)[..., None] * d
+    return (t > 0.0) & (t < 1.0) & (np.einsum("...i,...i->...", nearest, nearest) < 1.0)
+
+
+@dataclass(frozen=True, eq=False)
+class ReceiverGeometry:
+    """Receivers at Earth-centred positions — ground stations, satellites, or both — and an aircraft on the
+    WGS-84 ellipsoid: a user's receivers table (:func:`motionsig_cli.experiments.receivers.read_receivers`)
+    in ECEF or WGS-84 geodetic form. (The report's form, sub-satellite points on one orbit radius about a
+    spherical Earth, is a :class:`Constellation`.)
+
+    The same interface as :class:`Constellation` (``K``, ``labels``, ``triplet``, ``directions``, the
+    checks), so that the constants, the RMS curves and the Monte Carlo take either.
+
+    Attributes:
+        positions_m: (E, K, 3) ECEF positions [m] at E epochs (E = 1: a static geometry); NaN where a
+            receiver is absent at an epoch (a static geometry has every receiver); 3 to :data:`MAX_SATS`
+            receivers. The snapshot methods (``directions``, the checks) use the first epoch's receivers.
+        times_s: (E,) the epochs' times [s], from 0 at the first, increasing (update n of the Monte Carlo is
+            at n τ̄; positions between two epochs are interpolated linearly, assumed).
+        aircraft: (geodetic latitude, longitude [deg], altitude above the ellipsoid [km]), the altitude in
+            [−1, 100] km.
+        triplet: 0-based indices of the three distinct receivers kept in an outage.
+        labels: receiver names (default 1, 2, …), distinct and non-empty.
+        name: for metadata and messages (the file's name).
+        lines: (E, K) the line of each position in the file (0: absent), for messages; empty if unknown.
+        provenance: what was read (:meth:`motionsig_cli.experiments.receivers.Receivers.provenance`), for
+            metadata.
+        geodetic: (E, K, 3) WGS-84 latitude, longitude [deg] and altitude [m] as read (None: computed from
+            the positions), for the receivers view.
+    """
+
+    positions_m: np.ndarray
+    times_s: np.ndarray = field(default_factory=lambda: np.zeros(1))
+    aircraft: tuple[float, float, float] = (45.0, 120.0, 0.0)
+    triplet: tuple[int, int, int] = (0, 1, 2)
+    labels: tuple[str, ...] = ()
+    name: str = ""
+    lines: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), dtype=np.int64))
+    provenance: dict[str, Any] = field(default_factory=dict)
+    geodetic: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        pos = np.asarray(self.positions_m, dtype=float)
+        if pos.ndim == 2:
+            pos = pos[None]
+        if pos.ndim != 3 or pos.shape[-1] != 3:
+            raise ConfigError("positions_m", tuple(pos.shape), "is not (epochs, receivers, 3)")
+        object.__setattr__(self, "positions_m", pos)
+        E, K = pos.shape[:2]
+        if not 3 <= K <= MAX_SATS:
+            raise ConfigError(
+                "positions_m",
+                K,
+                f"receivers: at least three are needed to fix a position, at most {MAX_SATS}",
+            )
+        present = np.isfinite(pos).all(axis=-1)
+        if np.any(np.isfinite(pos).any(axis=-1) & ~present):
+            raise ConfigError(
+                "positions_m", "partly NaN", "positions: a position is all NaN (absent) or finite"
+            )
+        t = np.asarray(self.times_s, dtype=float).reshape(-1)
+        object.__setattr__(self, "times_s", t)
+        if t.shape != (E,) or not np.all(np.isfinite(t)) or t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise ConfigError("times_s", tuple(t.shape), f"are not {E} increasing epoch times from 0 s")
+        if len(self.aircraft) != 3:
+            raise ConfigError("aircraft", tuple(self.aircraft), "is not (latitude, longitude, altitude km)")
+        in_range("aircraft", self.aircraft[0], -90.0, 90.0, unit="degrees (latitude)")
+        in_range("aircraft", self.aircraft[1], -MAX_LON_DEG, MAX_LON_DEG, unit="degrees (longitude)")
+        in_range("aircraft", self.aircraft[2], MIN_ALT_KM, MAX_ALT_KM, unit="km (altitude)")
+        trip = tuple(self.triplet)
+        if (
+            len(trip) != 3
+            or len(set(trip)) != 3
+            or not all(isinstance(i, int | np.integer) and 0 <= i < K for i in trip)
+        ):
+            raise ConfigError(
+                "triplet",
+                ",".join(str(i + 1) for i in trip),
+                f"is not three distinct receiver numbers in 1..{K}",
+            )
+        if self.labels:
+            if len(self.labels) != K:
+                raise ConfigError("labels", len(self.labels), f"labels for {K} receivers")
+            for v in self.labels:
+                if not v or self.labels.count(v) > 1:
+                    raise ConfigError("labels", v, "is not a distinct, non-empty receiver label")
+        else:
+            object.__setattr__(self, "labels", tuple(str(i + 1) for i in range(K)))
+        lines = np.asarray(self.lines, dtype=np.int64)
+        object.__setattr__(
+            self, "lines", lines if lines.shape == (E, K) else np.zeros((E, K), dtype=np.int64)
+        )
+
+    @property
+    def K(self) -> int:
+        return int(self.positions_m.shape[1])
+
+    @property
+    def epochs(self) -> int:
+        """Epochs of the table (1: static)."""
+        return int(self.positions_m.shape[0])
+
+    @property
+    def moving(self) -> bool:
+        """True when the positions (or the receivers present) change from epoch to epoch."""
+        return self.epochs > 1
+
+    @property
+    def present(self) -> np.ndarray:
+        """(E, K) whether each receiver is present at each epoch."""
+        return np.isfinite(self.positions_m).all(axis=-1)
+
+    def geodetic_first(self) -> np.ndarray:
+        """(K, 3) WGS-84 latitude, longitude [deg] and altitude [m] of the receivers at the first epoch."""
+        if self.geodetic is not None:
+            return np.asarray(self.geodetic, dtype=float)[0]
+        return np.stack(ecef_to_geodetic(self.positions_m[0]), axis=-1)
+
+    def sats_km(self) -> np.ndarray:
+        """(K, 3) receiver positions at the first epoch [km] (NaN: absent there)."""
+        return self.positions_m[0] / 1e3
+
+    def first(self) -> np.ndarray:
+        """Indices of the receivers present at the first epoch."""
+        return np.flatnonzero(self.present[0])
+
+    def aircraft_m(self) -> np.ndarray:
+        """Aircraft position, ECEF [m] (WGS-84)."""
+        lat, lon, alt = self.aircraft
+        return geodetic_to_ecef(lat, lon, alt * 1e3)
+
+    def aircraft_km(self) -> np.ndarray:
+        """Aircraft position, ECEF [km] (WGS-84)."""
+        return self.aircraft_m() / 1e3
+
+    def enu(self) -> np.ndarray:
+        """Rows: east, north and up (the ellipsoid's normal) at the aircraft, in ECEF components."""
+        return enu_rotation(self.aircraft[0], self.aircraft[1])
+
+    def directions(self, subset: Sequence[int] | None = None) -> np.ndarray:
+        """U: unit vectors from the receivers (those of the first epoch, or ``subset``) to the aircraft, at
+        the first epoch."""
+        sats = self.sats_km()
+        sats = sats[self.first() if subset is None else list(subset)]
+        return directions(sats, self.aircraft_km())[0]
+
+    def zenith_deg(self) -> np.ndarray:
+        """Zenith angle of each receiver seen from the aircraft (above 90°: below the aircraft, as a ground
+        station is; NaN: absent at the first epoch)."""
+        return zenith_deg(self.directions(range(self.K)), self.enu()[2])
+
+    def line(self, k: int, epoch: int = 0) -> str:
+        """``file:line`` of receiver ``k`` at ``epoch`` (the file's name alone when the line is unknown)."""
+        n = int(self.lines[epoch, k]) if self.lines.size else 0
+        return f"{self.name}:{n}" if n else self.name
+
+    def _named(self, ks: Sequence[int], epoch: int = 0) -> str:
+        return ", ".join(f"{self.labels[k]} ({self.line(k, epoch)})" for k in ks)
+
+    def check_horizon(self) -> None:
+        """Every receiver sees the aircraft at the first epoch: the line of sight does not pass through the
+        Earth (:func:`line_of_sight_blocked`)."""
+        blocked = np.flatnonzero(line_of_sight_blocked(self.positions_m[0], self.aircraft_m()))
+        if blocked.size:
+            lat, lon, alt = self.aircraft
+            more = f" and {blocked.size - 5} more" if blocked.size > 5 else ""
+            raise GeometryError(
+                f"receiver(s) {self._named(blocked[:5])}{more} do not see the aircraft at latitude {lat:g}, "
+                f"longitude {lon:g}, altitude {alt:g} km: the line of sight passes through the Earth"
+            )
+
+    def check_all(self) -> None:
+        """All receivers fix position and clock (K ≥ 4, β > 0, rank 3)."""
+        check_geometry(self.directions(), labels="all receivers")
+
+    def check_triplet(self) -> None:
+        """The outage triplet fixes a position given the clock (rank 3); where it is not complete at the first
+        epoch (receivers that move), the outage's own updates are checked by the Monte Carlo."""
+        if not self.present[0, list(self.triplet)].all():
+            return
+        names = ",".join(self.labels[i] for i in self.triplet)
+        check_geometry(self.directions(self.triplet), labels=f"receivers {names}", need_clock=False)
+
+    def warnings(self) -> list[str]:
+        """Legal but noteworthy geometry: nearly singular subsets (the report's 45° cone is a satellite
+        visibility rule, not applied to a user's receivers)."""
+        out = []
+        trip = self.triplet if self.present[0, list(self.triplet)].all() else None
+        for label, subset in (("all receivers", None), ("the outage receivers", trip)):
+            if label != "all receivers" and subset is None:
+                continue
+            m = metrics(self.directions(subset))
+            if float(m.cond) > COND_WARN:
+                out.append(
+                    f"{label} are nearly singular (cond(U) = {float(m.cond):.3g}, tr = {float(m.tr):.3g})"
+                )
+        return out
+
+    def check(self) -> list[str]:
+        """Observability errors (:class:`GeometryError`, raised) and warnings (returned)."""
+        self.check_horizon()
+        self.check_all()
+        self.check_triplet()
+        return self.warnings()
+
+    def track_m(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Positions (T, K, 3) [m] and presence (T, K) at ``times_s`` (within the table's epochs):
+        linear interpolation between the two epochs about each time (assumed); a receiver is present when
+        it is at both (at one epoch's own time: when it is at that epoch).
+
+        Raises:
+            ConfigError: naming ``epochs``: a time after the table's last epoch.
+        """
+        t = np.asarray(times_s, dtype=float)
+        pos, tab = self.positions_m, self.times_s
+        if self.epochs == 1:
+            return np.broadcast_to(pos[0], (len(t), self.K, 3)), np.ones((len(t), self.K), dtype=bool)
+        if t.size and t.max() > tab[-1]:
+            last = self.line(int(np.flatnonzero(self.present[-1])[0]), -1)
+            raise ConfigError(
+                "epochs",
+                float(t.max()),
+                f"s, the last update's time, is after the receivers' last epoch (t = {tab[-1]:g} s, {last}): give "
+                "epochs up to the end of the run, or fewer updates",
+            )
+        e = np.clip(np.searchsorted(tab, t, side="right") - 1, 0, self.epochs - 1)
+        at = tab[e] == t
+        e1 = np.where(at, e, np.minimum(e + 1, self.epochs - 1))
+        w = np.where(at, 0.0, (t - tab[e]) / np.where(at, 1.0, tab[e1] - tab[e]))
+        present = self.present[e] & self.present[e1]
+        p0 = np.where(present[..., None], pos[e], 0.0)
+        p1 = np.where(present[..., None], pos[e1], 0.0)
+        out = np.where(at[:, None, None], p0, (1.0 - w)[:, None, None] * p0 + w[:, None, None] * p1)
+        return np.where(present[..., None], out, np.nan), present
+
+
+Geometry = Constellation | ReceiverGeometry
+"""A constellation in the report's form or a user's receivers."""
+EARTH_WGS84 = "WGS-84 ellipsoid (the aircraft's geodetic position; the receivers' positions as read)"
+
+
 def table_4_1() -> dict[str, tuple[tuple[float, ...], tuple[float, ...]]]:
     """Table 4.1 sub-satellite points by example: (latitudes, longitudes)."""
     t = load("atc10_table4_1.csv")
@@ -334,34 +655,74 @@ def example(name: str, *, r_sat_km: float, triplet: tuple[int, int, int] = (0, 1
     return Constellation(lat, lon, r_sat_km, triplet=triplet, name=f"Example {name}")
 
 
-def constellation_report(con: Constellation, *, view: str = "summary", convention: Convention) -> Report:
+def constellation_report(
+    con: Geometry,
+    *,
+    view: str = "summary",
+    convention: Convention,
+    units: Units | str = Units.report,
+) -> Report:
     """The constellation constants (c = 1 units) of all satellites and of the outage triplet (``summary``),
-    or zenith angle, cone, triplet membership and range of each satellite (``satellites``).
-    ``convention`` only chose the default orbit radius; it is recorded."""
+    or zenith angle, cone, triplet membership and range of each satellite (``satellites``; for a
+    :class:`ReceiverGeometry`: position, zenith angle, triplet membership and range of each receiver).
+    ``convention`` only chose the default orbit radius; it is recorded. ``units`` names the satellites
+    view's distances (the constants have none)."""
     one_of("view", view, ("summary", "satellites"))
-    rs = con.r_sat_km
-    meta = make_meta(
-        "track-sat constellation",
-        constellation=con.name,
-        r_sat_km=rs,
-        r_sat_earth_radii=rs / R_EARTH_KM,
-        aircraft=list(con.aircraft),
-        earth="sphere, R_E = 6378.137 km",
-        convention=Convention(convention).value,
-        units="c = 1 (unit direction vectors); GDOP k = sqrt(tr + b/beta)",
-    )
+    one_of("units", units, tuple(Units))
+    units = Units(units)
+    d_unit, d_fac = unit_suffix(units, "distance"), unit_factor(units, "distance")
+    user = isinstance(con, ReceiverGeometry)
+    if isinstance(con, Constellation):
+        rs = con.r_sat_km
+        meta = make_meta(
+            "track-sat constellation",
+            constellation=con.name,
+            r_sat_km=rs,
+            r_sat_earth_radii=rs / R_EARTH_KM,
+            aircraft=list(con.aircraft),
+            earth="sphere, R_E = 6378.137 km",
+            convention=Convention(convention).value,
+            units="c = 1 (unit direction vectors); GDOP k = sqrt(tr + b/beta)",
+        )
+        if units is not Units.report or con.provenance:
+            meta.update(con.provenance)
+            meta["column_units"] = UNIT_TEXT[units]
+    else:
+        meta = make_meta(
+            "track-sat constellation",
+            **con.provenance,
+            aircraft=list(con.aircraft),
+            aircraft_frame="WGS-84 geodetic latitude, longitude [deg], altitude [km]",
+            earth=EARTH_WGS84,
+            convention=Convention(convention).value,
+            units="c = 1 (unit direction vectors); GDOP k = sqrt(tr + b/beta)",
+            column_units=UNIT_TEXT[units],
+        )
     if view == "satellites":
         z = con.zenith_deg()
         rng_km = np.linalg.norm(con.sats_km() - con.aircraft_km(), axis=-1)
-        rows: list[tuple[object, ...]] = [
-            (con.labels[i], con.lat_deg[i], con.lon_deg[i], float(z[i]), bool(z[i] <= CONE_DEG),
-             i in con.triplet, float(rng_km[i]))
-            for i in range(con.K)
-        ]  # fmt: skip
-        cols: tuple[str, ...] = (
-            "satellite", "latitude_deg", "longitude_deg", "zenith_deg", "in_45deg_cone", "outage_triplet",
-            "range_km",
-        )  # fmt: skip
+        if isinstance(con, Constellation):
+            rows: list[tuple[object, ...]] = [
+                (con.labels[i], con.lat_deg[i], con.lon_deg[i], float(z[i]), bool(z[i] <= CONE_DEG),
+                 i in con.triplet, float(rng_km[i]) * d_fac)
+                for i in range(con.K)
+            ]  # fmt: skip
+            cols: tuple[str, ...] = (
+                "satellite", "latitude_deg", "longitude_deg", "zenith_deg", "in_45deg_cone", "outage_triplet",
+                f"range_{d_unit}",
+            )  # fmt: skip
+        else:
+            geo = con.geodetic_first()
+            xyz = con.positions_m[0] / 1e3 * d_fac
+            rows = [
+                (con.labels[i], *(float(v) for v in xyz[i]), float(geo[i, 0]), float(geo[i, 1]),
+                 float(geo[i, 2]) / 1e3 * d_fac, float(z[i]), i in con.triplet, float(rng_km[i]) * d_fac)
+                for i in range(con.K)
+            ]  # fmt: skip
+            cols = (
+                "receiver", f"x_{d_unit}", f"y_{d_unit}", f"z_{d_unit}", "latitude_deg", "longitude_deg",
+                f"altitude_{d_unit}", "zenith_deg", "outage_triplet", f"range_{d_unit}",
+            )  # fmt: skip
     else:
         rows = []
         for label, subset in (("all", None), (",".join(con.labels[i] for i in con.triplet), con.triplet)):
@@ -371,7 +732,10 @@ def constellation_report(con: Constellation, *, view: str = "summary", conventio
                  float(m.gdop) if m.K > 3 else None, float(m.cond))
             )  # fmt: skip
         cols = ("subset", "K", "beta", "tr", "b", "b_literal", "gdop", "cond")
-    summary = f"track-sat constellation: {con.name}, r_sat = {rs:.6g} km, {con.K} satellites"
+    if user:
+        summary = f"track-sat constellation: {con.name}, {con.K} receivers"
+    else:
+        summary = f"track-sat constellation: {con.name}, r_sat = {rs:.6g} km, {con.K} satellites"
     return Report(Table(columns=cols, rows=rows, meta=meta), summary)
 
 
@@ -402,7 +766,7 @@ def table_4_2_printed() -> dict[str, dict[str, float]]:
     return {e: {k: float(cols[k][i]) for k in TABLE_4_2_KEYS} for i, e in enumerate(t.column("example"))}
 
 
-def geometry_params(con: Constellation) -> dict[str, float]:
+def geometry_params(con: Geometry) -> dict[str, float]:
     """β, tr, b for all satellites; tr, b (corrected) and b_literal for the triplet; GDOP."""
     m_all: GeometryMetrics = metrics(con.directions())
     m3: GeometryMetrics = metrics(con.directions(con.triplet))
@@ -441,12 +805,24 @@ def constellation_params(
             src += "; b3 = 1'(UU')^-1 1 recomputed at 9.235 R_E"
         return ConstellationParams(p["beta"], p["tr_all"], p["b_all"], p["tr_123"], b3, src)
     rs = default_rsat_km(convention) if r_sat_km is None else r_sat_km
-    g = geometry_params(example(name, r_sat_km=rs))
+    return geometry_constants(example(name, r_sat_km=rs), convention, f"Table 4.1 geometry at {rs:.6g} km")
+
+
+def geometry_constants(con: Geometry, convention: Convention, where: str) -> ConstellationParams:
+    """β, tr, b and tr3, b3 of a geometry (b3 literal for the report convention, correct for the corrected
+    one); ``where`` describes the geometry in :attr:`ConstellationParams.source`."""
+    g = geometry_params(con)
     b3 = g["b_123_literal" if convention is Convention.report else "b_123_correct"]
     kind = "literal 1'(U'U)^-1 1, ECEF" if convention is Convention.report else "1'(UU')^-1 1"
-    return ConstellationParams(
-        g["beta"], g["tr_all"], g["b_all"], g["tr_123"], b3, f"Table 4.1 geometry at {rs:.6g} km; b3 = {kind}"
-    )
+    return ConstellationParams(g["beta"], g["tr_all"], g["b_all"], g["tr_123"], b3, f"{where}; b3 = {kind}")
+
+
+def geometry_label(con: Geometry) -> str:
+    """How :attr:`ConstellationParams.source` names a geometry given as a whole."""
+    if isinstance(con, Constellation):
+        return f"{con.name} geometry at {con.r_sat_km:.6g} km, aircraft ({', '.join(f'{v:g}' for v in con.aircraft)})"
+    lat, lon, alt = con.aircraft
+    return f"{con.name} geometry, aircraft at {lat:g}, {lon:g}, {alt:g} km (WGS-84)"
 
 
 def fit_orbit_radius(names: Sequence[str] = EXAMPLES, lo: float = 5.0, hi: float = 15.0) -> float:
@@ -515,9 +891,36 @@ class TableConfig:
         return [Convention(self.convention)]
 
 
-def table_report(cfg: TableConfig) -> Report:
-    """Table 4.2 or 4.3 recomputed beside the printed values, with deviations, tolerances and status."""
-    return _table_4_2() if cfg.which == "4.2" else _table_4_3(cfg.conventions, cfg.params)
+def table_report(cfg: TableConfig, *, units: Units | str = Units.report) -> Report:
+    """Table 4.2 or 4.3 recomputed beside the printed values, with deviations, tolerances and status.
+    ``units``: Table 4.3's errors and times in the report's feet and nanoseconds, or in metres and
+    seconds (the printed values converted too); Table 4.2's constants are dimensionless."""
+    one_of("units", units, tuple(Units))
+    rep = _table_4_2() if cfg.which == "4.2" else _table_4_3(cfg.conventions, cfg.params)
+    return Report(in_units(rep.table, Units(units)), rep.summary, rep.figure)
+
+
+def in_units(table: Table, units: Units) -> Table:
+    """``table`` with its ``*_ft`` columns in ``units``' length unit and its ``*_ns`` columns in its time
+    unit (renamed: ``e0_ft`` → ``e0_m``); the table itself when there is nothing to convert."""
+    conv = {"_ft": "length", "_ns": "time"}
+    todo = {
+        j: (c[: -len(suf)] + "_" + unit_suffix(units, q), q)
+        for j, c in enumerate(table.columns)
+        for suf, q in conv.items()
+        if c.endswith(suf)
+    }
+    if units is Units.report or not todo:
+        return table
+    cols = tuple(todo[j][0] if j in todo else c for j, c in enumerate(table.columns))
+    rows = [
+        tuple(in_unit(v, units, todo[j][1]) if j in todo and isinstance(v, int | float) and not isinstance(v, bool)
+              else v for j, v in enumerate(r))
+        for r in table.rows
+    ]  # fmt: skip
+    meta = dict(table.meta)
+    meta["column_units"] = UNIT_TEXT[units]
+    return Table(columns=cols, rows=rows, meta=meta)
 
 
 def _table_4_2() -> Report:
@@ -763,6 +1166,10 @@ class RmsConfig:
         params: the constellation constants, one of :data:`PARAMS`.
         rsat_re, rsat_km: orbit radius for ``geometry`` constants (see :class:`Orbit`); the printed
             Table 4.2 carries none.
+        constellation: a geometry given whole (a user's receivers, or an example with another aircraft or
+            outage triplet) instead of ``example``: its constants come from the geometry (``params``
+            ``auto`` or ``geometry``); one epoch only.
+        units: the columns' units (:class:`Units`).
     """
 
     example: str = "I"
@@ -774,6 +1181,8 @@ class RmsConfig:
     params: str = "auto"
     rsat_re: float | None = None
     rsat_km: float | None = None
+    constellation: Geometry | None = None
+    units: Units = Units.report
 
     def __post_init__(self) -> None:
         one_of("example", self.example, EXAMPLES)
@@ -784,6 +1193,22 @@ class RmsConfig:
         in_range("sigma", self.sigma, 0.0, MAX_NS, lo_open=True, unit="ns")
         one_of("convention", self.convention, tuple(Convention))
         one_of("params", self.params, PARAMS)
+        one_of("units", self.units, tuple(Units))
+        con = self.constellation
+        if con is not None:
+            if self.params == "table":
+                raise ConfigError(
+                    "params",
+                    self.params,
+                    "takes the printed Table 4.2, which holds the constants of Examples I and II at the "
+                    "report's aircraft only: a geometry given whole takes --params geometry (or auto)",
+                )
+            if isinstance(con, ReceiverGeometry) and con.moving:
+                raise ConfigError(
+                    "constellation",
+                    con.name,
+                    "changes from epoch to epoch: the RMS curves are for one geometry",
+                )
         orbit = self.orbit
         if self.source is ParamSource.table and orbit.given:
             unit = "Earth radii" if orbit.field == "rsat_re" else "km"
@@ -801,70 +1226,109 @@ class RmsConfig:
     @property
     def source(self) -> ParamSource:
         """Where the constants come from."""
+        if self.constellation is not None:
+            return ParamSource.geometry
         return param_source(Convention(self.convention), self.params)
 
-    def geometry(self) -> Constellation | None:
-        """The example's constellation when the constants come from the geometry (None: from the table)."""
+    def geometry(self) -> Geometry | None:
+        """The constellation when the constants come from the geometry (None: from the table)."""
         if self.source is not ParamSource.geometry:
             return None
+        if self.constellation is not None:
+            return self.constellation
         return example(self.example, r_sat_km=self.orbit.km)
 
 
 def rms_report(cfg: RmsConfig) -> Report:
     """Figs 4.2/4.3: least squares, tracking with all satellites, then the three-satellite outage — one row
-    per σ0 and update n; the figure draws one tracking curve per σ0 and the least-squares level."""
+    per σ0 and update n; the figure draws one tracking curve per σ0 and the least-squares level.
+    ``cfg.units`` names the columns (:class:`Units`)."""
     conv = Convention(cfg.convention)
     ex, tl, src = cfg.example, cfg.timeline, cfg.source
-    rs = cfg.orbit.km
-    p = constellation_params(ex, conv, src, r_sat_km=rs)
+    units = Units(cfg.units)
+    lu, lf = unit_suffix(units, "length"), unit_factor(units, "length")
+    tu = unit_suffix(units, "time")
+    given = cfg.constellation
+    if given is None:
+        rs = cfg.orbit.km
+        p = constellation_params(ex, conv, src, r_sat_km=rs)
+        k_all = len(table_4_1()[ex][0])
+        triplet = "1,2,3"
+    else:
+        rs = given.r_sat_km if isinstance(given, Constellation) else None
+        p = geometry_constants(given, conv, geometry_label(given))
+        k_all = given.K
+        triplet = ",".join(given.labels[i] for i in given.triplet)
     c_ft = c_ft_per_ns(conv)
     curves = rms_curves(p, cfg.sigma, cfg.sigma0, tl, c_ft, steady_gain=cfg.steady_gain)
-    k_all = len(table_4_1()[ex][0])
     rows = []
     for i, s in enumerate(curves.sigma0):
         for j, n in enumerate(curves.n):
-            ls = float(curves.rms_ls[i, j])
+            ls = float(curves.rms_ls[i, j]) * lf
             rows.append(
-                (int(n), 3 if curves.outage[j] else k_all, float(s), float(curves.rms_tracking[i, j]),
-                 None if math.isnan(ls) else ls, float(curves.gain[i, j]), math.sqrt(float(curves.clock_var[i, j])))
+                (int(n), 3 if curves.outage[j] else k_all, in_unit(float(s), units, "time"),
+                 float(curves.rms_tracking[i, j]) * lf,
+                 None if math.isnan(ls) else ls, float(curves.gain[i, j]),
+                 in_unit(math.sqrt(float(curves.clock_var[i, j])), units, "time"))
             )  # fmt: skip
-    cols = ("n", "K", "sigma0_ns", "rms_ft", "rms_no_tracking_ft", "gain", "clock_sd_ns")
+    cols = ("n", "K", f"sigma0_{tu}", f"rms_{lu}", f"rms_no_tracking_{lu}", "gain", f"clock_sd_{tu}")
+    user = isinstance(given, ReceiverGeometry) or (given is not None and bool(given.provenance))
+    described: dict[str, Any] = (
+        {"receivers": given.name, **given.provenance}
+        if user and given is not None
+        else {"figure": {"I": "4.2", "II": "4.3"}[ex], "example": ex}
+    )
+    if given is not None and not user:
+        described["constellation"] = given.name
+    speed: dict[str, Any] = (
+        {"c_ft_per_ns": c_ft}
+        if units is Units.report
+        else {"c_m_per_s": (FOOT_M if conv is Convention.report else C_M_PER_NS) * 1e9}
+    )
     meta = make_meta(
         "track-sat rms",
-        figure={"I": "4.2", "II": "4.3"}[ex],
-        example=ex,
+        **described,
         convention=conv.value,
         constants={"beta": p.beta, "tr": p.tr, "b": p.b, "tr3": p.tr3, "b3": p.b3, "source": p.source},
         r_sat_km=rs if src is ParamSource.geometry else None,
-        sigma_ns=cfg.sigma,
+        **{f"sigma_{tu}": in_unit(cfg.sigma, units, "time")},
         outage={
             "N": tl.outage_start,
             "M": tl.outage_length,
-            "satellites": "1,2,3",
+            "satellites": triplet,
             "after": "reinit" if tl.reinit_after_outage else "continue",
         },
         gain="steady" if cfg.steady_gain else "recursive",
-        c_ft_per_ns=c_ft,
+        **speed,
         rms="sqrt(sigma^2 tr_n + V_n b_n) in c = 1 units times c (eq 4.5.35, corrected); V_n by the exact recursion",
     )
+    if units is not Units.report or user:
+        meta["column_units"] = UNIT_TEXT[units]
+    if isinstance(given, ReceiverGeometry):
+        meta["aircraft"] = list(given.aircraft)
+        meta["earth"] = EARTH_WGS84
     series: list[tuple[str, np.ndarray, dict[str, object]]] = [
-        (f"tracking, σ0 = {s:g} ns", curves.rms_tracking[i], {"color": f"C{i}", "lw": 1.4})
+        (f"tracking, σ0 = {s:g} ns", curves.rms_tracking[i] * lf, {"color": f"C{i}", "lw": 1.4})
         for i, s in enumerate(curves.sigma0)
     ]
-    series.append(("least squares (no tracking)", curves.rms_ls[0], {"color": "k", "ls": "--", "lw": 1}))
+    series.append(("least squares (no tracking)", curves.rms_ls[0] * lf, {"color": "k", "ls": "--", "lw": 1}))
+    what = given.name if user and given is not None else f"Example {ex}"
     figure = {
         "n": curves.n,
         "series": series,
         "outage": (tl.outage_start, tl.outage_start + tl.outage_length),
-        "title": f"Fig 4.{2 if ex == 'I' else 3}: RMS error, Example {ex} (σ = {cfg.sigma:g} ns, "
-        f"{conv.value} convention)",
+        "title": (f"Fig 4.{2 if ex == 'I' else 3}: " if not user else "")
+        + f"RMS error, {what} (σ = {cfg.sigma:g} ns, {conv.value} convention)",
     }
-    summary = (
-        f"track-sat rms: Example {ex}, {conv.value}; e0 = {curves.rms_tracking[0, 0]:.0f} ft; "
-        + ", ".join(
-            f"σ0={s:g}: eN = {curves.rms_tracking[i, min(tl.outage_start, tl.epochs)]:.0f} ft"
-            for i, s in enumerate(curves.sigma0)
-        )
+    if units is not Units.report:
+        figure["unit"] = lu
+
+    def show(v: float) -> str:
+        return f"{v:.0f} ft" if units is Units.report else f"{v * lf:.4g} {lu}"
+
+    summary = f"track-sat rms: {what}, {conv.value}; e0 = {show(curves.rms_tracking[0, 0])}; " + ", ".join(
+        f"σ0={s:g}: eN = {show(curves.rms_tracking[i, min(tl.outage_start, tl.epochs)])}"
+        for i, s in enumerate(curves.sigma0)
     )
     return Report(Table(columns=cols, rows=rows, meta=meta), summary, figure)
 
@@ -906,8 +1370,12 @@ class TrackSatJob:
     on neither the chunking (default :func:`runs_per_task`) nor where the tasks run.
 
     Attributes:
-        constellation: the geometry (a snapshot; the satellites do not move). It must be observable
-            (:meth:`Constellation.check`).
+        constellation: the geometry: the report's form (a snapshot; the satellites do not move) or a
+            user's receivers (:class:`ReceiverGeometry`, whose positions may change from epoch to epoch:
+            update n uses them at n τ̄, and the receivers present there). It must be observable
+            (:meth:`Constellation.check`), and, for receivers that move, at every update: at least 4
+            receivers at update 0 and at a restart, at least 3 elsewhere (3: no clock measurement, as in the
+            report's outage), the outage triplet present through the outage.
         sigma: TOA error σ [ns], Gaussian, in (0, :data:`MAX_NS`].
         sigma0: clock scale σ0 [ns] (σ1 = σ2 = σ0) of the true clock and of the model the trackers assume,
             in [0, :data:`MAX_NS`].
@@ -917,12 +1385,15 @@ class TrackSatJob:
         estimators: distinct names among :data:`ESTIMATORS`: ``none`` (least squares each epoch),
             ``report`` (the report's tracker), ``kf2`` (a phase + rate Kalman filter, our addition).
         velocity_enu: constant aircraft velocity [m/s] east, north, up, at most :data:`MAX_SPEED_MPS`; the
-            track must stay in [−1, 100] km altitude and see every satellite.
+            track must stay in [−1, 100] km altitude and see every satellite (every receiver: the line of
+            sight clears the WGS-84 ellipsoid, at every update).
         runs: Monte Carlo runs, 1 to :data:`MAX_RUNS`, with runs × (epochs + 1) ≤ :data:`MAX_WORK`.
         seed: root seed (≥ 0).
         steady_gain: the report tracker's constant gain ψ(α) from n = 1 (the report's shortcut).
         tau_bar_s: pulse interval τ̄ [s] (> 0; only moves the aircraft between pulses).
-        init_offset_km: per-axis standard deviation of the initial guess p*_0 [km] (≥ 0).
+        init_offset_km: per-axis standard deviation of the initial guess p*_0 [km] (≥ 0); None: 50 km for the
+            report's form, and for a user's receivers 50 km or a tenth of the nearest receiver's range if less
+            (assumed: a start well inside the basin of the true fix, not the mirror fix below a ground network).
         relinearise: extra linearisations per epoch at the new estimate (same gain), an integer ≥ 0.
         chunk: runs per task (None: :func:`runs_per_task`, from the cost model).
         chol: the Cholesky factor of a ρ < 1 clock's covariance (:func:`clock_factor`), computed once
@@ -945,10 +1416,11 @@ class TrackSatJob:
     seed: int = DEFAULT_SEED
     steady_gain: bool = False
     tau_bar_s: float = 1.0
-    init_offset_km: float = 50.0
+    init_offset_km: float | None = None
     relinearise: int = 2
     chunk: int | None = None
     chol: np.ndarray | None = field(init=False, default=None, repr=False, compare=False)
+    sets: EpochSets | None = field(init=False, default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         in_range("sigma", self.sigma, 0.0, MAX_NS, lo_open=True, unit="ns")
@@ -977,6 +1449,8 @@ class TrackSatJob:
             )
         integer("seed", self.seed, 0)
         in_range("tau_bar_s", self.tau_bar_s, 0.0, lo_open=True, unit="s")
+        if self.init_offset_km is None:
+            object.__setattr__(self, "init_offset_km", default_init_offset_km(self.constellation))
         in_range("init_offset_km", self.init_offset_km, 0.0, unit="km")
         integer("relinearise", self.relinearise, 0)
         if self.chunk is not None:
@@ -985,7 +1459,9 @@ class TrackSatJob:
             raise ConfigError(
                 "rho", self.rho, f"< 1 clocks are drawn by Cholesky: at most {MAX_CHOLESKY_EPOCHS} updates"
             )
-        self.constellation.check()
+        if not _moving(self):
+            self.constellation.check()  # receivers that move: every update is checked by check_track
+        object.__setattr__(self, "sets", epoch_sets(self))
         check_track(self)
         object.__setattr__(self, "chol", clock_factor(self))
 
@@ -1008,12 +1484,19 @@ class TrackSatJob:
     def identity(self) -> dict[str, Any]:
         """Everything the result depends on, for a checkpoint's manifest."""
         con, tl = self.constellation, self.timeline
+        if isinstance(con, Constellation):
+            where: dict[str, Any] = {"lat_deg": list(con.lat_deg), "lon_deg": list(con.lon_deg)}
+        else:
+            import hashlib
+
+            digest = hashlib.sha256(np.ascontiguousarray(con.positions_m).tobytes())
+            digest.update(np.ascontiguousarray(con.times_s).tobytes())
+            where = {"receivers": list(con.labels), "receivers_sha256": digest.hexdigest()}
         return {
             "constellation": con.name,
-            "lat_deg": list(con.lat_deg),
-            "lon_deg": list(con.lon_deg),
+            **where,
             "aircraft": list(con.aircraft),
-            "r_sat_km": con.r_sat_km,
+            "r_sat_km": con.r_sat_km if isinstance(con, Constellation) else None,
             "sigma_ns": self.sigma,
             "sigma0_ns": self.sigma0,
             "rho": self.rho,
@@ -1047,22 +1530,110 @@ class SimulationResult:
     runs: int
 
 
+def default_init_offset_km(con: Geometry) -> float:
+    """The initial guess's per-axis spread [km] (:attr:`TrackSatJob.init_offset_km`): 50 km; for a user's
+    receivers at most a tenth of the nearest receiver's range (assumed)."""
+    if isinstance(con, Constellation):
+        return 50.0
+    nearest = float(np.nanmin(np.linalg.norm(con.sats_km() - con.aircraft_km(), axis=-1)))
+    return min(50.0, 0.1 * nearest)
+
+
+@dataclass(frozen=True)
+class EpochSets:
+    """The receivers each update uses: ``subsets[of[n]]`` (indices into the geometry's receivers, the outage
+    triplet in its own order), and ``blind[n]`` where they are three (no clock measurement)."""
+
+    subsets: tuple[np.ndarray, ...]
+    of: np.ndarray
+    blind: np.ndarray
+
+    def at(self, n: int) -> np.ndarray:
+        return self.subsets[int(self.of[n])]
+
+    def counts(self) -> np.ndarray:
+        """Receivers in use at each update."""
+        return np.array([len(s) for s in self.subsets], dtype=np.int64)[self.of]
+
+
+def _moving(job: TrackSatJob) -> bool:
+    return isinstance(job.constellation, ReceiverGeometry) and job.constellation.moving
+
+
+def epoch_sets(job: TrackSatJob) -> EpochSets:
+    """The receivers of each update: all (the report's form, a static table) or those present (a table
+    whose receivers change), the outage triplet in the outage.
+
+    Raises:
+        ConfigError: naming ``constellation``: an update with fewer than 3 receivers, or fewer than 4 at
+            update 0 or at a restart, or the outage triplet incomplete in the outage.
+    """
+    con, tl = job.constellation, job.timeline
+    out = tl.outage()
+    trip = np.array(con.triplet)
+    if not _moving(job):
+        return EpochSets((np.arange(con.K), trip), out.astype(np.int64), out.copy())
+    assert isinstance(con, ReceiverGeometry)
+    _, present = con.track_m(tl.n * job.tau_bar_s)
+    absent_trip = out & ~present[:, trip].all(axis=-1)
+    if absent_trip.any():
+        n = int(np.flatnonzero(absent_trip)[0])
+        gone = [con.labels[k] for k in trip if not present[n, k]]
+        raise ConfigError(
+            "constellation",
+            con.name,
+            f"has no position for outage receiver(s) {', '.join(gone)} at update {n} (in the outage "
+            f"{tl.outage_start + 1}..{tl.outage_start + tl.outage_length}): choose other --outage-sats",
+        )
+    uniq, inv = np.unique(present, axis=0, return_inverse=True)
+    subsets = [np.flatnonzero(u) for u in uniq] + [trip]
+    of = np.where(out, len(uniq), inv.reshape(-1))
+    counts = np.array([len(x) for x in subsets])[of]
+    restart = tl.reinit()
+    for bad, need in ((counts < 3, 3), (restart & (counts < 4), 4)):
+        if bad.any():
+            n = int(np.flatnonzero(bad)[0])
+            here = ", ".join(con.labels[k] for k in subsets[of[n]]) or "none"
+            why = (
+                "a position needs 3" if need == 3 else "a least-squares start (update 0 or a restart) needs 4"
+            )
+            raise ConfigError(
+                "constellation",
+                con.name,
+                f"has {int(counts[n])} receiver(s) at update {n} (t = {n * job.tau_bar_s:g} s: {here}): {why}",
+            )
+    return EpochSets(tuple(subsets), of.astype(np.int64), counts == 3)
+
+
 def _truth_light_ns(job: TrackSatJob) -> tuple[np.ndarray, np.ndarray]:
-    """Satellites (K, 3) and aircraft track (E, 3) in light-ns."""
+    """Receivers (E, K, 3) at each update (NaN where absent) and aircraft track (E, 3), in light-ns."""
     con = job.constellation
     to_lns = 1e3 / C_M_PER_NS
-    sats = con.sats_km() * to_lns
-    p0 = con.aircraft_km() * to_lns
-    v = np.asarray(job.velocity_enu) @ enu_basis(con.aircraft[0], con.aircraft[1]) / C_M_PER_NS  # m/s → lns/s
     n = job.timeline.n
-    return sats, p0 + (n * job.tau_bar_s)[:, None] * v
+    if isinstance(con, Constellation):
+        sats = con.sats_km() * to_lns
+        basis = enu_basis(con.aircraft[0], con.aircraft[1])
+        sats_e = np.broadcast_to(sats, (len(n), *sats.shape))
+    else:
+        basis = con.enu()
+        sats_e = con.track_m(n * job.tau_bar_s)[0] / 1e3 * to_lns
+    p0 = con.aircraft_km() * to_lns
+    v = np.asarray(job.velocity_enu) @ basis / C_M_PER_NS  # m/s → lns/s
+    return sats_e, p0 + (n * job.tau_bar_s)[:, None] * v
 
 
 def check_track(job: TrackSatJob) -> None:
     """The moving aircraft stays between −1 and 100 km altitude and sees every satellite to the end
-    (:class:`ConfigError` naming ``velocity_enu``)."""
-    sats, truth = _truth_light_ns(job)
-    alt_km = np.linalg.norm(truth, axis=-1) * C_M_PER_NS / 1e3 - R_EARTH_KM
+    (:class:`ConfigError` naming ``velocity_enu``); a user's receivers: every receiver in use sees the
+    aircraft at every update, and each update's receivers fix the position (naming ``constellation``
+    where the receivers move, else ``velocity_enu``)."""
+    con = job.constellation
+    sats_e, truth = _truth_light_ns(job)
+    if isinstance(con, Constellation):
+        sats = sats_e[0]
+        alt_km = np.linalg.norm(truth, axis=-1) * C_M_PER_NS / 1e3 - R_EARTH_KM
+    else:
+        alt_km = ecef_to_geodetic(truth * C_M_PER_NS)[2] / 1e3
     if alt_km.min() < MIN_ALT_KM or alt_km.max() > MAX_ALT_KM:
         raise ConfigError(
             "velocity_enu",
@@ -1070,17 +1641,67 @@ def check_track(job: TrackSatJob) -> None:
             f"takes the aircraft out of [{MIN_ALT_KM:g}, {MAX_ALT_KM:g}] km altitude "
             f"(from {alt_km.min():.3g} to {alt_km.max():.3g} km)",
         )
-    up_last = truth[-1] / np.linalg.norm(truth[-1])
-    if np.any(zenith_deg(directions(sats, truth[-1])[0], up_last) > 90.0):
+    if isinstance(con, Constellation):
+        up_last = truth[-1] / np.linalg.norm(truth[-1])
+        if np.any(zenith_deg(directions(sats, truth[-1])[0], up_last) > 90.0):
+            raise ConfigError(
+                "velocity_enu", tuple(job.velocity_enu), "lets a satellite set below the aircraft's horizon"
+            )
+        return
+    assert job.sets is not None
+    field_name = "constellation" if con.moving else "velocity_enu"
+    value = con.name if con.moving else tuple(job.velocity_enu)
+    sets = job.sets
+    first: tuple[int, int] | None = None  # (update, receiver) of the first lost line of sight
+    for j, idx in enumerate(sets.subsets):
+        ns = np.flatnonzero(sets.of == j)
+        if not ns.size:
+            continue
+        blocked = line_of_sight_blocked(sats_e[ns][:, idx] * C_M_PER_NS, truth[ns] * C_M_PER_NS)
+        if blocked.any():
+            i, k = (int(v) for v in np.argwhere(blocked)[0])
+            if first is None or ns[i] < first[0]:
+                first = (int(ns[i]), int(idx[k]))
+    if first is not None:
         raise ConfigError(
-            "velocity_enu", tuple(job.velocity_enu), "lets a satellite set below the aircraft's horizon"
+            field_name,
+            value,
+            f"lets receiver {con.labels[first[1]]} lose sight of the aircraft at update {first[0]}: the line of "
+            "sight passes through the Earth",
         )
+    for j, idx in enumerate(sets.subsets):
+        ns = np.flatnonzero(sets.of == j)
+        if not ns.size:
+            continue
+        S = sats_e[ns][:, idx]
+        if not (con.moving or any(job.velocity_enu)):
+            continue
+        m = metrics(directions(S, truth[ns])[0])
+        bad = ~np.isfinite(m.cond) | (m.cond > COND_LIMIT)
+        if len(idx) > 3:
+            bad |= m.beta < BETA_REL_TOL * m.K
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            why = (
+                "their directions are coplanar or repeated"
+                if not np.isfinite(m.cond[i]) or m.cond[i] > COND_LIMIT
+                else "the ones vector lies in the span of their directions (clock and position inseparable)"
+            )
+            raise ConfigError(
+                field_name,
+                value,
+                f"fixes no position at update {int(ns[i])}: receivers {','.join(con.labels[k] for k in idx)} "
+                f"give an infinite GDOP ({why})",
+            )
 
 
 def analytic_curve(job: TrackSatJob) -> tuple[np.ndarray, np.ndarray]:
-    """The recursion's RMS [ft, exact c] for the configured tracker at the true (initial) geometry,
-    and the no-tracking LS value (NaN in an outage)."""
+    """The recursion's RMS [ft, exact c] for the configured tracker, and the no-tracking LS value (NaN
+    without a clock measurement): at the true (initial) geometry, or, where a user's receivers move, at
+    each update's true geometry (β_n, tr_n, b_n of the receivers in use; the recursion takes any β_n)."""
     con = job.constellation
+    if _moving(job):
+        return _analytic_moving(job)
     m_all, m3 = metrics(con.directions()), metrics(con.directions(con.triplet))
     params = ConstellationParams(
         float(m_all.beta), float(m_all.tr), float(m_all.b), float(m3.tr), float(m3.b), "simulation geometry"
@@ -1089,6 +1710,32 @@ def analytic_curve(job: TrackSatJob) -> tuple[np.ndarray, np.ndarray]:
         params, job.sigma, [job.sigma0], job.timeline, C_FT_PER_NS_EXACT, steady_gain=job.steady_gain
     )
     return c.rms_tracking[0], c.rms_ls[0]
+
+
+def _analytic_moving(job: TrackSatJob) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`analytic_curve` at each update's geometry (eqs 4.5.18–4.5.27 with β_n, and 4.5.35)."""
+    assert job.sets is not None
+    sets, tl = job.sets, job.timeline
+    sats_e, truth = _truth_light_ns(job)
+    E = tl.epochs + 1
+    beta, tr, b = np.zeros(E), np.zeros(E), np.zeros(E)
+    for j, idx in enumerate(sets.subsets):
+        ns = np.flatnonzero(sets.of == j)
+        if ns.size:
+            m = metrics(directions(sats_e[ns][:, idx], truth[ns])[0])
+            beta[ns], tr[ns], b[ns] = m.beta, m.tr, m.b
+    update = ~sets.blind
+    g = None
+    if job.steady_gain:
+        g = psi(
+            (8.0 / 27.0) * job.sigma0**2 * float(metrics(job.constellation.directions()).beta) / job.sigma**2
+        )
+    rec = clock_error_recursion(job.sigma, job.sigma0, beta, update, reinit=tl.reinit(), gain=g)
+    c = C_FT_PER_NS_EXACT
+    rms = c * np.sqrt(job.sigma**2 * tr + rec.V * b)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ls = np.where(update, c * job.sigma * np.sqrt(tr + b / np.where(update, beta, 1.0)), np.nan)
+    return rms, ls
 
 
 def _draws(job: TrackSatJob, runs: range, K: int) -> dict[str, np.ndarray]:
@@ -1148,10 +1795,12 @@ def simulate_runs(job: TrackSatJob, runs: range) -> dict[str, np.ndarray]:
     con = job.constellation
     tl = job.timeline
     E = tl.epochs + 1
-    out, reinit = tl.outage(), tl.reinit()
+    reinit = tl.reinit()
+    assert job.sets is not None
+    sets = job.sets
+    out = sets.blind  # three receivers: no clock measurement (the outage, or a table's epoch with three)
     sats, truth = _truth_light_ns(job)
     K = con.K
-    idx_all, idx3 = np.arange(K), np.array(con.triplet)
     g_steady = None
     if job.steady_gain:
         g_steady = np.asarray(
@@ -1168,8 +1817,8 @@ def simulate_runs(job: TrackSatJob, runs: range) -> dict[str, np.ndarray]:
         trackers["kf2"] = RateKalmanClock(job.sigma, job.sigma0)
     p_hat: dict[str, np.ndarray] = {}
     for n in range(E):
-        idx = idx3 if out[n] else idx_all
-        S = sats[idx]
+        idx = sets.at(n)
+        S = sats[n][idx]
         rng_true = np.linalg.norm(truth[n] - S, axis=-1)
         T = d["tau0"][:, None] + d["x"][:, n, None] + rng_true[None, :] + d["eps"][:, n, idx]
         est_p: dict[str, np.ndarray] = {}
@@ -1210,7 +1859,7 @@ def simulate_runs(job: TrackSatJob, runs: range) -> dict[str, np.ndarray]:
 def combine_runs(job: TrackSatJob, parts: Sequence[dict[str, np.ndarray]]) -> SimulationResult:
     """The reduction: the tasks' per-run errors stacked in task order (= run order), then mean and
     standard error over all runs at once — the same numbers whatever the tasks or workers."""
-    con, tl = job.constellation, job.timeline
+    tl = job.timeline
     E = tl.epochs + 1
     runs = sum(len(next(iter(p.values()))) for p in parts)
     rms, se = {}, {}
@@ -1222,8 +1871,8 @@ def combine_runs(job: TrackSatJob, parts: Sequence[dict[str, np.ndarray]]) -> Si
         with np.errstate(invalid="ignore", divide="ignore"):
             se[e] = np.sqrt(np.maximum(var, 0.0) / runs) / (2.0 * rms[e])  # delta method
     ana, ls = analytic_curve(job)
-    Kn = np.where(tl.outage(), 3, con.K)
-    return SimulationResult(tl.n, Kn, rms, se, ana, ls, runs)
+    assert job.sets is not None
+    return SimulationResult(tl.n, job.sets.counts(), rms, se, ana, ls, runs)
 
 
 ESTIMATOR_STYLES = {
@@ -1233,35 +1882,62 @@ ESTIMATOR_STYLES = {
 }
 
 
-def simulation_report(job: TrackSatJob, res: SimulationResult, *, example: str) -> Report:
+def simulation_report(
+    job: TrackSatJob, res: SimulationResult, *, example: str | None = None, units: Units | str = Units.report
+) -> Report:
     """The Monte Carlo's table (RMS error and its standard error per estimator and update, beside the
     analytic recursion), the largest |z| of the report's tracker against the recursion where the
-    recursion applies (ρ = 1, a static aircraft), and the figure with ±2 SE bands."""
+    recursion applies (ρ = 1, a static aircraft), and the figure with ±2 SE bands. ``example`` names a
+    Table 4.1 constellation (None: the geometry's own name, a user's receivers); ``units`` names the
+    columns (:class:`Units`)."""
+    one_of("units", units, tuple(Units))
+    units = Units(units)
+    lu, lf = unit_suffix(units, "length"), unit_factor(units, "length")
+    tu = unit_suffix(units, "time")
     names, tl = job.estimators, job.timeline
     rows = []
     for j, n in enumerate(res.n):
-        row: list[object] = [int(n), int(res.K[j]), float(res.analytic_report[j])]
-        ls = float(res.analytic_ls[j])
+        row: list[object] = [int(n), int(res.K[j]), float(res.analytic_report[j]) * lf]
+        ls = float(res.analytic_ls[j]) * lf
         row.append(None if math.isnan(ls) else ls)
         for e in names:
-            r, s = float(res.rms[e][j]), float(res.se[e][j])
+            r, s = float(res.rms[e][j]) * lf, float(res.se[e][j]) * lf
             row += [None if math.isnan(r) else r, None if math.isnan(s) else s]
         rows.append(tuple(row))
-    per_estimator = tuple(c for e in names for c in (f"rms_{e}_ft", f"se_{e}_ft"))
-    cols = ("n", "K", "analytic_report_ft", "analytic_no_tracking_ft", *per_estimator)
+    per_estimator = tuple(c for e in names for c in (f"rms_{e}_{lu}", f"se_{e}_{lu}"))
+    cols = ("n", "K", f"analytic_report_{lu}", f"analytic_no_tracking_{lu}", *per_estimator)
+    moving = _moving(job)
     z = None
-    if "report" in names and job.rho == 1.0 and job.runs > 1 and not any(job.velocity_enu):
+    if "report" in names and job.rho == 1.0 and job.runs > 1 and (moving or not any(job.velocity_enu)):
         with np.errstate(all="ignore"):
             zz = np.abs((res.rms["report"] - res.analytic_report) / res.se["report"])
         z = float(np.max(zz[np.isfinite(zz)])) if np.isfinite(zz).any() else None
     con = job.constellation
+    user = isinstance(con, ReceiverGeometry) or bool(con.provenance)
+    described: dict[str, Any] = {"receivers": con.name, **con.provenance} if user else {"example": example}
+    if isinstance(con, ReceiverGeometry):
+        described |= {"aircraft": list(con.aircraft), "earth": EARTH_WGS84}
+    if moving:
+        described["receivers_motion"] = (
+            "positions at update n (t = n tau_bar) interpolated linearly between the table's epochs; a "
+            "receiver is used where it is at both"
+        )
+    analytic = (
+        "the recursion for a rho = 1 clock at each update's true geometry (the receivers in use at the true "
+        "aircraft position): a reference, not a prediction, when --rho < 1"
+        if moving
+        else "the recursion for a rho = 1 clock at the initial (static) geometry: a reference, not a "
+        "prediction, when --rho < 1 or the aircraft moves"
+    )
     meta = make_meta(
         "track-sat simulate",
-        example=example,
-        r_sat_km=con.r_sat_km,
+        **described,
+        r_sat_km=con.r_sat_km if isinstance(con, Constellation) else None,
         convention="corrected (physical simulation: exact c, b3 from the geometry)",
-        sigma_ns=job.sigma,
-        sigma0_ns=job.sigma0,
+        **{
+            f"sigma_{tu}": in_unit(job.sigma, units, "time"),
+            f"sigma0_{tu}": in_unit(job.sigma0, units, "time"),
+        },
         rho=job.rho,
         runs=job.runs,
         seed=job.seed,
@@ -1276,28 +1952,36 @@ def simulation_report(job: TrackSatJob, res: SimulationResult, *, example: str) 
         gain="steady" if job.steady_gain else "recursive",
         velocity_enu_mps=list(job.velocity_enu),
         relinearisations_per_update=job.relinearise + 1,
-        initial_guess="truth + N(0, (50 km)^2) per axis; Gauss-Newton least squares",
+        initial_guess=f"truth + N(0, ({job.init_offset_km:g} km)^2) per axis; Gauss-Newton least squares",
         tau0="uniform +-1 ms, unknown to the estimators",
         se="standard error of the RMS by the delta method: sd(e^2)/(2 RMS sqrt(runs))",
         max_abs_z_report_vs_analytic=z,
-        analytic="the recursion for a rho = 1 clock at the initial (static) geometry: a reference, not a "
-        "prediction, when --rho < 1 or the aircraft moves",
+        analytic=analytic,
     )
+    if units is not Units.report or user:
+        meta["column_units"] = UNIT_TEXT[units]
     series: list[tuple[str, np.ndarray, dict[str, object]]] = [
-        ("analytic recursion (report's tracker)", res.analytic_report, {"color": "0.3", "ls": "--", "lw": 1})
+        (
+            "analytic recursion (report's tracker)",
+            res.analytic_report * lf,
+            {"color": "0.3", "ls": "--", "lw": 1},
+        )
     ]
     bands = []
     for e in names:
         label, color = ESTIMATOR_STYLES[e]
-        series.append((f"Monte Carlo: {label}", res.rms[e], {"color": color, "lw": 1.2}))
-        bands.append((res.rms[e] - 2 * res.se[e], res.rms[e] + 2 * res.se[e], color))
+        series.append((f"Monte Carlo: {label}", res.rms[e] * lf, {"color": color, "lw": 1.2}))
+        bands.append(((res.rms[e] - 2 * res.se[e]) * lf, (res.rms[e] + 2 * res.se[e]) * lf, color))
+    what = con.name if user else f"Example {example}"
     figure = {
         "n": res.n,
         "series": series,
         "outage": (tl.outage_start, tl.outage_start + tl.outage_length),
         "bands": bands,
-        "title": f"Example {example}: σ0 = {job.sigma0:g} ns, ρ = {job.rho:g}, {job.runs} runs (bands ±2 SE)",
+        "title": f"{what}: σ0 = {job.sigma0:g} ns, ρ = {job.rho:g}, {job.runs} runs (bands ±2 SE)",
     }
+    if units is not Units.report:
+        figure["unit"] = lu
     summary = f"track-sat simulate: {job.runs} runs" + (
         f"; report tracker vs analytic recursion: max |z| = {z:.2f} over {len(res.n)} updates"
         if z is not None
@@ -1307,15 +1991,20 @@ def simulation_report(job: TrackSatJob, res: SimulationResult, *, example: str) 
 
 
 __all__ = [
+    "EARTH_WGS84",
     "ESTIMATORS",
     "EXAMPLES",
     "PARAMS",
+    "UNIT_NAMES",
     "Constellation",
     "ConstellationParams",
     "Convention",
+    "EpochSets",
+    "Geometry",
     "Orbit",
     "ParamSource",
     "PsiConfig",
+    "ReceiverGeometry",
     "Report",
     "RmsConfig",
     "RmsCurves",
@@ -1323,6 +2012,7 @@ __all__ = [
     "TableConfig",
     "Timeline",
     "TrackSatJob",
+    "Units",
     "analytic_curve",
     "c_ft_per_ns",
     "check_track",
@@ -1330,10 +2020,17 @@ __all__ = [
     "combine_runs",
     "constellation_params",
     "constellation_report",
+    "default_init_offset_km",
     "default_rsat_km",
+    "epoch_sets",
     "example",
     "fit_orbit_radius",
+    "geometry_constants",
+    "geometry_label",
     "geometry_params",
+    "in_unit",
+    "in_units",
+    "line_of_sight_blocked",
     "param_source",
     "psi_report",
     "rms_curves",
@@ -1346,4 +2043,6 @@ __all__ = [
     "table_4_3_printed",
     "table_report",
     "time_to_exceed",
+    "unit_factor",
+    "unit_suffix",
 ]
