@@ -13,5 +13,5 @@ def test_the_python_example_runs():
     for block in blocks:
         exec(compile(block, str(README), "exec"), scope)
     scores = scope["scores"]
-    assert len(scores) == 1 and set(scores[0]) == {"ckf", "dkf", "lkf"}
+    assert len(scores) == 1 and set(scores[0]) == {"ckf", "fkf", "lkf"}
     assert all(v.shape == (20, 30) for v in scores[0].values())

@@ -1,8 +1,8 @@
 """Track-existence SLRT (Govaers, *Evaluation of Distributed Detection Methods for Agile Targets*, Fraunhofer
 FKIE slides) against an independent loop-based oracle (tests/detection/slrt_oracle.py), quadrature of the
 product of Gaussians, exactness properties (one sensor; linear sensors without clutter), the Monte Carlo
-behaviour the slides show (with statistical tolerances), the registry of fusion methods and the checks of
-every configuration field."""
+behaviour the slides show (with statistical tolerances) and the checks of every configuration field (the
+registry of fusion methods: tests/detection/test_fusion_methods.py)."""
 
 import math
 
@@ -12,10 +12,7 @@ import pytest
 from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.sprt import CONFIRM, DELETE, UNDECIDED, first_crossing, wald_thresholds
 from motionsig_cli.detection.track_existence import (
-    FUSION_METHODS,
-    METHODS,
     FusionOptions,
-    ScanData,
     TrackExistenceModel,
     check_methods,
     log_product_constant,
@@ -48,14 +45,15 @@ def oracle_scores(sc, gen, run):
     ],
 )
 def test_vectorised_methods_equal_the_loop_oracle(kw):
-    """CKF, DKF and LKF (batched over runs, PDA shortcut) equal the oracle (one run at a time, explicit
-    components, moment matching by the sum) to 1e-9 relative, with clutter, misses and wrapped bearings."""
+    """CKF, FKF and LKF (batched over runs, PDA shortcut) equal the oracle (one run at a time, explicit
+    components, moment matching by the sum; its "DKF" is the federated filter) to 1e-9 relative, with
+    clutter, misses and wrapped bearings."""
     sc = slrt.SlrtScenario(scans=12, **kw)
     out, gen = slrt.run(sc, 4, 77)
     for r in range(4):
         o = oracle_scores(sc, gen, r)
-        for m in ("ckf", "dkf", "lkf"):
-            np.testing.assert_allclose(out[m][r], o[m.upper()], rtol=1e-9, atol=1e-7)
+        for m, key in (("ckf", "CKF"), ("fkf", "DKF"), ("lkf", "LKF")):
+            np.testing.assert_allclose(out[m][r], o[key], rtol=1e-9, atol=1e-7)
 
 
 @pytest.mark.parametrize("dim", [1, 2])
@@ -92,24 +90,26 @@ def test_product_constant_four_states_order_invariant_and_single_is_zero():
 
 
 def test_p6_one_sensor_all_methods_identical():
-    """P6: with one sensor DKF = CKF = LKF (c ≡ 1, relaxed Q = Q) to 1e-12."""
+    """P6: with one sensor FKF = CKF = LKF (c ≡ 1, relaxed Q = Q) to 1e-12."""
     sc = slrt.SlrtScenario(n_sensors=1, scans=20)
     out, _ = slrt.run(sc, 6, 5)
-    np.testing.assert_allclose(out["dkf"], out["ckf"], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(out["fkf"], out["ckf"], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(out["lkf"], out["ckf"], rtol=1e-12, atol=1e-12)
 
 
 def test_p7_first_scan_exact_and_gap_afterwards():
-    """P7: linear Cartesian sensors, p_D = 1, no clutter, consistent initialisation: DKF's first-scan
-    log Λ equals CKF's to 1e-9. With range–bearing sensors (different linearisations) DKF is an
-    approximation after that: the gap is measured (and reported in the notebook), not zero."""
+    """P7: linear Cartesian sensors, p_D = 1, no clutter, consistent initialisation: FKF's first-scan
+    log Λ equals CKF's to 1e-9 (and the exact DKF's every scan). With range–bearing sensors (different
+    linearisations) FKF is an approximation after that: the gap is measured (and reported in the
+    notebook), not zero."""
     kw = dict(pd_true=1.0, pd_filter=1.0, clutter_rate=0.0, scans=10)
-    out, _ = slrt.run(slrt.SlrtScenario(meas_model="cartesian", **kw), 5, 9)
-    np.testing.assert_allclose(out["dkf"][:, 0], out["ckf"][:, 0], rtol=1e-9)
-    # identical linear sensors: the local covariances stay equal, so DKF = CKF at every scan (oracle finding)
+    out, _ = slrt.run(slrt.SlrtScenario(meas_model="cartesian", **kw), 5, 9, ("ckf", "fkf", "dkf"))
+    np.testing.assert_allclose(out["fkf"][:, 0], out["ckf"][:, 0], rtol=1e-9)
+    # identical linear sensors: the local covariances stay equal, so FKF = CKF at every scan (oracle finding)
+    np.testing.assert_allclose(out["fkf"], out["ckf"], rtol=1e-9)
     np.testing.assert_allclose(out["dkf"], out["ckf"], rtol=1e-9)
     out, _ = slrt.run(slrt.SlrtScenario(**kw), 5, 9)
-    gap = np.abs(out["dkf"] - out["ckf"])[:, -1]
+    gap = np.abs(out["fkf"] - out["ckf"])[:, -1]
     assert np.all(gap > 1e-6) and np.all(gap < 0.05 * np.abs(out["ckf"][:, -1]))
 
 
@@ -123,21 +123,21 @@ def default_runs():
     return res
 
 
-def test_r7_r8_dkf_close_to_ckf_and_far_above_lkf(default_runs):
+def test_r7_r8_fkf_close_to_ckf_and_far_above_lkf(default_runs):
     for pd, lo in ((0.9, 0.85), (0.5, 0.85), (0.2, 0.75)):
-        last = {m: default_runs[pd][m][:, -1].mean() for m in ("ckf", "dkf", "lkf")}
-        assert lo <= last["dkf"] / last["ckf"] <= 1.05
-        assert last["lkf"] <= 0.5 * last["dkf"]
+        last = {m: default_runs[pd][m][:, -1].mean() for m in ("ckf", "fkf", "lkf")}
+        assert lo <= last["fkf"] / last["ckf"] <= 1.05
+        assert last["lkf"] <= 0.5 * last["fkf"]
 
 
 def test_r9_no_target_drift(default_runs):
-    """With no target every mean score falls, is negative after 5 scans, and DKF, CKF ≤ LKF."""
+    """With no target every mean score falls, is negative after 5 scans, and FKF, CKF ≤ LKF."""
     r = default_runs["none"]
-    means = {m: r[m].mean(axis=0) for m in ("ckf", "dkf", "lkf")}
+    means = {m: r[m].mean(axis=0) for m in ("ckf", "fkf", "lkf")}
     for m, v in means.items():
         assert np.all(v[4:] < 0), m
         assert np.all(np.diff(v) < 0), m
-    assert means["dkf"][-1] <= means["lkf"][-1] and means["ckf"][-1] <= means["lkf"][-1]
+    assert means["fkf"][-1] <= means["lkf"][-1] and means["ckf"][-1] <= means["lkf"][-1]
 
 
 def test_r10_decisions_and_wald_bounds(default_runs):
@@ -150,13 +150,13 @@ def test_r10_decisions_and_wald_bounds(default_runs):
         return 3 * math.sqrt(p * (1 - p) / n)
 
     for pd, within in ((0.9, 5), (0.2, 15)):
-        for m in ("ckf", "dkf"):
+        for m in ("ckf", "fkf"):
             d = slrt.decisions(default_runs[pd][m], alpha, beta)
             ok = (d.decision == CONFIRM) & (d.time <= within)
             assert ok.mean() >= 0.9 - tol(0.9), (pd, m, ok.mean())
             missed = (d.decision == DELETE).mean()
             assert missed <= beta / (1 - alpha) + tol(beta / (1 - alpha))
-    for m in ("ckf", "dkf", "lkf"):
+    for m in ("ckf", "fkf", "lkf"):
         d = slrt.decisions(default_runs["none"][m], alpha, beta)
         assert (d.decision == CONFIRM).sum() == 0 and (d.decision == DELETE).mean() >= 0.95
 
@@ -195,7 +195,7 @@ def test_long_run_stays_finite():
     out, _ = slrt.run(slrt.SlrtScenario(scans=2000, target=True), 1, 3)
     for m, v in out.items():
         assert np.all(np.isfinite(v)), m
-    assert out["dkf"][0, -1] < -1e4
+    assert out["fkf"][0, -1] < -1e4
 
 
 def test_runs_are_independent_of_batch_size():
@@ -304,68 +304,6 @@ def test_fusion_options_and_method_names_are_checked():
     gen = slrt.generate(sc, range(1), 0)
     with pytest.raises(ConfigError, match="lkf_mean"):
         run_methods(sc.model(), gen.m0, gen.scans, lkf_mean="mean")
-
-
-# ------------------------------------------------------------------ the registry of fusion methods
-@pytest.fixture(scope="module")
-def small_batch():
-    """6 runs × 8 scans of three sensors in clutter, with misses."""
-    sc = slrt.SlrtScenario(n_sensors=3, scans=8, pd_true=0.7, pd_filter=0.7, clutter_rate=4.0)
-    return sc, slrt.generate(sc, range(6), 11)
-
-
-def test_the_registry_is_the_method_list():
-    assert METHODS == tuple(FUSION_METHODS) == ("ckf", "dkf", "lkf")
-
-
-@pytest.mark.parametrize("name", list(FUSION_METHODS))
-def test_each_method_is_described(name):
-    method = FUSION_METHODS[name]
-    assert method.abbreviation == name.upper()
-    assert "Kalman filter" in method.title and method.description
-    assert method.help.startswith(f"{name.upper()} = {method.title}: ")
-
-
-@pytest.mark.parametrize("name", list(FUSION_METHODS))
-@pytest.mark.parametrize("lkf_mean", ["lr", "log"])
-def test_each_method_scores_every_run_and_scan_finitely(name, lkf_mean, small_batch):
-    sc, gen = small_batch
-    out = FUSION_METHODS[name].score(sc.model(), gen.m0, gen.scans, FusionOptions(lkf_mean))
-    assert out.shape == (6, 8) and out.dtype == np.float64
-    assert np.all(np.isfinite(out))
-    np.testing.assert_array_equal(
-        out, run_methods(sc.model(), gen.m0, gen.scans, [name], lkf_mean=lkf_mean)[name]
-    )
-
-
-@pytest.mark.parametrize("name", list(FUSION_METHODS))
-def test_each_method_scores_runs_independently(name, small_batch):
-    """A run's score depends on that run's data only: the first 3 of a 6-run batch equal a 3-run batch."""
-    sc, gen = small_batch
-    model, options = sc.model(), FusionOptions()
-    part = [ScanData(tuple(z[:3] for z in s.Z), tuple(v[:3] for v in s.valid)) for s in gen.scans]
-    full = FUSION_METHODS[name].score(model, gen.m0, gen.scans, options)
-    np.testing.assert_allclose(
-        FUSION_METHODS[name].score(model, gen.m0[:3], part, options), full[:3], rtol=1e-12
-    )
-
-
-@pytest.mark.parametrize("name", list(FUSION_METHODS))
-def test_each_method_equals_the_centralised_filter_with_one_sensor(name):
-    """With one sensor there is nothing to fuse: every method is the centralised filter."""
-    sc = slrt.SlrtScenario(n_sensors=1, scans=10, clutter_rate=3.0)
-    gen = slrt.generate(sc, range(4), 2)
-    model, options = sc.model(), FusionOptions()
-    ckf = FUSION_METHODS["ckf"].score(model, gen.m0, gen.scans, options)
-    np.testing.assert_allclose(FUSION_METHODS[name].score(model, gen.m0, gen.scans, options), ckf, rtol=1e-12)
-
-
-@pytest.mark.parametrize("name", list(FUSION_METHODS))
-def test_each_method_falls_without_a_target(name):
-    sc = slrt.SlrtScenario(target=False, scans=10)
-    gen = slrt.generate(sc, range(20), 4)
-    out = FUSION_METHODS[name].score(sc.model(), gen.m0, gen.scans, FusionOptions())
-    assert np.all(np.diff(out.mean(axis=0)) < 0)
 
 
 def test_pd_one_without_measurements_is_impossible_not_nan():
