@@ -98,6 +98,7 @@ bench: $(DEV_STAMP)
 	$(BIN)/python benchmarks/bench_kf_bank.py
 	$(BIN)/python benchmarks/bench_ukf_bank.py
 	$(BIN)/python benchmarks/bench_imm.py
+	$(BIN)/python benchmarks/bench_slrt.py
 	$(BIN)/python benchmarks/bench_fft.py
 	$(BIN)/python benchmarks/bench_engine.py
 	$(BIN)/python benchmarks/bench_startup.py
@@ -109,6 +110,8 @@ reproduce: $(RUN_STAMP)
 	@mkdir -p results/seed001
 	$(BIN)/motionsig slrt --plot results/seed001/slrt.png --plot-scan results/seed001/scan.png -o results/seed001/slrt_curves.csv -q
 	$(BIN)/motionsig slrt --view decisions --runs 200 -o results/seed001/slrt_decisions.csv -q
+	$(BIN)/motionsig slrt --view study --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/seed001/slrt_study.csv -q
+	$(BIN)/motionsig slrt --view study --target-motion agile --filter-q 600 --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/seed001/slrt_study_agile_q600.csv -q
 	$(BIN)/python scripts/check_slrt_long_run.py | tee results/seed001/long_run.txt
 	@mkdir -p results/seed002
 	for p in literal turn90; do \

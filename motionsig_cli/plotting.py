@@ -218,7 +218,15 @@ def slrt_figure(panels: list[tuple[str, np.ndarray, dict[str, tuple[np.ndarray, 
     rows = (n + cols - 1) // cols
     fig = Figure(figsize=(6.2 * cols, 3.8 * rows), layout="constrained")
     axes = np.atleast_1d(fig.subplots(rows, cols, squeeze=False)).ravel()
-    colors = {"ckf": "C0", "dkf": "C3", "lkf": "C2"}
+    colors = {
+        "ckf": "C0",
+        "fkf": "C3",
+        "lkf": "C2",
+        "dkf": "C6",
+        "fkf-feedback": "C1",
+        "ldf": "C4",
+        "naive": "C5",
+    }
     for ax, (title, k, curves) in zip(axes, panels, strict=False):
         for name, (mean, lo, hi) in curves.items():
             c = colors.get(name, None)
@@ -642,4 +650,69 @@ def maneuver_record_figure(
         a.grid(alpha=0.3)
     if title:
         fig.suptitle(title, fontsize="medium")
+    return fig
+
+
+def ebpsk_waveform_figure(
+    t: np.ndarray,
+    x: np.ndarray,
+    y: np.ndarray,
+    bits: np.ndarray,
+    symbol_s: float,
+    f: np.ndarray,
+    h: np.ndarray,
+    f_if: float,
+    *,
+    title: str = "",
+) -> Figure:
+    """EBPSK (Yao, Teng & Wu's front end): the bits, the IF waveform, the impacting filter's output and
+    the filter's magnitude response |H(f)| with the carrier marked, stacked."""
+    fig = Figure(figsize=(8, 7), layout="constrained")
+    axes = fig.subplots(4, 1)
+    edges = np.arange(len(bits) + 1) * symbol_s * 1e9
+    axes[0].stairs(bits, edges, color="C0", baseline=None)
+    axes[0].set_ylabel("bit")
+    axes[0].set_ylim(-0.2, 1.2)
+    axes[1].plot(t * 1e9, x, color="C1", lw=0.8)
+    axes[1].set_ylabel("IF waveform x")
+    axes[2].plot(t * 1e9, y, color="C2", lw=0.8)
+    axes[2].set_ylabel("filter output y")
+    axes[2].set_xlabel("time t [ns]")
+    for ax in axes[:3]:
+        for e in edges:
+            ax.axvline(e, color="0.8", lw=0.5)
+        ax.set_xlim(edges[0], edges[-1])
+    mag = 20 * np.log10(np.maximum(np.abs(h), 1e-12))
+    axes[3].plot(f / 1e6, mag, color="C3")
+    axes[3].axvline(f_if / 1e6, color="k", ls=":", lw=0.8, label=f"f_if = {f_if / 1e6:g} MHz")
+    axes[3].set_ylim(max(-80.0, float(mag.min())), 3)
+    axes[3].set_xlabel("frequency f [MHz]")
+    axes[3].set_ylabel("|H(f)| [dB]")
+    axes[3].legend(fontsize="small", loc="lower right")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize="medium")
+    return fig
+
+
+def ebpsk_ber_figure(
+    ebn0_db: np.ndarray, ber: np.ndarray, se: np.ndarray, bound: np.ndarray, *, label: str = "", title: str = ""
+) -> Figure:
+    """BER of the EBPSK amplitude demodulator against E_b/N_0 (±2 SE bars; zero counts not drawn) beside
+    the coherent bound Q(√((1 − ρ) E_b/N_0))."""
+    fig = Figure(figsize=(7, 4.5), layout="constrained")
+    ax = fig.add_subplot()
+    ok = ber > 0
+    ax.errorbar(
+        ebn0_db[ok], ber[ok], yerr=2 * se[ok], marker="o", ms=4, capsize=2, label=label or "Monte Carlo"
+    )
+    ax.semilogy(ebn0_db, bound, "k--", lw=1, label=r"coherent bound $Q(\sqrt{(1-\rho)E_b/N_0})$")
+    ax.set_xlabel(r"$E_b/N_0$ [dB]")
+    ax.set_ylabel("bit error rate")
+    ax.set_yscale("log")
+    ax.grid(alpha=0.3, which="both")
+    ax.legend(fontsize="small")
+    if title:
+        ax.set_title(title, fontsize="medium")
     return fig

@@ -44,8 +44,17 @@ TITLES = {
     "bench_imm": "IMM and GLR tracker (the Monte Carlo of Yao, Teng & Wu)",
     "bench_engine": "Monte Carlo engine: 1 worker, 2 workers, Dask",
     "bench_startup": "Start-up of the command line",
+    "bench_slrt": "Track-existence fusion schemes (Govaers' slides)",
 }
-ORDER = ["bench_kf_bank", "bench_ukf_bank", "bench_fft", "bench_imm", "bench_engine", "bench_startup"]
+ORDER = [
+    "bench_kf_bank",
+    "bench_ukf_bank",
+    "bench_fft",
+    "bench_imm",
+    "bench_engine",
+    "bench_slrt",
+    "bench_startup",
+]
 
 Results = dict[str, tuple[list[str], list[dict[str, str]]]]
 

@@ -51,8 +51,8 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     "slrt": (
         "motionsig_cli.cli.slrt",
         "slrt",
-        "Sequential likelihood ratio for track existence from several radars: centralised (CKF), local (LKF) "
-        "and distributed (DKF) Kalman filter scores.",
+        "Sequential likelihood ratio for track existence from several radars: the confirmation schemes of "
+        "Govaers, Evaluation of Distributed Detection Methods for Agile Targets (Fraunhofer FKIE, slides).",
     ),
     "maneuver": (
         "motionsig_cli.cli.maneuver",

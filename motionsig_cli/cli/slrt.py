@@ -1,10 +1,14 @@
 """``motionsig slrt``: the sequential likelihood-ratio test for track existence from several radars, after
 Govaers, *Evaluation of Distributed Detection Methods for Agile Targets* (Fraunhofer FKIE, slides).
 
-The fusion methods (CKF, DKF, LKF: :data:`~motionsig_cli.detection.track_existence.FUSION_METHODS`) score
-the same Monte Carlo runs of target cases at several detection probabilities and a no-target case; the
-output is, per scan, the mean, median and 5–95 % band of log LR, or Wald's decisions. Every value is
-checked by the experiment (:class:`~motionsig_cli.experiments.slrt.SlrtStudy`), not here.
+The chosen fusion methods (:data:`~motionsig_cli.detection.track_existence.FUSION_METHODS`: the choices,
+help and options are read from there; default CKF, FKF, LKF) score the same Monte Carlo runs of target
+cases at several detection probabilities, for a constant-velocity or an agile target or both, and a
+no-target case; the output is, per scan, the mean, median and 5–95 % band of log LR, Wald's decisions, or
+the study's comparison (rates with standard errors against Wald's bounds, ASN). Every value is checked by
+the experiment (:class:`~motionsig_cli.experiments.slrt.SlrtStudy`), not here; the fusion options
+(``--gate-pg``, ``--feedback-every``, ``--ldf-prior``, ``--ldf-weights``, ``--lkf-mean``) are the fields of
+:class:`~motionsig_cli.detection.track_existence.FusionOptions`.
 
 With ``--input DETECTIONS --sensor-table SENSORS`` the methods score the user's own record instead
 (:mod:`motionsig_cli.experiments.slrt_record`: the files' format and rules); ``--view detections`` and
@@ -34,10 +38,12 @@ if TYPE_CHECKING:
 
 View = choices(
     "View",
-    "Output: per-scan log LR (statistics over runs), the SPRT decision table, or one simulated run's "
-    "detections or sensors as input files.",
+    "Output: per-scan log LR (statistics over runs), the SPRT decision table, the study's comparison "
+    "(rates with errors against Wald's bounds, ASN), or one simulated run's detections or sensors as input "
+    "files.",
     "curves",
     "decisions",
+    "study",
     "detections",
     "sensors",
 )
@@ -65,6 +71,19 @@ SIMULATION_ONLY = {
     "--scans": ("scans", "the record's scans"),
     "--runs": ("runs", "the record (one run)"),
     "--seed": ("seed", "the record (nothing is drawn)"),
+    "--target-motion": ("target_motion", "the record"),
+    "--turn-rate-deg": ("turn_rate_deg", "the record"),
+    "--turn-scans": ("turn_scans", "the record"),
+    "--accel": ("accel", "the record"),
+    "--accel-scans": ("accel_scans", "the record"),
+    "--filter-q": ("filter_q", "--q, the filters' psd"),
+}
+# the agile scenario's options (option → parameter): only with --target-motion agile (or cv,agile)
+AGILE_ONLY = {
+    "--turn-rate-deg": "turn_rate_deg",
+    "--turn-scans": "turn_scans",
+    "--accel": "accel",
+    "--accel-scans": "accel_scans",
 }
 INPUT_ONLY = {
     "--sensor-table": "sensor_table",
@@ -93,6 +112,7 @@ def _given(name: str) -> bool:
         "clutter_rate": "--clutter",
         "meas_model": "--meas",
         "sensor_columns": "--sensor-columns",
+        "motions": "--target-motion",
     },
 )
 def slrt(
@@ -117,7 +137,52 @@ def slrt(
     meas: Annotated[
         Meas, typer.Option("--meas", help="range-bearing (EKF) or cartesian (linear).")
     ] = Meas.range_bearing,
-    q: Annotated[float, typer.Option("--q", help="Acceleration psd q̃ [m²/s³].")] = 10.0,
+    q: Annotated[
+        float,
+        typer.Option(
+            "--q", help="Acceleration psd q̃ [m²/s³] of the target (and of the filters, unless --filter-q)."
+        ),
+    ] = 10.0,
+    filter_q: Annotated[
+        float | None,
+        typer.Option(
+            "--filter-q",
+            help="Acceleration psd the filters assume [m²/s³] (default: --q; an agile target needs more).",
+        ),
+    ] = None,
+    target_motion: Annotated[
+        str,
+        typer.Option(
+            "--target-motion",
+            help="cv (constant velocity + white-noise acceleration, the slides), agile (manoeuvres at "
+            "stated scans as well), or cv,agile: each p_D for both.",
+        ),
+    ] = "cv",
+    turn_rate_deg: Annotated[
+        str | None,
+        typer.Option(
+            "--turn-rate-deg",
+            help="Agile: coordinated-turn rate of each turn window [deg/s], > 0 left (default 9,-3: 2.5 g, "
+            "then 0.74 g).",
+        ),
+    ] = None,
+    turn_scans: Annotated[
+        str | None,
+        typer.Option("--turn-scans", help="Agile: the turn windows, first-last scan (default 1-10,19-28)."),
+    ] = None,
+    accel: Annotated[
+        str | None,
+        typer.Option(
+            "--accel",
+            help="Agile: longitudinal acceleration of each window [m/s²] along the velocity (default -5).",
+        ),
+    ] = None,
+    accel_scans: Annotated[
+        str | None,
+        typer.Option(
+            "--accel-scans", help="Agile: the acceleration windows, first-last scan (default 13-16; none)."
+        ),
+    ] = None,
     T: Annotated[
         float | None,
         typer.Option(
@@ -133,12 +198,35 @@ def slrt(
     lkf_mean: Annotated[
         LkfMean, typer.Option("--lkf-mean", help="LKF: mean of the likelihood ratios (slides) or of log LRs.")
     ] = LkfMean.lr,
+    gate_pg: Annotated[
+        float | None,
+        typer.Option(
+            "--gate-pg",
+            help="χ² validation gate probability P_G in (0, 1] for every local update (default: no gate).",
+        ),
+    ] = None,
+    feedback_every: Annotated[
+        int,
+        typer.Option(
+            "--feedback-every",
+            help="fkf-feedback: reset the local filters to the fused estimate after every N-th scan.",
+        ),
+    ] = 1,
+    ldf_prior: Annotated[
+        float,
+        typer.Option("--ldf-prior", help="ldf: prior existence probability P0 in (0, 1) (assumed 0.5)."),
+    ] = 0.5,
+    ldf_weights: Annotated[
+        str | None,
+        typer.Option("--ldf-weights", help="ldf: the sensors' weights, comma-separated (default: equal)."),
+    ] = None,
     view: Annotated[
         View,
         typer.Option(
             "--view",
-            help="curves (per scan) or decisions (SPRT table); detections or sensors: run 0 of the first case "
-            "as the files --input and --sensor-table read.",
+            help="curves (per scan), decisions (SPRT table) or study (rates with standard errors and exact "
+            "intervals against Wald's bounds, ASN, tracks lost); detections or sensors: run 0 of the first "
+            "case as the files --input and --sensor-table read.",
         ),
     ] = View.curves,
     stop: Annotated[
@@ -203,12 +291,18 @@ def slrt(
         ),
     ] = None,
 ) -> None:
-    """Sequential likelihood ratio for track existence from several radars: centralised (CKF), local (LKF)
-    and distributed (DKF) Kalman filter scores.
+    """Sequential likelihood ratio for track existence from several radars: the confirmation schemes of
+    Govaers, Evaluation of Distributed Detection Methods for Agile Targets (Fraunhofer FKIE, slides).
 
-    CKF: all measurements at one filter; DKF: here the federated relaxed-evolution approximation; LKF: one
-    filter per radar, their likelihood ratios averaged. After Govaers, Evaluation of Distributed Detection
-    Methods for Agile Targets (Fraunhofer FKIE, slides).
+    Centralised (ckf: all measurements at one filter), distributed (fkf: the federated relaxed-evolution
+    filter the slides derive for non-linear sensors; fkf-feedback: with the fusion centre's feedback; dkf:
+    the exact distributed Kalman filter, linear sensors with p_D = 1 and no clutter only), local (lkf: one
+    filter per radar, their likelihood ratios averaged) and decision-level (ldf: local decision fusion;
+    naive: local tracks accepted as confirmed). Default: ckf, fkf, lkf (the slides' curves).
+
+    The target flies at nearly constant velocity (the slides), or with --target-motion agile also turns and
+    accelerates at stated scans (assumed defaults: 9 deg/s over scans 1-10, 2.5 g; -5 m/s² over 13-16;
+    -3 deg/s over 19-28); --filter-q sets the filters' psd apart from the target's --q.
 
     With --input DETECTIONS --sensor-table SENSORS the methods score your own record: per track and scan,
     log LR and Wald's decision. Every sensor of the table scans at every scan; a sensor without a row at a
@@ -218,6 +312,7 @@ def slrt(
     Example:
       motionsig slrt --plot slrt.png                          # the slides' four panels, 50 runs
       motionsig slrt --view decisions --runs 200              # confirm / delete / undecided, mean decision time
+      motionsig slrt --view study --runs 1000 --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive
       motionsig slrt --runs 2000 --workers 8 --checkpoint ckpt/  # parallel; rerun to resume if interrupted
       motionsig slrt --view detections -o dets.csv; motionsig slrt --view sensors -o sensors.csv
       motionsig slrt --input dets.csv --sensor-table sensors.csv   # the same run's scores, from the files
@@ -225,6 +320,18 @@ def slrt(
     from motionsig_cli.experiments import slrt as exp
 
     output.check(plot_scan=plot_scan)
+    method_names = tuple(dict.fromkeys(m.strip() for m in methods.split(",") if m.strip()))
+    for option, name, rule in (("--feedback-every", "feedback_every", "fkf-feedback"), ("--ldf-prior", "ldf_prior",
+                               "ldf"), ("--ldf-weights", "ldf_weights", "ldf")):  # fmt: skip
+        if _given(name) and rule not in method_names:
+            raise typer.BadParameter(f"applies only with --methods including {rule}", param_hint=option)
+    fusion = {
+        "lkf_mean": lkf_mean.value,
+        "gate_pg": gate_pg,
+        "feedback_every": feedback_every,
+        "ldf_prior": ldf_prior,
+        "ldf_weights": None if ldf_weights is None else _values("--ldf-weights", ldf_weights),
+    }
     if input_file is not None:
         for option, value in (
             ("--workers", parallel.workers),
@@ -235,8 +342,8 @@ def slrt(
                 raise typer.BadParameter("does not apply with --input (no Monte Carlo)", param_hint=option)
         _score_record(
             output, input_file, sensor_table, view, meas, columns=columns, sensor_columns=sensor_columns,
-            units=units, init=init, init_sd=init_sd, q=q, T=T, alpha=alpha, beta=beta, methods=methods,
-            lkf_mean=lkf_mean.value, stop=stop, plot_scan=plot_scan,
+            units=units, init=init, init_sd=init_sd, q=q, T=T, alpha=alpha, beta=beta, methods=method_names,
+            stop=stop, plot_scan=plot_scan, fusion=fusion,
         )  # fmt: skip
         return
     for option, name in INPUT_ONLY.items():
@@ -250,14 +357,27 @@ def slrt(
                 param_hint="--runs",
             )
         runs = 1
+    motions = tuple(m.strip() for m in target_motion.split(","))
+    agile: dict[str, object] = {}
+    for option, name in AGILE_ONLY.items():
+        text = {"turn_rate_deg": turn_rate_deg, "turn_scans": turn_scans, "accel": accel,
+                "accel_scans": accel_scans}[name]  # fmt: skip
+        if text is None:
+            continue
+        if "agile" not in motions:
+            raise typer.BadParameter(
+                "applies only with --target-motion agile (or cv,agile)", param_hint=option
+            )
+        agile[name] = _windows(option, text) if name.endswith("_scans") else _values(option, text)
     scenario = exp.SlrtScenario(
         n_sensors=sensors, radius=radius, clutter_rate=clutter, sigma_r=sigma_r, sigma_phi_deg=sigma_phi_deg,
         meas_model=meas.value.replace("-", "_"), q=q, T=1.0 if T is None else T, scans=scans,
+        filter_q=filter_q, **agile,  # type: ignore[arg-type]
     )  # fmt: skip
     study = exp.SlrtStudy(
         scenario, pd=tuple(common.checked("--pd", common.float_list, pd, what="p_D")), no_target=no_target,
-        filter_pd=filter_pd, runs=runs, seed=seed, alpha=alpha, beta=beta, lkf_mean=lkf_mean.value,
-        methods=tuple(dict.fromkeys(m.strip() for m in methods.split(",") if m.strip())), stop=stop,
+        filter_pd=filter_pd, runs=runs, seed=seed, alpha=alpha, beta=beta, methods=method_names, stop=stop,
+        motions=None if motions == ("cv",) else motions, **fusion,  # type: ignore[arg-type]
     )  # fmt: skip
     if meas is Meas.cartesian:
         output.note("slrt: --meas cartesian: --sigma-r applies to both axes, --sigma-phi-deg is unused")
@@ -274,6 +394,28 @@ def slrt(
         if plot_scan is not None:
             output.figure(slrt_scan_figure(*exp.scan_picture(study)), plot_scan)
     output.note(result.summary())
+
+
+def _windows(option: str, text: str) -> tuple[tuple[int, int], ...]:
+    """``6-12,21-27`` (or one scan ``9``; ``none`` for no window) as ((first, last), ...)."""
+    if text.strip().lower() in ("", "none"):
+        return ()
+    out = []
+    for part in text.split(","):
+        lo, sep, hi = part.strip().partition("-")
+        if not (lo.isascii() and lo.isdigit()) or (sep and not (hi.isascii() and hi.isdigit())):
+            raise typer.BadParameter(
+                f"expected windows first-last like 6-12,21-27 (or none); got {text!r}", param_hint=option
+            )
+        out.append((int(lo), int(hi) if sep else int(lo)))
+    return tuple(out)
+
+
+def _values(option: str, text: str) -> tuple[float, ...]:
+    """``3,-9`` (``none`` for no window) as floats."""
+    if text.strip().lower() in ("", "none"):
+        return ()
+    return tuple(common.checked(option, common.float_list, text, what=option.lstrip("-")))
 
 
 def _write_run(output: Output, study: exp.SlrtStudy, view: View, plot_scan: Path | None) -> None:
@@ -294,7 +436,8 @@ def _write_run(output: Output, study: exp.SlrtStudy, view: View, plot_scan: Path
 def _score_record(
     output: Output, path: str, sensors: Path | None, view: View, meas: Meas, *, columns: str | None,
     sensor_columns: str | None, units: str | None, init: str | None, init_sd: str | None, q: float,
-    T: float | None, alpha: float, beta: float, methods: str, lkf_mean: str, stop: bool, plot_scan: Path | None,
+    T: float | None, alpha: float, beta: float, methods: tuple[str, ...], stop: bool, plot_scan: Path | None,
+    fusion: dict[str, object],
 ) -> None:  # fmt: skip
     """``--input``: score the user's detections with every method."""
     from motionsig_cli.experiments import slrt_record as rec
@@ -306,7 +449,7 @@ def _score_record(
         raise typer.BadParameter("draws a simulated scan; not with --input", param_hint="--plot-scan")
     if view not in (View.curves, View.decisions):
         raise typer.BadParameter(
-            f"{view.value} writes a simulated run; with --input choose curves or decisions",
+            f"{view.value} is for the simulation; with --input choose curves or decisions",
             param_hint="--view",
         )
     if sensors is None:
@@ -322,7 +465,7 @@ def _score_record(
         init=None if init is None else tuple(common.checked("--init", common.float_list, init, what="x,vx,y,vy")),
         init_sd=None if init_sd is None else tuple(
             common.checked("--init-sd", common.float_list, init_sd, what="pos,vel")),
-        methods=tuple(dict.fromkeys(m.strip() for m in methods.split(",") if m.strip())), lkf_mean=lkf_mean,
+        methods=methods, **fusion,  # type: ignore[arg-type]
         alpha=alpha, beta=beta, stop=stop,
     )  # fmt: skip
     record = rec.load(path, sensors, cfg, columns=columns, sensor_columns=sensor_columns, units=units)

@@ -1,7 +1,8 @@
 """The track-existence scenario of Govaers, *Evaluation of Distributed Detection Methods for Agile Targets*
-(Fraunhofer FKIE, slides), and its Monte Carlo: S radars on a circle, a nearly-constant-velocity target (or
-none), Poisson clutter uniform in each field of view, and the track-existence scores of
-:data:`~motionsig_cli.detection.track_existence.FUSION_METHODS` (CKF, DKF, LKF).
+(Fraunhofer FKIE, slides), and its Monte Carlo: S radars on a circle, a nearly-constant-velocity target, an
+agile one (coordinated turns and longitudinal accelerations at stated scans, :class:`SlrtScenario`), or none,
+Poisson clutter uniform in each field of view, and the track-existence scores of
+:data:`~motionsig_cli.detection.track_existence.FUSION_METHODS`.
 
 Run r draws only from ``trial_rng(seed, r)`` (truth, detections, clutter, the initial track draw), so a
 result does not depend on the number of runs or on their order.
@@ -32,10 +33,12 @@ from motionsig_cli.detection.sprt import (
     wald_thresholds,
 )
 from motionsig_cli.detection.track_existence import (
+    FUSION_METHODS,
     METHODS,
     FusionOptions,
     ScanData,
     TrackExistenceModel,
+    check_applicable,
     check_methods,
     run_methods,
 )
@@ -53,6 +56,7 @@ __all__ = [
     "cost",
     "decisions",
     "generate",
+    "lost_after_confirmation",
     "run",
     "scan_picture",
     "scan_xy",
@@ -66,11 +70,34 @@ MAX_BYTES = 2 * 1024**3
 MAX_PD_CASES = 10
 """Most target cases (distinct p_D values) of one study."""
 MEAS_MODELS = ("range_bearing", "cartesian")
-VIEWS = ("curves", "decisions")
-"""The tables of :meth:`SlrtResult.table`: per-scan statistics of log LR, or Wald's decisions."""
+TARGET_MOTIONS = ("cv", "agile")
+"""The target's motion: nearly constant velocity, or agile (manoeuvres at stated scans, :class:`SlrtScenario`)."""
+G0 = 9.80665
+"""Standard gravity [m/s²], to state accelerations in g."""
+MAX_MANEUVERS = 100
+"""Most turn (or acceleration) windows of one scenario."""
+VIEWS = ("curves", "decisions", "study")
+"""The tables of :meth:`SlrtResult.table`: per-scan statistics of log LR, Wald's decisions, or the study's
+comparison (rates with standard errors and confidence intervals against Wald's bounds, ASN, mean scores)."""
 ASSUMPTIONS = (
     "assumed: measurement model, noise, field of view, scan period, sensor angles, initial track and "
     "thresholds (the slides do not give them)"
+)
+
+
+AGILE_NOTE = (
+    "agile target: the white-noise acceleration q plus, at the stated scans, coordinated turns (exact circular "
+    "arcs; rate > 0 turns left) and longitudinal accelerations along the velocity; scan k is reached from scan "
+    "k-1 by one transition; g = rate x speed / 9.80665 at the window's noise-free start speed; assumed (the "
+    "slides give no manoeuvre)"
+)
+STUDY_NOTE = (
+    "rates are fractions of the runs with binomial standard errors sqrt(p(1-p)/n); error_rate_lo95..hi95 is "
+    "the exact (Clopper-Pearson) 95 % interval; lost = confirmed, then the score fell by log B - log A below its "
+    "running maximum (assumed track-maintenance test); asn is the mean decision scan of the decided runs (undecided "
+    "ones left out); asn_wald = (P_c log B + P_d log A) / mean_increment with the design (1-beta, beta) or "
+    "(alpha, 1-alpha), overshoot neglected; mean_increment = mean log LR(K) / K before any freezing; "
+    "wald_design = beta (target) or alpha (no target); wald_bound = beta/(1-alpha) or alpha/(1-beta)"
 )
 
 
@@ -86,9 +113,22 @@ class SlrtScenario:
         clutter_rate: mean false alarms per sensor per scan (λ_F).
         sigma_r, sigma_phi_deg: range–bearing noise (m, degrees); Cartesian sensors use σ_r on both axes.
         meas_model: ``range_bearing`` or ``cartesian``.
-        q: acceleration psd q̃ [m²/s³]; T: scan period [s]; scans: number of scans.
+        q: acceleration psd q̃ [m²/s³] of the truth (white-noise acceleration; the slides' "psd = 10"); T: scan
+            period [s]; scans: number of scans.
         x0: truth initial state [x, ẋ, y, ẏ]; p0_sd: track prior standard deviations (position, velocity).
         fov_range: field-of-view radius [m].
+        target_motion: ``cv`` (nearly constant velocity: the white-noise acceleration alone, the slides'
+            setting) or ``agile``: the same white noise plus deterministic manoeuvres in the windows below
+            (the slides' title speaks of agile targets but gives no manoeuvre; these are assumed).
+        turn_scans, turn_rate_deg: coordinated turns: in window (a, b) the scans a..b (1-based; scan k is the
+            truth at t = kT, reached from scan k−1 by one transition) turn at the window's rate [deg/s],
+            positive to the left (counter-clockwise). Assumed default: 9°/s over scans 1–10, a 90° turn while
+            the track is being confirmed (2.5 g at the initial 158 m/s; 2.4 g at 150 m/s), and −3°/s over
+            scans 19–28, a 30° standard-rate turn back (0.74 g at the 138 m/s left after the deceleration).
+        accel_scans, accel: longitudinal accelerations [m/s²] along the velocity in their windows. Assumed
+            default: −5 m/s² (0.51 g) over scans 13–16, 158 → 138 m/s.
+        filter_q: the acceleration psd the filters assume [m²/s³]; ``None``: ``q`` (the truth's, the slides'
+            setting). An agile target needs a larger one (the notebook measures how much).
 
     Every field is checked (:class:`~motionsig_cli.config.ConfigError` naming it):
 
@@ -101,8 +141,14 @@ class SlrtScenario:
     - ``pd_true``, ``pd_filter`` in (0, 1]; ``pd_filter = 1`` only without clutter (``clutter_rate = 0``).
     - ``sigma_r`` in [10⁻³, 10⁵] m and ``sigma_phi_deg`` in [10⁻⁶, 90] deg: R positive definite and well
       conditioned.
-    - ``q`` in [0, 10⁶] m²/s³; ``T`` in (0, 3600] s; ``x0`` four finite numbers; ``p0_sd`` two numbers
-      > 0; ``fov_range`` > 0 m; ``meas_model`` one of :data:`MEAS_MODELS`.
+    - ``q`` and ``filter_q`` (unless None) in [0, 10⁶] m²/s³; ``T`` in (0, 3600] s; ``x0`` four finite
+      numbers; ``p0_sd`` two numbers > 0; ``fov_range`` > 0 m; ``meas_model`` one of :data:`MEAS_MODELS`;
+      ``target_motion`` one of :data:`TARGET_MOTIONS`.
+    - With ``target_motion = "agile"``: each window a pair of integers 1 ≤ a ≤ b ≤ ``scans``, at most
+      :data:`MAX_MANEUVERS` of each kind, no two windows (turn or acceleration) sharing a scan; one rate per
+      turn window, in [−90, 90] deg/s, and one acceleration per window, in [−100, 100] m/s² (about 10 g);
+      the noise-free speed stays above 1 m/s (a deceleration may not stop or reverse the target). The
+      windows are not checked for ``cv`` (they are unused).
     """
 
     n_sensors: int = 4
@@ -120,6 +166,12 @@ class SlrtScenario:
     x0: tuple[float, float, float, float] = (0.0, 150.0, 0.0, 50.0)
     p0_sd: tuple[float, float] = (200.0, 50.0)
     fov_range: float = 26_000.0
+    target_motion: str = "cv"
+    turn_scans: tuple[tuple[int, int], ...] = ((1, 10), (19, 28))
+    turn_rate_deg: tuple[float, ...] = (9.0, -3.0)
+    accel_scans: tuple[tuple[int, int], ...] = ((13, 16),)
+    accel: tuple[float, ...] = (-5.0,)
+    filter_q: float | None = None
 
     def __post_init__(self) -> None:
         integer("n_sensors", self.n_sensors, 1, 64)
@@ -140,6 +192,8 @@ class SlrtScenario:
         in_range("sigma_phi_deg", self.sigma_phi_deg, 1e-6, 90.0, unit="deg")
         one_of("meas_model", self.meas_model, MEAS_MODELS)
         in_range("q", self.q, 0.0, 1e6, unit="m²/s³")
+        if self.filter_q is not None:
+            in_range("filter_q", self.filter_q, 0.0, 1e6, unit="m²/s³")
         in_range("T", self.T, 0.0, 3600.0, lo_open=True, unit="s")
         integer("scans", self.scans, 1, 100_000)
         if len(self.x0) != 4:
@@ -150,12 +204,131 @@ class SlrtScenario:
             raise ConfigError("p0_sd", self.p0_sd, "is not two numbers (position, velocity)")
         for v in self.p0_sd:
             positive("p0_sd", v)
+        one_of("target_motion", self.target_motion, TARGET_MOTIONS)
+        if self.target_motion == "agile":
+            self._check_maneuvers()
+
+    def _check_maneuvers(self) -> None:
+        """The agile windows and their values (see the class docstring)."""
+        used: dict[int, str] = {}
+        for windows, values, name, vname, lim, unit in (
+            (self.turn_scans, self.turn_rate_deg, "turn_scans", "turn_rate_deg", 90.0, "deg/s"),
+            (self.accel_scans, self.accel, "accel_scans", "accel", 100.0, "m/s²"),
+        ):
+            if len(windows) > MAX_MANEUVERS:
+                raise ConfigError(name, windows, f"is more than {MAX_MANEUVERS} windows")
+            for w in windows:
+                if len(w) != 2:
+                    raise ConfigError(name, w, "is not a window (first scan, last scan)")
+                a, b = (integer(name, v, 1) for v in w)
+                if b < a:
+                    raise ConfigError(name, w, "ends before it starts")
+                if b > self.scans:
+                    raise ConfigError(name, w, f"ends after the last scan ({self.scans})")
+                for k in range(a, b + 1):
+                    if k in used:
+                        raise ConfigError(name, w, f"shares scan {k} with a {used[k]} window")
+                    used[k] = name.split("_")[0]
+            what = "rate" if name == "turn_scans" else "acceleration"
+            if len(values) != len(windows):
+                raise ConfigError(
+                    vname,
+                    values,
+                    f"gives {len(values)} value(s) for {len(windows)} window(s): one {what} each",
+                )
+            for v in values:
+                in_range(vname, v, -lim, lim, unit=unit)
+        speed = math.hypot(self.x0[1], self.x0[3])  # turns keep the speed; accelerations change it by aT
+        for (a, b), acc in sorted(zip(self.accel_scans, self.accel, strict=True)):
+            speed += acc * self.T * (b - a + 1)
+            if speed <= 1.0:
+                raise ConfigError(
+                    "accel",
+                    self.accel,
+                    f"brings the noise-free speed to {speed:.3g} m/s by scan {b}: at least 1 m/s",
+                )
+
+    def schedule(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per scan k = 1..K, the motion of the transition into it: (kind (K,) with 0 straight, 1 turn,
+        2 longitudinal acceleration; value (K,): turn rate [rad/s] or acceleration [m/s²]). All straight for
+        ``cv``."""
+        kind, value = np.zeros(self.scans, dtype=int), np.zeros(self.scans)
+        if self.target_motion == "agile":
+            for code, windows, values, scale in (
+                (1, self.turn_scans, self.turn_rate_deg, math.pi / 180.0),
+                (2, self.accel_scans, self.accel, 1.0),
+            ):
+                for (a, b), v in zip(windows, values, strict=True):
+                    kind[a - 1 : b], value[a - 1 : b] = code, v * scale
+        return kind, value
+
+    def step(self, x: np.ndarray, k: int, kind: np.ndarray, value: np.ndarray) -> np.ndarray:
+        """The deterministic transition of the truth into scan k (0-based) from the state x: constant
+        velocity, a coordinated turn (exact, at the window's rate ω: the velocity rotates by ωT, the position
+        follows the arc) or a longitudinal acceleration a along the velocity (speed + aT, heading kept,
+        the position advanced by (|v|T + aT²/2) along the heading)."""
+        T = self.T
+        if kind[k] == 1:
+            w = value[k]
+            s, c = math.sin(w * T), math.cos(w * T)
+            a, b = (s / w, (1.0 - c) / w) if w != 0.0 else (T, 0.0)  # ω → 0: straight flight
+            return np.array([x[0] + a * x[1] - b * x[3], c * x[1] - s * x[3],
+                             x[2] + b * x[1] + a * x[3], s * x[1] + c * x[3]])  # fmt: skip
+        if kind[k] == 2:
+            acc = value[k]
+            speed = math.hypot(x[1], x[3])
+            u = np.array([x[1], x[3]]) / speed
+            dpos, dvel = (speed * T + 0.5 * acc * T * T) * u, acc * T * u
+            return np.array([x[0] + dpos[0], x[1] + dvel[0], x[2] + dpos[1], x[3] + dvel[1]])
+        return self._F @ x
+
+    @cached_property
+    def _F(self) -> np.ndarray:
+        """The constant-velocity transition (the straight scans of :meth:`step`)."""
+        return cv_model(self.T, 0.0)[0]
+
+    def nominal(self) -> np.ndarray:
+        """The noise-free truth (K, 4) at scans 1..K from ``x0``."""
+        kind, value = self.schedule()
+        x = np.asarray(self.x0, dtype=float)
+        out = np.empty((self.scans, 4))
+        for k in range(self.scans):
+            x = self.step(x, k, kind, value)
+            out[k] = x
+        return out
+
+    def nominal_speed(self) -> np.ndarray:
+        """Speed [m/s] of the noise-free truth at scans 1..K."""
+        nom = self.nominal()
+        return np.hypot(nom[:, 1], nom[:, 3])
+
+    def maneuvers(self) -> list[dict[str, Any]]:
+        """The agile windows for the metadata, in scan order: kind, scans, the rate or acceleration, the
+        noise-free speed at the window's start and the lateral or longitudinal acceleration in g."""
+        if self.target_motion != "agile":
+            return []
+        v0 = float(math.hypot(self.x0[1], self.x0[3]))
+        speed = np.concatenate([[v0], self.nominal_speed()])  # speed[k] at scan k (0: the start)
+        out = []
+        for (a, b), rate in zip(self.turn_scans, self.turn_rate_deg, strict=True):
+            v = float(speed[a - 1])
+            out.append({"kind": "turn", "scans": [a, b], "rate_deg_s": rate, "speed_m_s": round(v, 3),
+                        "g": round(abs(math.radians(rate)) * v / G0, 3)})  # fmt: skip
+        for (a, b), acc in zip(self.accel_scans, self.accel, strict=True):
+            out.append({"kind": "longitudinal", "scans": [a, b], "accel_m_s2": acc,
+                        "speed_m_s": round(float(speed[a - 1]), 3), "g": round(abs(acc) / G0, 3)})  # fmt: skip
+        return sorted(out, key=lambda m: m["scans"][0])
 
     @property
     def sensors(self) -> np.ndarray:
         """(S, 2) sensor positions."""
         az = 2.0 * math.pi * np.arange(self.n_sensors) / self.n_sensors
         return self.radius * np.stack([np.cos(az), np.sin(az)], axis=-1)
+
+    @property
+    def q_filter(self) -> float:
+        """The acceleration psd of the filters' model: ``filter_q``, else the truth's ``q``."""
+        return self.q if self.filter_q is None else self.filter_q
 
     def measurement(self) -> MeasurementModel:
         if self.meas_model == "range_bearing":
@@ -165,7 +338,7 @@ class SlrtScenario:
         return MeasurementModel(self.meas_model, R, self.fov_range)
 
     def model(self) -> TrackExistenceModel:
-        F, Q = cv_model(self.T, self.q)
+        F, Q = cv_model(self.T, self.q_filter)
         p, v = self.p0_sd
         return TrackExistenceModel(
             F,
@@ -189,8 +362,10 @@ class Generated:
 
 
 def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
-    """Draw the scenario for the given run indices."""
+    """Draw the scenario for the given run indices (the truth's motion with the truth's ``q``)."""
     F, Q = cv_model(sc.T, sc.q)
+    kind, value = sc.schedule()
+    agile = bool(kind.any())
     meas = sc.measurement()
     sensors = sc.sensors
     LQ = np.linalg.cholesky(Q + 1e-12 * np.eye(4))
@@ -208,7 +383,10 @@ def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
         m0[i] = x + L0 @ g.standard_normal(4)  # the same draw around x0 with or without a target
         zs: list[list[np.ndarray]] = []
         for k in range(K):
-            x = F @ x + LQ @ g.standard_normal(4)  # first scan at t = T
+            if agile:  # the same draws as cv: only the deterministic part of the transition differs
+                x = sc.step(x, k, kind, value) + LQ @ g.standard_normal(4)
+            else:
+                x = F @ x + LQ @ g.standard_normal(4)  # first scan at t = T
             truth[i, k] = x
             row = []
             for s in range(S):
@@ -244,9 +422,17 @@ def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
 
 
 def run(
-    sc: SlrtScenario, runs: int, seed: int, methods: Sequence[str] = METHODS, *, lkf_mean: str = "lr"
+    sc: SlrtScenario,
+    runs: int,
+    seed: int,
+    methods: Sequence[str] = METHODS,
+    *,
+    lkf_mean: str | None = None,
+    options: FusionOptions | None = None,
 ) -> tuple[dict[str, np.ndarray], Generated]:
-    """log LR (runs × scans) per method, and the generated data (in this process; no time limit)."""
+    """log LR (runs × scans) per method, and the generated data (in this process; no time limit).
+    ``options``: the fusion rules' (:class:`~motionsig_cli.detection.track_existence.FusionOptions`);
+    ``lkf_mean``, if given, replaces theirs."""
     integer("runs", runs, 1)
     nbytes = cost(sc, runs)[1]
     if nbytes > MAX_BYTES:
@@ -254,7 +440,7 @@ def run(
             "runs", runs, f"would need about {nbytes / 1e9:.1f} GB of measurements; the limit is 2 GB"
         )
     gen = generate(sc, range(runs), seed)
-    return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean), gen
+    return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean, options=options), gen
 
 
 Task = tuple[int, range]
@@ -269,6 +455,11 @@ class SlrtJob:
     A task is ``(case index, range of runs)``; :meth:`tasks` chunks each case's runs into tasks of
     :meth:`runs_per_task` runs (from the cost model, so the chunking — and with it every floating-point
     result — depends on the parameters only, never on the number of workers).
+
+    ``options`` are the fusion rules' (:class:`~motionsig_cli.detection.track_existence.FusionOptions`:
+    LKF's mean, the gate, the feedback period, LDF's prior and weights, the naive rule's α and β). Every
+    method must apply to every case's model (the exact DKF only to linear sensors with p_D = 1 and no
+    clutter): checked here, before any run.
     """
 
     name: ClassVar[str] = "slrt"
@@ -277,7 +468,7 @@ class SlrtJob:
     runs: int
     seed: int
     methods: tuple[str, ...] = METHODS
-    lkf_mean: str = "lr"
+    options: FusionOptions = field(default_factory=FusionOptions)
 
     def __post_init__(self) -> None:
         if not self.cases:
@@ -285,14 +476,18 @@ class SlrtJob:
         integer("runs", self.runs, 1)
         integer("seed", self.seed, 0)
         check_methods(self.methods)
-        FusionOptions(self.lkf_mean)
+        if not isinstance(self.options, FusionOptions):
+            raise ConfigError("options", self.options, "is not FusionOptions")
+        for sc in self.cases:
+            check_applicable(self.methods, sc.model(), self.options)
 
     def runs_per_task(self) -> int:
         """Runs per task: worth at least the engine's minimum task time *and* 4× the per-batch overhead of
         the cost model (the filters' Python loop over scans and sensors), so that chunking costs ≤ 25 %
         extra. Both scale with ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests set it tiny: one run per task)."""
-        fixed = max(cost(sc, 0)[0] for sc in self.cases)
-        per_run = max(cost(sc, 1)[0] - cost(sc, 0)[0] for sc in self.cases)
+        n = len(self.methods)
+        fixed = max(cost(sc, 0, methods=n)[0] for sc in self.cases)
+        per_run = max(cost(sc, 1, methods=n)[0] - cost(sc, 0, methods=n)[0] for sc in self.cases)
         return trials_per_task(per_run, fixed_seconds=fixed)
 
     def tasks(self) -> list[Task]:
@@ -309,7 +504,7 @@ class SlrtJob:
         case, runs = task
         sc = self.cases[case]
         gen = generate(sc, runs, self.seed)
-        return run_methods(sc.model(), gen.m0, gen.scans, self.methods, lkf_mean=self.lkf_mean)
+        return run_methods(sc.model(), gen.m0, gen.scans, self.methods, options=self.options)
 
     def reduce(
         self, tasks: Sequence[Task], results: Sequence[dict[str, np.ndarray]]
@@ -327,16 +522,21 @@ class SlrtJob:
             "runs": self.runs,
             "seed": self.seed,
             "methods": list(self.methods),
-            "lkf_mean": self.lkf_mean,
+            "options": asdict(self.options),
             "runs_per_task": self.runs_per_task(),
         }
 
 
-def _case(base: SlrtScenario, field_name: str, pd: float, *, target: bool) -> SlrtScenario:
-    """``base`` with a target (or none) and p_D = ``pd`` for data and filters; a bad p_D names ``field_name``."""
+def _case(
+    base: SlrtScenario, field_name: str, pd: float, *, target: bool, motion: str | None = None
+) -> SlrtScenario:
+    """``base`` with a target (or none), p_D = ``pd`` for data and filters and (unless None) the target's
+    motion; a bad p_D names ``field_name``."""
     in_range(field_name, pd, 0.0, 1.0, lo_open=True)
     try:
-        return replace(base, target=target, pd_true=pd, pd_filter=pd)
+        return replace(
+            base, target=target, pd_true=pd, pd_filter=pd, target_motion=motion or base.target_motion
+        )
     except ConfigError as exc:
         if exc.field in ("pd_true", "pd_filter"):
             raise ConfigError(field_name, pd, exc.reason) from None
@@ -345,21 +545,31 @@ def _case(base: SlrtScenario, field_name: str, pd: float, *, target: bool) -> Sl
 
 @dataclass(frozen=True)
 class SlrtStudy:
-    """The command's experiment: target cases at several p_D and a no-target case of one scenario, every
-    case scored by the chosen fusion methods on runs 0..runs−1, and Wald's test on the scores.
+    """The command's experiment: target cases at several p_D (for one or both target motions) and a
+    no-target case of one scenario, every case scored by the chosen fusion methods on runs 0..runs−1, and
+    Wald's test on the scores.
 
     Attributes:
-        scenario: what the cases share (its ``target``, ``pd_true`` and ``pd_filter`` are set per case).
+        scenario: what the cases share (its ``target``, ``pd_true``, ``pd_filter`` and, with ``motions``,
+            ``target_motion`` are set per case).
         pd: p_D of the target cases (data and filters alike): 1 to :data:`MAX_PD_CASES` values in (0, 1];
             a repeated value gives one case.
+        motions: the target motions of the target cases (:data:`TARGET_MOTIONS`, each once): every p_D is a
+            case for each motion, in this order (labels ``target, p_D = …`` and ``agile target, p_D = …``).
+            ``None``: the scenario's own ``target_motion``.
         no_target: also run the no-target (clutter only) case, whose filters assume p_D = ``filter_pd``
             (in (0, 1]).
         runs: Monte Carlo runs per case, ≥ 1, with an estimated run time ≤ :data:`MAX_SECONDS` and memory
             ≤ :data:`MAX_BYTES` for all cases (:func:`cost`).
         seed: root seed (run r draws from ``trial_rng(seed, r)``).
-        methods: names in :data:`~motionsig_cli.detection.track_existence.FUSION_METHODS`.
-        lkf_mean: LKF's mean (:class:`~motionsig_cli.detection.track_existence.FusionOptions`).
-        alpha, beta: Wald's error probabilities P(confirm | no target) and P(delete | target), in (0, 0.5).
+        methods: names in :data:`~motionsig_cli.detection.track_existence.FUSION_METHODS`, each applicable
+            to every case (the exact ``dkf`` only to linear sensors with p_D = 1 and no clutter).
+        lkf_mean, gate_pg, feedback_every, ldf_prior, ldf_weights: the fusion rules' options, as the fields
+            of :class:`~motionsig_cli.detection.track_existence.FusionOptions` (LKF's mean, the validation
+            gate's probability or None, the feedback period of ``fkf-feedback``, LDF's prior existence
+            probability and sensor weights); checked there.
+        alpha, beta: Wald's error probabilities P(confirm | no target) and P(delete | target), in (0, 0.5);
+            also the local tests' of the naive rule.
         stop: freeze each run's score at its decision (default: keep accumulating).
     """
 
@@ -374,12 +584,22 @@ class SlrtStudy:
     alpha: float = 1e-3
     beta: float = 0.1
     stop: bool = False
+    motions: tuple[str, ...] | None = None
+    gate_pg: float | None = None
+    feedback_every: int = 1
+    ldf_prior: float = 0.5
+    ldf_weights: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
+        if self.motions is not None:
+            if not self.motions or len(set(self.motions)) != len(self.motions):
+                raise ConfigError("motions", self.motions, "is not one or more distinct target motions")
+            for m in self.motions:
+                one_of("motions", m, TARGET_MOTIONS)
         cases = self.cases
         self.job()
         wald_thresholds(self.alpha, self.beta)
-        seconds, nbytes = cost(cases[0][1], self.runs, len(cases))
+        seconds, nbytes = cost(cases[0][1], self.runs, len(cases), len(self.methods))
         if seconds > MAX_SECONDS or nbytes > MAX_BYTES:
             sc = self.scenario
             raise ConfigError(
@@ -397,20 +617,43 @@ class SlrtStudy:
             raise ConfigError("pd", self.pd, "is empty: give at least one p_D")
         if len(values) > MAX_PD_CASES:
             raise ConfigError("pd", self.pd, f"is more than {MAX_PD_CASES} values")
-        out = [(f"target, p_D = {v:g}", _case(self.scenario, "pd", v, target=True)) for v in values]
+        out = [
+            (f"{'agile ' if motion == 'agile' else ''}target, p_D = {v:g}",
+             _case(self.scenario, "pd", v, target=True, motion=motion))
+            for motion in self.target_motions
+            for v in values
+        ]  # fmt: skip
         if self.no_target:
             out.append(("no target", _case(self.scenario, "filter_pd", self.filter_pd, target=False)))
         return out
+
+    @property
+    def target_motions(self) -> tuple[str, ...]:
+        """The motions of the target cases: ``motions``, else the scenario's."""
+        return self.motions if self.motions is not None else (self.scenario.target_motion,)
 
     @property
     def thresholds(self) -> tuple[float, float]:
         """Wald's (log A, log B)."""
         return wald_thresholds(self.alpha, self.beta)
 
+    @property
+    def options(self) -> FusionOptions:
+        """The fusion rules' options (with the study's α and β for the rules that test locally)."""
+        return FusionOptions(
+            lkf_mean=self.lkf_mean,
+            gate_pg=self.gate_pg,
+            feedback_every=self.feedback_every,
+            ldf_prior=self.ldf_prior,
+            ldf_weights=None if self.ldf_weights is None else tuple(self.ldf_weights),
+            alpha=self.alpha,
+            beta=self.beta,
+        )
+
     def job(self) -> SlrtJob:
         """The Monte Carlo of every case (run it with :func:`motionsig_cli.engine.run_job`)."""
         return SlrtJob(
-            tuple(sc for _, sc in self.cases), self.runs, self.seed, tuple(self.methods), self.lkf_mean
+            tuple(sc for _, sc in self.cases), self.runs, self.seed, tuple(self.methods), self.options
         )
 
     def result(self, scores: Sequence[dict[str, np.ndarray]]) -> SlrtResult:
@@ -425,7 +668,7 @@ class SlrtStudy:
                 if self.stop:
                     case[m] = freeze_at_decision(v, log_a, log_b)
             out.append(case)
-        return SlrtResult(self, out)
+        return SlrtResult(self, out, [dict(c) for c in scores] if self.stop else None)
 
 
 CURVE_COLUMNS = (
@@ -439,6 +682,34 @@ CURVE_COLUMNS = (
     "q05_loglr",
     "q95_loglr",
 )
+STUDY_COLUMNS = (
+    "case",
+    "target",
+    "motion",
+    "pd",
+    "method",
+    "runs",
+    "confirmed",
+    "confirmed_se",
+    "deleted",
+    "deleted_se",
+    "undecided",
+    "asn",
+    "asn_se",
+    "asn_wald",
+    "error_rate",
+    "error_rate_se",
+    "error_rate_lo95",
+    "error_rate_hi95",
+    "wald_design",
+    "wald_bound",
+    "versus_bound",
+    "lost",
+    "lost_se",
+    "mean_increment",
+    "mean_loglr_last",
+)
+"""The columns of the ``study`` view (:meth:`SlrtResult.study_rows`)."""
 DECISION_COLUMNS = (
     "case",
     "target",
@@ -458,18 +729,22 @@ DECISION_COLUMNS = (
 
 @dataclass(frozen=True)
 class SlrtResult:
-    """A study's scores: per case, log LR (runs × scans) per method (frozen at the decision with ``stop``)."""
+    """A study's scores: per case, log LR (runs × scans) per method (frozen at the decision with ``stop``),
+    and ``raw``, the same before any freezing (``None``: ``scores`` are not frozen)."""
 
     study: SlrtStudy
     scores: list[dict[str, np.ndarray]]
+    raw: list[dict[str, np.ndarray]] | None = None
 
     def table(self, view: str) -> Table:
-        """The ``curves`` or ``decisions`` table (:data:`VIEWS`) with the study's provenance."""
+        """The ``curves``, ``decisions`` or ``study`` table (:data:`VIEWS`) with the study's provenance."""
         one_of("view", view, VIEWS)
-        columns, rows = (
-            (CURVE_COLUMNS, self.curves()) if view == "curves" else (DECISION_COLUMNS, self.decisions())
-        )
-        return Table(columns=columns, rows=rows, meta=self.meta(view))
+        columns, rows = {
+            "curves": (CURVE_COLUMNS, self.curves),
+            "decisions": (DECISION_COLUMNS, self.decisions),
+            "study": (STUDY_COLUMNS, self.study_rows),
+        }[view]
+        return Table(columns=columns, rows=rows(), meta=self.meta(view))
 
     def _rows(self) -> list[tuple[str, SlrtScenario, str, np.ndarray]]:
         return [
@@ -506,6 +781,66 @@ class SlrtResult:
                          float(math.sqrt(max(wrong.mean() * (1 - wrong.mean()), 1 / runs) / runs))))  # fmt: skip
         return rows
 
+    def study_rows(self) -> list[tuple[Any, ...]]:
+        """Per case and method, the study's comparison (:data:`STUDY_COLUMNS`):
+
+        - ``confirmed``, ``deleted``, ``undecided``: fractions of the runs (first crossing within the
+          scans), with the binomial standard errors √(p(1−p)/n) of the first two;
+        - ``asn``: the average sample number, the mean decision scan of the decided runs (undecided runs
+          are censored at the last scan and left out: see ``undecided``), and its standard error s/√n_decided
+          (``None`` with fewer than two decided runs);
+        - ``asn_wald``: Wald's approximation E[N] ≈ (P_c log B + P_d log A) / E[Δ] with the design
+          probabilities (P_c, P_d) = (1−β, β) with a target and (α, 1−α) without, and E[Δ] the measured
+          mean increment ``mean_increment`` (log LR(K)/K over the runs): it neglects the overshoot of the
+          thresholds, and the increments are neither independent nor identically distributed here (the
+          filters converge), so it is an order of magnitude; ``None`` when E[Δ] has the wrong sign, and for
+          a rule whose score stops at its local tests' decisions (``naive``: no drift to divide by);
+        - ``error_rate``: deleted with a target, confirmed without; its binomial standard error, and the
+          exact (Clopper–Pearson) 95 % interval ``error_rate_lo95``..``error_rate_hi95``, which stays
+          informative with no error at all (then the upper end is 1 − 0.025^(1/n));
+        - ``wald_design``: β with a target, α without (Wald's approximation of the error probability,
+          overshoot neglected); ``wald_bound``: Wald's bounds β/(1−α) and α/(1−β);
+        - ``versus_bound``: ``below`` (error rate ≤ bound), ``above, within sampling error`` (the 95 %
+          interval reaches the bound) or ``above`` (the interval lies above it);
+        - ``lost``: the fraction of runs confirmed and later lost (:func:`lost_after_confirmation`, on the
+          scores before any freezing), with its binomial standard error: how often a true track is dropped
+          during track maintenance, e.g. when an agile target outruns the filters' model;
+        - ``mean_loglr_last``: the mean log LR at the last scan (frozen at the decision with ``stop``).
+        """
+        from scipy.stats import beta as beta_dist
+
+        st = self.study
+        alpha, beta, runs = st.alpha, st.beta, st.runs
+        log_a, log_b = st.thresholds
+        raw = {label: case for (label, _), case in zip(st.cases, self.raw or self.scores, strict=True)}
+        rows = []
+        for label, sc, m, loglr in self._rows():
+            unfrozen = raw[label][m]
+            inc = float(unfrozen[:, -1].mean() / unfrozen.shape[1])
+            lost = float(lost_after_confirmation(unfrozen, log_a, log_b).mean())
+            d = decisions(loglr, alpha, beta)
+            conf, dele = float((d.decision == 1).mean()), float((d.decision == -1).mean())
+            decided = d.decision != 0
+            times = d.time[decided].astype(float)
+            asn = float(times.mean()) if times.size else None
+            asn_se = float(times.std(ddof=1) / math.sqrt(times.size)) if times.size > 1 else None
+            p_c, p_d = (1 - beta, beta) if sc.target else (alpha, 1 - alpha)
+            num = p_c * log_b + p_d * log_a
+            stops = FUSION_METHODS[m].uses_thresholds  # a score frozen at local decisions has no drift
+            asn_wald = num / inc if not stops and math.isfinite(inc) and inc != 0 and num / inc > 0 else None
+            n_err = int(((d.decision == -1) if sc.target else (d.decision == 1)).sum())
+            err = n_err / runs
+            lo = 0.0 if n_err == 0 else float(beta_dist.ppf(0.025, n_err, runs - n_err + 1))
+            hi = 1.0 if n_err == runs else float(beta_dist.ppf(0.975, n_err + 1, runs - n_err))
+            design = beta if sc.target else alpha
+            bound = beta / (1 - alpha) if sc.target else alpha / (1 - beta)
+            verdict = "below" if err <= bound else "above, within sampling error" if lo <= bound else "above"
+            rows.append((label, sc.target, sc.target_motion if sc.target else None, sc.pd_filter, m, runs,
+                         conf, _binomial_se(conf, runs), dele, _binomial_se(dele, runs), float(1 - decided.mean()),
+                         asn, asn_se, asn_wald, err, _binomial_se(err, runs), lo, hi, design, bound, verdict, lost,
+                         _binomial_se(lost, runs), inc, float(loglr[:, -1].mean())))  # fmt: skip
+        return rows
+
     def meta(self, view: str) -> dict[str, Any]:
         """Provenance: the view, every parameter of the study and scenario, and how to read the scores."""
         st, sc = self.study, self.study.scenario
@@ -521,6 +856,20 @@ class SlrtResult:
             "T",
             "scans",
         )
+        motion: dict[str, Any] = {}  # only where the study is not the slides' (default outputs unchanged)
+        if "agile" in st.target_motions:
+            agile = next(c for _, c in st.cases if c.target and c.target_motion == "agile")
+            motion["target_motions"] = list(st.target_motions)
+            motion["maneuvers"] = agile.maneuvers()
+            motion["agile"] = AGILE_NOTE
+        if view == "study":
+            motion["study"] = STUDY_NOTE
+        fusion: dict[str, Any] = {}  # the rules' options where they are not the defaults
+        defaults = FusionOptions()
+        for name in ("gate_pg", "feedback_every", "ldf_prior", "ldf_weights"):
+            uses = {"feedback_every": "fkf-feedback", "ldf_prior": "ldf", "ldf_weights": "ldf"}.get(name)
+            if getattr(st, name) != getattr(defaults, name) or (uses in st.methods):
+                fusion[name] = getattr(st, name)
         return make_meta(
             "slrt",
             view=view,
@@ -535,8 +884,10 @@ class SlrtResult:
                 "p0_sd": list(sc.p0_sd),
                 "fov_range_m": sc.fov_range,
                 "sensor_azimuths": "equally spaced from 0 deg",
+                **({} if sc.filter_q is None else {"filter_q": sc.filter_q}),
             },
             no_target_filter_pd=st.filter_pd if st.no_target else None,
+            **motion,
             sprt={
                 "alpha": st.alpha,
                 "beta": st.beta,
@@ -544,10 +895,8 @@ class SlrtResult:
                 "log_B": log_b,
                 "rule": "first crossing",
             },
-            dkf="relaxed evolution model S*Q, locals initialised at S*P0, no feedback; c by the sequential product "
-            "with P^(s+1) (slides' P^s corrected)"
-            if "dkf" in st.methods
-            else None,
+            **{m: FUSION_METHODS[m].metadata for m in st.methods if FUSION_METHODS[m].metadata},
+            **fusion,
             stop=st.stop,
             clutter_floor="with --clutter 0 the clutter density is floored at 1e-300 per field of view: absolute "
             "scores are arbitrary, only differences between methods mean something"
@@ -610,12 +959,12 @@ def scan_xy(
     return clutter_xy, target_xy
 
 
-def cost(sc: SlrtScenario, runs: int, cases: int = 1) -> tuple[float, float]:
-    """Rough (seconds, bytes) of ``cases`` Monte Carlo cases: a fixed cost per sensor-scan (≈ 0.9 ms of
-    Python) plus a per-run cost that grows with the clutter."""
-    per_sensor_scan = (
-        0.9e-3 + 3e-5 * runs * (1.0 + sc.clutter_rate / 5.0) + 2e-5 * runs
-    )  # filters + generation
+def cost(sc: SlrtScenario, runs: int, cases: int = 1, methods: int = 3) -> tuple[float, float]:
+    """Rough (seconds, bytes) of ``cases`` Monte Carlo cases scored by ``methods`` fusion rules: a fixed cost
+    per sensor-scan (≈ 0.9 ms of Python for three rules) plus a per-run cost that grows with the clutter;
+    the filters' part scales with the number of rules (``make bench``'s bench_slrt measures each rule)."""
+    filters = (0.9e-3 + 3e-5 * runs * (1.0 + sc.clutter_rate / 5.0)) * (methods / 3.0)
+    per_sensor_scan = filters + 2e-5 * runs  # filters + generation
     seconds = cases * sc.scans * sc.n_sensors * per_sensor_scan
     nbytes = (
         sc.scans
@@ -636,6 +985,26 @@ def summarise(loglr: np.ndarray) -> dict[str, np.ndarray]:
         "q05": np.quantile(loglr, 0.05, axis=0, method="inverted_cdf"),
         "q95": np.quantile(loglr, 0.95, axis=0, method="inverted_cdf"),
     }
+
+
+def lost_after_confirmation(loglr: np.ndarray, log_a: float, log_b: float) -> np.ndarray:
+    """Per run, whether the test confirmed the track and its score later fell by log B − log A (the test's
+    width) below its running maximum since the confirmation: a continued test on the confirmed track (a
+    CUSUM-type deletion: assumed, the slides do not say how a confirmed track is maintained) would then
+    delete it. A −inf score after a confirmation counts as lost."""
+    d = first_crossing(loglr, log_a, log_b)
+    k = np.arange(loglr.shape[-1])
+    after = (d.decision == 1)[:, None] & (k[None, :] >= (d.time - 1)[:, None])
+    masked = np.where(after, loglr, -np.inf)
+    running = np.maximum.accumulate(masked, axis=-1)
+    with np.errstate(invalid="ignore"):
+        fall = np.where(after, running - loglr, 0.0)
+    return np.any(after & ((fall >= log_b - log_a) | np.isneginf(loglr)), axis=-1)
+
+
+def _binomial_se(p: float, n: int) -> float:
+    """The binomial standard error √(p(1−p)/n) of a fraction p of n runs."""
+    return math.sqrt(p * (1.0 - p) / n)
 
 
 def decisions(loglr: np.ndarray, alpha: float, beta: float) -> Decisions:

@@ -1,7 +1,7 @@
 """The track-existence test of Govaers, *Evaluation of Distributed Detection Methods for Agile Targets*
-(Fraunhofer FKIE, slides) on the user's own detections: every fusion method of
-:data:`~motionsig_cli.detection.track_existence.FUSION_METHODS` (CKF, DKF, LKF) scores the record scan by
-scan, and Wald's test decides. The files are read with :func:`motionsig_cli.records.read_record`.
+(Fraunhofer FKIE, slides) on the user's own detections: the chosen fusion methods of
+:data:`~motionsig_cli.detection.track_existence.FUSION_METHODS` (default CKF, FKF, LKF) score the record
+scan by scan, and Wald's test decides. The files are read with :func:`motionsig_cli.records.read_record`.
 
 **Detections file** (:data:`DETECTION_SPEC`): one row per detection, per scan and sensor.
 
@@ -43,8 +43,9 @@ Without either, **one tentative track starts from each detection of the first sc
 and r·σ_φ of its sensor, or σ_xy; velocity sd 150 m/s, assumed: an air target up to about 300 m/s within
 2σ; ``--init-sd`` replaces both), scored from the next scan on, at most :data:`MAX_TRACKS` tracks.
 
-With one sensor the three fusion rules coincide (CKF = DKF = LKF: the fusion differs only with several
-sensors); the output says so.
+With one sensor the fusion rules coincide (CKF = FKF = FKF-FB = LKF = LDF, and DKF where it applies; the
+naive score is the same frozen at its decision: the fusion differs only with several sensors); the output
+says so.
 """
 
 from __future__ import annotations
@@ -59,6 +60,7 @@ import numpy as np
 from motionsig_cli.config import ConfigError, in_range, one_of, positive
 from motionsig_cli.detection.sprt import CONFIRM, DELETE, first_crossing, freeze_at_decision, wald_thresholds
 from motionsig_cli.detection.track_existence import (
+    FUSION_METHODS,
     METHODS,
     FusionOptions,
     ScanData,
@@ -162,7 +164,10 @@ SCAN_RULE = (
 )
 FOV_RULE = "a detection outside its sensor's field of view is refused (not dropped)"
 BEARING_CONVENTION = "counter-clockwise from the x axis, atan2(y - y_s, x - x_s), relative to the sensor"
-SINGLE_SENSOR = "one sensor: CKF, DKF and LKF coincide (the fusion rules differ only with several sensors)"
+SINGLE_SENSOR = (
+    "one sensor: the fusion rules coincide (CKF = FKF = FKF-FB = LKF = LDF, the naive score frozen at its "
+    "decision; they differ only with several sensors)"
+)
 ASSUMPTIONS = (
     "assumed: synchronous scans on a uniform grid, nearly-constant-velocity motion (q), clutter uniform in "
     "each field of view (in measurement space), the track prior"
@@ -181,8 +186,10 @@ class SlrtRecordConfig:
             metadata ``init``, else one track per detection of the first scan).
         init_sd: prior sd (position m, velocity m/s), two numbers > 0, or None (the rule's default).
         meas: ``range_bearing`` or ``cartesian`` to choose the detections' columns, or None (the file's).
-        methods, lkf_mean: the fusion methods and LKF's mean (as the simulation's).
-        alpha, beta: Wald's error probabilities, in (0, 0.5).
+        methods: the fusion methods (as the simulation's).
+        lkf_mean, gate_pg, feedback_every, ldf_prior, ldf_weights: the fusion rules' options, the fields of
+            :class:`~motionsig_cli.detection.track_existence.FusionOptions` (checked there).
+        alpha, beta: Wald's error probabilities, in (0, 0.5) (also the naive rule's local tests').
         stop: freeze each track's score at its decision.
     """
 
@@ -196,6 +203,10 @@ class SlrtRecordConfig:
     alpha: float = 1e-3
     beta: float = 0.1
     stop: bool = False
+    gate_pg: float | None = None
+    feedback_every: int = 1
+    ldf_prior: float = 0.5
+    ldf_weights: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         in_range("q", self.q, 0.0, 1e6, unit="m²/s³")
@@ -208,13 +219,37 @@ class SlrtRecordConfig:
         if self.meas is not None:
             one_of("meas", self.meas, KINDS)
         check_methods(self.methods)
-        FusionOptions(self.lkf_mean)
         wald_thresholds(self.alpha, self.beta)
+        self.options  # noqa: B018 (checks the fusion options)
 
     @property
     def thresholds(self) -> tuple[float, float]:
         """Wald's (log A, log B)."""
         return wald_thresholds(self.alpha, self.beta)
+
+    @property
+    def options(self) -> FusionOptions:
+        """The fusion rules' options, with Wald's α and β for the rules that test locally."""
+        return FusionOptions(
+            lkf_mean=self.lkf_mean,
+            gate_pg=self.gate_pg,
+            feedback_every=self.feedback_every,
+            ldf_prior=self.ldf_prior,
+            ldf_weights=None if self.ldf_weights is None else tuple(self.ldf_weights),
+            alpha=self.alpha,
+            beta=self.beta,
+        )
+
+
+def _fusion_options(cfg: SlrtRecordConfig) -> dict[str, Any]:
+    """The fusion options for the metadata: those a selected rule uses, and any not at its default."""
+    out: dict[str, Any] = {}
+    defaults = FusionOptions()
+    for name, rule in (("gate_pg", None), ("feedback_every", "fkf-feedback"), ("ldf_prior", "ldf"),
+                       ("ldf_weights", "ldf")):  # fmt: skip
+        if getattr(cfg, name) != getattr(defaults, name) or rule in cfg.methods:
+            out[name] = getattr(cfg, name)
+    return out
 
 
 def _four(name: str, v: Sequence[float]) -> None:
@@ -827,7 +862,7 @@ def score(record: SlrtRecord, cfg: SlrtRecordConfig) -> RecordResult:
         () if sensors.uniform else sensors.models,
     )
     scans = det.scan_data(S, R, tracks.first)
-    scores = run_methods(model, tracks.m0, scans, cfg.methods, lkf_mean=cfg.lkf_mean)
+    scores = run_methods(model, tracks.m0, scans, cfg.methods, options=cfg.options)
     for m, v in scores.items():
         if np.any(np.isnan(v) | (v == np.inf)):
             raise RuntimeError(f"NaN or +inf log LR ({m})")
@@ -878,7 +913,7 @@ class RecordResult:
     def table(self, view: str) -> Table:
         """``curves``: per track, method and scan, log LR and the test's state; ``decisions``: per track
         and method, Wald's decision."""
-        one_of("view", view, exp.VIEWS)
+        one_of("view", view, ("curves", "decisions"))
         if view == "curves":
             rows = self.scan_rows()
             return Table(RECORD_SCAN_COLUMNS, rows, self.meta(view))
@@ -954,6 +989,8 @@ class RecordResult:
                   "state": [float(v) for v in tr.m0[0]] if tr.starts[0][0] is None else None},
             methods=list(cfg.methods),
             lkf_mean=cfg.lkf_mean,
+            **{m: FUSION_METHODS[m].metadata for m in cfg.methods if FUSION_METHODS[m].metadata},
+            **_fusion_options(cfg),
             sprt={"alpha": cfg.alpha, "beta": cfg.beta, "log_A": log_a, "log_B": log_b, "rule": "first crossing"},
             stop=cfg.stop,
             minus_inf="a log LR of -inf means a sensor with p_D = 1 saw nothing: the track is impossible",

@@ -23,7 +23,7 @@ def test_curves_and_plots(capsys, tmp_path):
     )
     assert rc == 0 and png.stat().st_size > 20_000 and scan.stat().st_size > 10_000
     t = table(out, tmp_path)
-    assert set(t.column("method")) == {"ckf", "dkf", "lkf"}
+    assert set(t.column("method")) == {"ckf", "fkf", "lkf"}
     assert len(t.rows) == 4 * 3 * 10
     assert t.meta["sprt"]["log_B"] == pytest.approx(6.802, abs=1e-3)
     mean = t.numeric("mean_loglr")
@@ -167,8 +167,8 @@ def test_an_independent_record_is_confirmed_and_clutter_alone_is_not(capsys, tmp
         t = table(out, tmp_path, f"{name}_out.csv")
         decisions[name] = dict(zip(t.column("method"), t.column("decision"), strict=True))
         assert t.meta["per_sensor_values"] is True and t.meta["T"] == 2.0
-    assert decisions == {"target": dict.fromkeys(("ckf", "dkf", "lkf"), "confirmed"),
-                         "clutter": dict.fromkeys(("ckf", "dkf", "lkf"), "deleted")}  # fmt: skip
+    assert decisions == {"target": dict.fromkeys(("ckf", "fkf", "lkf"), "confirmed"),
+                         "clutter": dict.fromkeys(("ckf", "fkf", "lkf"), "deleted")}  # fmt: skip
     # without --init: one tentative track per detection of the first scan
     rc, out, err = run(capsys, "slrt", "--input", str(tmp_path / "target.csv"), "--sensor-table", str(s),
                        "--methods", "ckf", "--view", "decisions")  # fmt: skip
@@ -184,12 +184,14 @@ def test_one_sensor_says_the_methods_coincide(capsys, tmp_path):
     write_detections(d, 3, sensors=SENSORS[:1])
     write_sensors(s, SENSORS[:1])
     rc, out, err = run(capsys, "slrt", "--input", str(d), "--sensor-table", str(s), "--init",
-                       ",".join(map(str, INIT_XVY)))  # fmt: skip
+                       ",".join(map(str, INIT_XVY)), "--methods", "ckf,fkf,fkf-feedback,lkf,ldf")  # fmt: skip
     t = table(out, tmp_path)
-    assert rc == 0 and "CKF, DKF and LKF coincide" in err and "coincide" in t.meta["single_sensor"]
+    assert rc == 0 and "the fusion rules coincide" in err and "coincide" in t.meta["single_sensor"]
     per = {m: [v for v, mm in zip(t.column("log_lr"), t.column("method"), strict=True) if mm == m]
-           for m in ("ckf", "dkf", "lkf")}  # fmt: skip
-    assert per["ckf"] == per["dkf"] == per["lkf"]
+           for m in ("ckf", "fkf", "fkf-feedback", "lkf", "ldf")}  # fmt: skip
+    assert len(per["ckf"]) > 5 and per["ckf"] == per["fkf"] == per["fkf-feedback"] == per["lkf"]  # to the bit
+    # LDF's log odds of one sensor's existence probability is its log LR, up to the rounding of logaddexp
+    np.testing.assert_allclose(np.array(per["ldf"], float), np.array(per["ckf"], float), rtol=1e-9, atol=1e-9)
 
 
 def test_input_from_stdin_with_columns_and_units_options(capsys, tmp_path, monkeypatch):
@@ -311,3 +313,112 @@ def test_help_documents_the_input_files(capsys):
     text = " ".join(out.replace("│", " ").split())
     assert rc == 0 and "--input" in text and "--sensor-table" in text and "--init-sd" in text
     assert "detected nothing there" in text and "outside its sensor's field of view is refused" in text
+
+
+# ------------------------------------------------------------------ the agile target, the filters' q, the study view
+def test_agile_options_map_to_the_scenario(capsys, tmp_path):
+    rc, out, err = run(capsys, "slrt", "--target-motion", "cv,agile", "--pd", "0.9", "--scans", "12", "--runs", "3",
+                       "--turn-rate-deg", "6,-9", "--turn-scans", "2-4,8-10", "--accel", "4", "--accel-scans",
+                       "6", "--filter-q", "250", "--view", "study")  # fmt: skip
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    assert t.meta["target_motions"] == ["cv", "agile"] and t.meta["scenario"]["filter_q"] == 250.0
+    man = t.meta["maneuvers"]
+    assert [(m["kind"], m["scans"]) for m in man] == [
+        ("turn", [2, 4]),
+        ("longitudinal", [6, 6]),
+        ("turn", [8, 10]),
+    ]
+    assert [m.get("rate_deg_s", m.get("accel_m_s2")) for m in man] == [6.0, 4.0, -9.0]
+    assert man[2]["speed_m_s"] == pytest.approx(158.114 + 4.0, abs=1e-3)  # after the one-scan +4 m/s²
+    assert t.column("case")[:6:3] == ["target, p_D = 0.9", "agile target, p_D = 0.9"]
+    assert t.column("motion")[:6:3] == ["cv", "agile"] and t.columns == exp.STUDY_COLUMNS
+
+
+def test_the_agile_view_of_a_run_writes_the_turning_truth(capsys, tmp_path):
+    # the detections file of one run: --filter-q changes nothing in it (only the filters), --turn-rate-deg does
+    base = ("slrt", "--view", "detections", "--runs", "1", "--scans", "10", "--clutter", "0", "--pd", "0.9",
+            "--target-motion", "agile", "--turn-scans", "1-10", "--accel-scans", "none", "--accel", "none")  # fmt: skip
+    outs = {}
+    for name, extra in (("a", ()), ("q", ("--filter-q", "900")), ("r", ("--turn-rate-deg", "3"))):
+        rc, outs[name], err = run(
+            capsys, *base, *(("--turn-rate-deg", "9") if name != "r" else ()), *extra, "-q"
+        )
+        assert rc == 0, err
+    assert outs["a"].split("\n", 1)[1] == outs["q"].split("\n", 1)[1].replace(', "filter_q": 900.0', "")
+    assert outs["a"] != outs["r"]
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (("--turn-rate-deg", "3"), "--turn-rate-deg: applies only with --target-motion agile"),
+        (("--accel-scans", "3-4"), "--accel-scans: applies only with --target-motion agile"),
+        (("--target-motion", "zigzag"), "--target-motion: 'zigzag' is not one of cv, agile"),
+        (("--target-motion", "agile,agile"), "--target-motion"),
+        (("--target-motion", "agile", "--scans", "8"), "--turn-scans: (1, 10) ends after the last scan (8)"),
+        (("--target-motion", "agile", "--turn-scans", "1-5,x"), "--turn-scans: expected windows first-last"),
+        (
+            ("--target-motion", "agile", "--turn-rate-deg", "9"),
+            "--turn-rate-deg: (9.0,) gives 1 value(s) for 2",
+        ),
+        (
+            ("--target-motion", "agile", "--turn-rate-deg", "9,95"),
+            "--turn-rate-deg: 95 is not in [-90, 90] deg/s",
+        ),
+        (("--target-motion", "agile", "--accel", "-45"), "--accel: (-45.0,) brings the noise-free speed to"),
+        (
+            ("--target-motion", "agile", "--accel-scans", "9-12"),
+            "--accel-scans: (9, 12) shares scan 9 with a turn",
+        ),
+        (("--filter-q", "-1"), "--filter-q: -1 is not in [0, 1e+06]"),
+        (("--gate-pg", "0"), "--gate-pg: 0 is not in (0, 1]"),
+        (("--feedback-every", "3"), "--feedback-every: applies only with --methods including fkf-feedback"),
+        (("--methods", "fkf-feedback", "--feedback-every", "0"), "--feedback-every: 0 is not in [1, 100000]"),
+        (("--ldf-prior", "0.3"), "--ldf-prior: applies only with --methods including ldf"),
+        (("--methods", "ldf", "--ldf-prior", "1"), "--ldf-prior: 1 is not in (0, 1)"),
+        (
+            ("--methods", "ldf", "--ldf-weights", "1,1"),
+            "--ldf-weights: (1.0, 1.0) are 2 weights for 4 sensors",
+        ),
+        (("--methods", "ldf", "--ldf-weights", "1,a"), "--ldf-weights"),
+        (("--methods", "ckf,dkf"), "--methods: 'dkf' is exact only for linear (cartesian) sensors"),
+    ],
+)
+def test_bad_agile_and_fusion_options_are_one_line_naming_the_option(capsys, tmp_path, args, needle):
+    out = tmp_path / "out.csv"
+    err = one_line_error(capsys, "slrt", "--runs", "2", *args, "-o", str(out))
+    assert err.startswith("motionsig slrt: error: ") and needle in err, err
+    assert not out.exists()
+
+
+def test_fusion_options_map_to_the_rules_and_the_metadata(capsys, tmp_path):
+    args = ("slrt", "--runs", "4", "--scans", "6", "--pd", "0.5", "--target-only", "--view", "study", "-q")
+    rc, out, _ = run(capsys, *args, "--methods", "fkf-feedback,ldf,naive", "--feedback-every", "2",
+                     "--ldf-prior", "0.3", "--ldf-weights", "1,2,3,4", "--gate-pg", "0.999")  # fmt: skip
+    t = table(out, tmp_path)
+    assert rc == 0
+    assert (t.meta["feedback_every"], t.meta["ldf_prior"], t.meta["ldf_weights"], t.meta["gate_pg"]) == (
+        2, 0.3, [1.0, 2.0, 3.0, 4.0], 0.999)  # fmt: skip
+    assert "reset" in t.meta["fkf-feedback"] and "P0 LR_s" in t.meta["ldf"]
+    st = exp.SlrtStudy(exp.SlrtScenario(scans=6), pd=(0.5,), no_target=False, runs=4,
+                       methods=("fkf-feedback", "ldf", "naive"), feedback_every=2, ldf_prior=0.3,
+                       ldf_weights=(1.0, 2.0, 3.0, 4.0), gate_pg=0.999)  # fmt: skip
+    from motionsig_cli.engine import run_job
+
+    want = st.result(run_job(st.job())).table("study")
+    i = exp.STUDY_COLUMNS.index("mean_loglr_last")
+    assert t.numeric("mean_loglr_last").tolist() == [r[i] for r in want.rows]  # the same scores to the bit
+    assert t.column("method") == ["fkf-feedback", "ldf", "naive"]
+
+
+def test_the_study_view_of_the_default_is_the_decisions_view_plus_columns(capsys, tmp_path):
+    args = ("slrt", "--runs", "12", "--scans", "8", "--seed", "4", "-q")
+    _, a, _ = run(capsys, *args, "--view", "decisions")
+    _, b, _ = run(capsys, *args, "--view", "study")
+    d, s = table(a, tmp_path), table(b, tmp_path, "s.csv")
+    for col in ("case", "method", "confirmed", "deleted", "undecided", "error_rate"):
+        assert d.column(col) == s.column(col)
+    np.testing.assert_allclose(s.numeric("asn")[~np.isnan(s.numeric("asn"))],
+                               d.numeric("mean_decision_scan")[~np.isnan(d.numeric("mean_decision_scan"))])  # fmt: skip
+    assert "target_motions" not in d.meta and "study" not in d.meta and "Clopper-Pearson" in s.meta["study"]

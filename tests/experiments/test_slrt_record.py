@@ -97,7 +97,7 @@ def _oracle(data, sensors, F, Q, m0, P0, pds, rhos, Rs, kind):
         h, jac, wi = models[s]
         return orc.local_update(m, P, Z, h, jac, Rs[s], pds[s], rhos[s], wi)
 
-    out = {k: [] for k in ("ckf", "dkf", "lkf")}
+    out = {k: [] for k in ("ckf", "fkf", "lkf")}
     m, P, total = m0.copy(), P0.copy(), 0.0
     for scan in data:
         m, P = F @ m, orc._sym(F @ P @ F.T + Q)
@@ -123,7 +123,7 @@ def _oracle(data, sensors, F, Q, m0, P0, pds, rhos, Rs, kind):
             loc[s], lam = (m, P), lam + lp
         c1 = orc.gaussian_product_constant_closed([p[0] for p in loc], [p[1] for p in loc])
         total += lam + c1 - c0
-        out["dkf"].append(total)
+        out["fkf"].append(total)
     return {k: np.array(v) for k, v in out.items()}
 
 
@@ -306,9 +306,9 @@ def test_one_sensor_makes_the_fusion_rules_coincide(tmp_path):
     write_sensors(s, SENSORS[:1])
     cfg = sr.SlrtRecordConfig(init=INIT_XVY)
     res = sr.score(sr.load(d, s, cfg), cfg)
-    np.testing.assert_array_equal(res.scores["ckf"], res.scores["dkf"])
+    np.testing.assert_array_equal(res.scores["ckf"], res.scores["fkf"])
     np.testing.assert_array_equal(res.scores["ckf"], res.scores["lkf"])
-    assert res.table("curves").meta["single_sensor"].startswith("one sensor: CKF, DKF and LKF coincide")
+    assert res.table("curves").meta["single_sensor"].startswith("one sensor: the fusion rules coincide")
     assert any("coincide" in n for n in res.notes())
     cfg_log = replace(cfg, lkf_mean="log")
     np.testing.assert_array_equal(sr.score(sr.load(d, s, cfg_log), cfg_log).scores["lkf"], res.scores["ckf"])

@@ -35,6 +35,14 @@ SMALL = slrt.SlrtScenario(scans=6, clutter_rate=2.0)
         ({"alpha": 0.5}, "alpha"),
         ({"beta": 0.0}, "beta"),
         ({"beta": math.nan}, "beta"),
+        ({"gate_pg": 0.0}, "gate_pg"),
+        ({"gate_pg": 1.5}, "gate_pg"),
+        ({"feedback_every": 0}, "feedback_every"),
+        ({"ldf_prior": 1.0}, "ldf_prior"),
+        ({"ldf_weights": (1.0, 2.0), "methods": ("ldf",)}, "ldf_weights"),  # two weights for four sensors
+        ({"ldf_weights": (0.0,) * 4}, "ldf_weights"),
+        ({"methods": ("dkf",)}, "methods"),  # range-bearing sensors in clutter: the exact DKF does not apply
+        ({"motions": ("cv", "cv")}, "motions"),
     ],
 )
 def test_study_rejects_each_bad_field_naming_it(kw, field):
@@ -56,6 +64,31 @@ def test_study_cases_and_the_exceptions_to_its_checks():
     assert st.thresholds == wald_thresholds(1e-3, 0.1)
 
 
+@pytest.mark.parametrize(
+    ("method", "kw"),
+    [
+        ("fkf-feedback", {"feedback_every": 3}),
+        ("ldf", {"ldf_prior": 0.2}),
+        ("ldf", {"ldf_weights": (4.0, 1.0, 1.0, 1.0)}),
+        ("ckf", {"gate_pg": 0.99}),
+        ("naive", {"alpha": 0.01, "beta": 0.2}),
+        ("lkf", {"lkf_mean": "log"}),
+    ],
+)
+def test_the_studys_fusion_options_reach_the_rules(method, kw):
+    from motionsig_cli.detection.track_existence import FusionOptions, run_methods
+
+    st = slrt.SlrtStudy(SMALL, pd=(0.5,), no_target=False, runs=5, seed=2, methods=(method,), **kw)
+    assert st.options == FusionOptions(**kw) and st.job().options == st.options
+    got = run_job(st.job())[0][method]
+    sc = st.cases[0][1]
+    gen = slrt.generate(sc, range(5), 2)
+    want = run_methods(sc.model(), gen.m0, gen.scans, (method,), options=FusionOptions(**kw))[method]
+    default = run_methods(sc.model(), gen.m0, gen.scans, (method,))[method]
+    np.testing.assert_array_equal(got, want)
+    assert not np.array_equal(got, default)  # the option changes the score: it was not dropped on the way
+
+
 def test_filter_pd_is_checked_only_with_the_no_target_case():
     with pytest.raises(ConfigError):
         slrt.SlrtStudy(SMALL, filter_pd=5.0)
@@ -69,7 +102,11 @@ def test_filter_pd_is_checked_only_with_the_no_target_case():
         ({"runs": 0}, "runs"),
         ({"seed": -2}, "seed"),
         ({"methods": ("ukf",)}, "methods"),
-        ({"lkf_mean": "x"}, "lkf_mean"),
+        ({"options": {"lkf_mean": "log"}}, "options"),
+        (
+            {"methods": ("dkf",)},
+            "methods",
+        ),  # the exact DKF does not apply to range-bearing sensors in clutter
     ],
 )
 def test_job_rejects_each_bad_field_naming_it(kw, field):
@@ -81,7 +118,7 @@ def test_job_rejects_each_bad_field_naming_it(kw, field):
 
 @pytest.fixture(scope="module")
 def study_scores():
-    st = slrt.SlrtStudy(SMALL, pd=(0.9, 0.3), runs=7, seed=5, methods=("dkf", "ckf"))
+    st = slrt.SlrtStudy(SMALL, pd=(0.9, 0.3), runs=7, seed=5, methods=("fkf", "ckf"))
     return st, run_job(st.job())
 
 
@@ -90,10 +127,10 @@ def test_the_job_follows_the_engine_protocol_and_equals_a_direct_run(study_score
     job = st.job()
     assert isinstance(job, MonteCarloJob) and job.name == "slrt"
     assert job_trials(job) == 3 * 7 and len(job.tasks()) == 3 * 7  # many_tasks: one run per task
-    assert job.identity()["methods"] == ["dkf", "ckf"] and job.identity()["runs"] == 7
-    assert [list(s) for s in scores] == [["dkf", "ckf"]] * 3
+    assert job.identity()["methods"] == ["fkf", "ckf"] and job.identity()["runs"] == 7
+    assert [list(s) for s in scores] == [["fkf", "ckf"]] * 3
     for (_, sc), got in zip(st.cases, scores, strict=True):
-        direct, _ = slrt.run(sc, 7, 5, ("dkf", "ckf"))
+        direct, _ = slrt.run(sc, 7, 5, ("fkf", "ckf"))
         for m in got:
             np.testing.assert_allclose(got[m], direct[m], rtol=1e-12, atol=1e-12)
     chunked = run_job(job)  # under many_tasks: one run per task, joined in task order
@@ -118,7 +155,7 @@ def test_decisions_table(study_scores):
         p = r["error_rate"]
         assert r["error_rate_se"] == pytest.approx(math.sqrt(max(p * (1 - p), 1 / 7) / 7))
         assert (r["mean_decision_scan"] is None) == (r["undecided"] == 1.0)
-    assert [r["method"] for r in rows] == ["dkf", "ckf"] * 3
+    assert [r["method"] for r in rows] == ["fkf", "ckf"] * 3
     assert t.meta["view"] == "decisions" and t.meta["sprt"]["log_B"] == pytest.approx(math.log(0.9 / 1e-3))
 
 
@@ -136,7 +173,7 @@ def test_curves_table_panels_and_summary(study_scores):
     panels = res.panels()
     assert [p[0] for p in panels] == [label for label, _ in st.cases]
     np.testing.assert_array_equal(panels[0][1], np.arange(1, 7))
-    assert res.summary().startswith("slrt: mean log LR at scan 6: target, p_D = 0.9: dkf ")
+    assert res.summary().startswith("slrt: mean log LR at scan 6: target, p_D = 0.9: fkf ")
     with pytest.raises(ConfigError) as err:
         res.table("histogram")
     assert err.value.field == "view"
@@ -144,7 +181,7 @@ def test_curves_table_panels_and_summary(study_scores):
 
 def test_stop_freezes_and_a_nan_score_is_refused(study_scores):
     st, scores = study_scores
-    stopped = slrt.SlrtStudy(SMALL, pd=(0.9, 0.3), runs=7, seed=5, methods=("dkf", "ckf"), stop=True)
+    stopped = slrt.SlrtStudy(SMALL, pd=(0.9, 0.3), runs=7, seed=5, methods=("fkf", "ckf"), stop=True)
     frozen = stopped.result(scores)
     decided = 0
     for case, orig in zip(frozen.scores, scores, strict=True):
