@@ -50,6 +50,7 @@ __all__ = [
     "Record",
     "RecordSpec",
     "Role",
+    "fit_period",
     "grid_period",
     "parse_columns",
     "parse_units",
@@ -58,14 +59,25 @@ __all__ = [
 ]
 
 UNITS: dict[str, dict[str, float]] = {
-    "length": {"m": 1.0, "km": 1e3, "ft": 0.3048, "kft": 304.8, "nmi": 1852.0, "mi": 1609.344},
-    "angle": {"rad": 1.0, "mrad": 1e-3, "deg": math.pi / 180.0},
-    "time": {"s": 1.0, "ms": 1e-3, "us": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0},
+    "length": {
+        "m": 1.0,
+        "km": 1e3,
+        "cm": 1e-2,
+        "mm": 1e-3,
+        "ft": 0.3048,
+        "kft": 304.8,
+        "nmi": 1852.0,
+        "mi": 1609.344,
+    },
+    "angle": {"rad": 1.0, "mrad": 1e-3, "deg": math.pi / 180.0, "°": math.pi / 180.0},
+    "time": {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0},
     "speed": {"m/s": 1.0, "km/h": 1 / 3.6, "kn": 1852.0 / 3600.0, "ft/s": 0.3048},
     "variance_length": {"m2": 1.0, "km2": 1e6},
 }
 """Known units per quantity, as the factor to the SI unit (the first of each)."""
 QUANTITIES = tuple(UNITS)
+TIME_ZONE_LABELS = frozenset({"utc", "gmt", "z", "local", "tai", "gps"})
+"""Header annotations of a time column that name its time scale or zone, not a unit (``Time (UTC)``)."""
 KINDS = ("number", "integer", "time", "label")
 """How a role's cells are read: a float (SI), an integer, a time (seconds or ISO 8601), or a label."""
 MISSING = frozenset({"", "nan", "na", "n/a", "null", "none", "-"})
@@ -216,6 +228,8 @@ class Record:
     def provenance(self) -> dict[str, Any]:
         """What was read, for output metadata: file, columns per role, units, time origin."""
         out: dict[str, Any] = {"input": self.source, "input_columns": dict(self.columns)}
+        if self.extra:
+            out["input_ignored_columns"] = list(self.extra)
         if self.units:
             out["input_units"] = dict(self.units)
         if self.time_origin is not None:
@@ -328,7 +342,11 @@ def read_record(
     found = _find_columns(t, spec, colmap)
     lines = np.asarray(t.lines if len(t.lines) == len(t.rows) else range(2, len(t.rows) + 2), dtype=np.int64)
     rec = Record({}, lines, {}, {}, None, (), dict(t.meta), t.source, t.header_line, t)
-    meta_units = t.meta.get("units") if isinstance(t.meta.get("units"), dict) else {}
+    meta_units = t.meta.get("units", {})
+    if not isinstance(meta_units, dict):
+        raise InputError(
+            f'{t.source}: metadata \'units\' must be a JSON object such as {{"x": "km"}}, got {meta_units!r}'
+        )
     values: dict[str, np.ndarray] = {}
     used_units: dict[str, str] = {}
     origin: str | None = None
@@ -411,9 +429,12 @@ def _unit(
         return None
     known = UNITS[q]
     m = _HEADER_UNIT.match(col)
+    header = m.group(2) if m else None
+    if header is not None and q == "time" and header.lower() in TIME_ZONE_LABELS:
+        header = None  # "Time (UTC)": a time scale, not a unit (ISO stamps carry their zone)
     candidates = [
         (unitmap.get(role.name), "--units"),
-        (m.group(2) if m else None, "header"),
+        (header, "header"),
         (meta_units.get(col, meta_units.get(role.name)), "metadata 'units'"),
         (rec.meta.get(f"{role.name}_unit"), f"metadata '{role.name}_unit'"),
     ]
@@ -491,6 +512,10 @@ def _times(rec: Record, role: Role, cells: Sequence[Any], unit: str | None) -> t
         if bad.size:
             raise rec.error(int(bad[0]), role.name, f"time {cells[bad[0]]!r} is not finite")
         return arr * UNITS["time"][unit or "s"], None
+    texts = [str(v).strip() for v in cells]
+    blank = [i for i, x in enumerate(texts) if x.lower() in MISSING]
+    if blank:
+        raise rec.error(blank[0], role.name, "missing time (a time cannot be skipped; leave the row out)")
     stamps: list[datetime] = []
     for i, v in enumerate(cells):
         text = str(v).strip()
@@ -548,25 +573,39 @@ GRID_TOL = 0.05
 is read as on the grid (assumed; millisecond time stamps at 20 Hz are 2 % of the period)."""
 
 
+def fit_period(times: np.ndarray, k: np.ndarray) -> tuple[float, float]:
+    """Least-squares line ``times ≈ a + k T`` through rows at grid steps ``k``: (a, T).
+
+    The intercept is fitted too, so the period is not pulled by the jitter of the first time stamp.
+    """
+    k = np.asarray(k, float)
+    times = np.asarray(times, float)
+    kc = k - k.mean()
+    tc = times - times[0]
+    T = float(np.dot(kc, tc - tc.mean()) / np.dot(kc, kc))
+    return float(times[0] + tc.mean() - T * k.mean()), T
+
+
 def grid_period(times: np.ndarray, rel_tol: float = GRID_TOL) -> float:
     """The period of increasing times with jitter and gaps: the coarsest grid that holds every row.
 
     Each spacing of consecutive rows is a whole number of periods m_i T plus jitter. From a first guess,
     m_i = round(Δ_i / T) and T = Σ m_i Δ_i / Σ m_i² (over the spacings within 2 ``rel_tol`` of m_i T) are
     iterated to a fixed point; every m_i is decided locally, so no error accumulates along a long
-    record, and the least squares on the grid they define, Σ k Δt / Σ k² with k_i = Σ_{j<i} m_j over
-    the rows within ``rel_tol`` of it, is the estimate. The first guesses are the median spacing δ and
-    δ/2, δ/3, δ/4 (the median is a gap where most spacings are) and the spacings near the smallest one
-    (where it is at least δ/4: a stray row between two scans must not make the grid fine). When only a
-    few rows (at most 2, or 5 %) are off the median's grid, they are stray rows, not evidence of a finer
-    grid: the median's estimate is returned and :func:`uniform_grid` refuses the first of them. Else, of
-    the estimates that put every row within ``rel_tol`` of its own grid point the largest is taken (the
-    coarsest grid: the fewest missed samples); where none does, the median's estimate is returned, and
-    :func:`uniform_grid` refuses the row off its grid.
+    record. The rows are then placed on that grid (k_i = Σ_{j<i} m_j) and a straight line
+    t ≈ a + k T is fitted by least squares (:func:`fit_period`, intercept included, so the jitter of the
+    first stamp does not bias T), twice, re-placing the rows on the fitted line. The first guesses are
+    the median spacing δ and δ/2, δ/3, δ/4 (the median is a gap where most spacings are) and the
+    spacings near the smallest one (where it is at least δ/4: a stray row between two scans must not
+    make the grid fine). When only a few rows (at most 2, or 5 %) are off the median's grid, they are
+    stray rows, not evidence of a finer grid: the median's estimate is returned and
+    :func:`uniform_grid` refuses the first of them. Else, of the estimates that put every row within
+    ``rel_tol`` of its own grid point the largest is taken (the coarsest grid: the fewest missed
+    samples); where none does, the median's estimate is returned, and :func:`uniform_grid` refuses the
+    row off its grid.
     """
     times = np.asarray(times, float)
     d = np.diff(times)
-    dt = times - times[0]
     delta = float(np.median(d))
     guesses = [delta / j for j in (1, 2, 3, 4)]
     small = float(np.median(d[d < 1.5 * np.min(d)]))
@@ -584,16 +623,20 @@ def grid_period(times: np.ndarray, rel_tol: float = GRID_TOL) -> float:
             if T_new == T:
                 break
             T = T_new
-        k = np.concatenate([[0.0], np.cumsum(np.rint(d / T))])
-        k[np.abs(dt - k * T) > rel_tol * T] = 0.0  # rows off the grid: left out of the fit
-        if np.dot(k, k) > 0:
-            T = float(np.dot(k, dt) / np.dot(k, k))
+        T = _segment_period(times, np.rint(d / T), T)  # the period within runs of consecutive samples
+        k = np.concatenate([[0.0], np.cumsum(np.rint(d / T))])  # gaps counted with it
+        a, T = fit_period(times, k) if np.ptp(k) > 0 else (times[0], T)
+        for _ in range(2):  # re-placed on the fitted line, refitted on the rows that are on it
+            k = np.rint((times - a) / T)
+            on = np.abs(times - a - k * T) <= rel_tol * T
+            if np.count_nonzero(on) >= 2 and np.ptp(k[on]) > 0:
+                a, T = fit_period(times[on], k[on])
+        k = np.rint((times - a) / T)
         estimates.append(T)
-        g = np.rint(dt / T)
-        off = np.abs(dt - g * T) > rel_tol * T
+        off = np.abs(times - a - k * T) > rel_tol * T
         if j == 0 and 0 < np.count_nonzero(off) <= max(2, 0.05 * times.size):
             return T  # a few rows off the median's grid are stray rows, not a finer grid: uniform_grid refuses them
-        if np.all(np.diff(g) > 0) and not np.any(off):
+        if np.all(np.diff(k) > 0) and not np.any(off):
             found.append(T)
     return max(found) if found else estimates[0]
 
@@ -614,12 +657,16 @@ def uniform_grid(
     if times.size < 2:
         raise rec.error(None, None, f"need at least 2 times, found {times.size}")
     dt = times - times[0]
+    estimated = T is None
     if T is None:
         T = grid_period(times, rel_tol)
     if not (math.isfinite(T) and T > 0):
         raise rec.error(None, role, f"sample period {T!r} is not > 0")
     k = np.rint(dt / T)
-    off = np.abs(dt - k * T)
+    phase = float(np.median(dt - k * T))  # the grid's offset from the first (jittered) stamp
+    k = np.rint((dt - phase) / T)
+    k -= k[0]
+    off = np.abs(dt - phase - k * T)
     bad = np.flatnonzero(off > rel_tol * T)
     if bad.size:
         i = int(bad[0])
@@ -629,6 +676,8 @@ def uniform_grid(
             f"time {times[i]:.9g} s is {off[i] / T:.3g} periods off the {T:.6g} s grid (non-uniform sampling "
             "is not supported here: resample, or give the period)",
         )
+    if estimated:
+        _check_gap_counts(rec, times, k, T, role)
     same = np.flatnonzero(np.diff(k) == 0)
     if same.size:
         i = int(same[0]) + 1
@@ -636,3 +685,53 @@ def uniform_grid(
             i, role, f"time {times[i]:.9g} s falls on the same {T:.6g} s grid point as the row before"
         )
     return k.astype(np.int64), T
+
+
+def _segments(times: np.ndarray, m: np.ndarray) -> tuple[float, float, int]:
+    """Pooled least squares of the period over runs of consecutive samples (spacings of one period):
+    (S_xy, S_xx, residual degrees of freedom) of t against the sample index within each run."""
+    sxy = sxx = 0.0
+    dof = 0
+    start = 0
+    for end in [*np.flatnonzero(m != 1).tolist(), m.size]:
+        seg = times[start : end + 1]
+        if seg.size >= 2:
+            kc = np.arange(seg.size) - (seg.size - 1) / 2
+            sxy += float(np.dot(kc, seg - seg.mean()))
+            sxx += float(np.dot(kc, kc))
+            dof += seg.size - 2
+        start = end + 1
+    return sxy, sxx, dof
+
+
+def _segment_period(times: np.ndarray, m: np.ndarray, T: float) -> float:
+    """The period from the runs of consecutive samples only (gaps do not pull it); T when there are none."""
+    sxy, sxx, _ = _segments(times, m)
+    return sxy / sxx if sxx > 0 else T
+
+
+def _check_gap_counts(rec: Record, times: np.ndarray, k: np.ndarray, T: float, role: str) -> None:
+    """Refuse a gap whose number of periods the times do not determine.
+
+    The period is estimated within the runs of consecutive samples (:func:`_segments`), with standard
+    error σ_T = σ_j / √S_xx (σ_j the jitter, from the residuals). A gap of duration d spans d/T periods
+    known to ± d σ_T / T²; where that exceeds 1/8 of a period (a 4σ error could round to the next count)
+    the count is ambiguous and the period must be given.
+    """
+    d, m = np.diff(times), np.diff(k)
+    _, sxx, dof = _segments(times, m)
+    if sxx <= 0 or dof < 1 or not np.any(m > 1):
+        return
+    a, T_fit = fit_period(times, k)
+    sigma_j = float(np.sqrt(np.sum((times - a - k * T_fit) ** 2) / max(times.size - 2, 1)))
+    sd = sigma_j / math.sqrt(sxx)
+    bad = np.flatnonzero((m > 1) & (d * sd / T**2 > 0.125))
+    if bad.size:
+        i = int(bad[0])
+        raise rec.error(
+            i + 1,
+            role,
+            f"the {d[i]:.9g} s gap before this row is {int(m[i])} periods of {T:.9g} s, but the times give the "
+            f"period only to ±{sd:.2g} s, so the gap could be {int(m[i]) - 1} or {int(m[i]) + 1} periods: give "
+            "the period",
+        )

@@ -209,7 +209,7 @@ def _read_stream(stream: Any, name: str, max_rows: int) -> Table:
         if line.strip():
             first = line.lstrip().removeprefix("\ufeff")[:1]
             break
-    if first == "{":
+    if first in "{[" and first:
         return _read_json("".join(head) + stream.read(), name, max_rows)
     meta: dict[str, Any] = {}
     linenos: list[int] = []  # line of each non-comment line handed to the CSV parser
@@ -247,6 +247,11 @@ def _parse_csv(reader: Any, linenos: list[int], meta: dict[str, Any], name: str,
     if len(linenos) != 1:
         raise InputError(f"{name}:{linenos[0]}: a quoted field is not closed on its line (not supported)")
     columns = tuple(c.strip() for c in header)
+    if len(columns) == 1 and ";" in columns[0]:
+        raise InputError(
+            f"{name}:{linenos[0]}: the header {columns[0]!r} is one column: the file looks separated by ';' "
+            "(fields must be separated by commas)"
+        )
     if len(set(columns)) != len(columns):
         raise InputError(f"{name}:{linenos[0]}: duplicate column names in header")
     n = len(columns)
@@ -303,8 +308,13 @@ def _read_json(text: str, name: str, max_rows: int) -> Table:
         doc = json.loads(text)
     except json.JSONDecodeError as exc:
         raise InputError(f"{name}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg})") from None
+    if isinstance(doc, list):  # a bare list of records (pandas: to_json(orient="records"))
+        doc = {"data": doc}
     if not isinstance(doc, dict) or not isinstance(doc.get("data"), list):
-        raise InputError(f'{name}: a JSON table needs an object with a "data" list of records')
+        raise InputError(
+            f'{name}: a JSON table is {{"meta": {{...}}, "columns": [...], "data": [{{...}}, ...]}} (as the commands '
+            'write it) or a list of records [{"column": value, ...}, ...]'
+        )
     data = doc["data"]
     meta = doc.get("meta", {})
     if not isinstance(meta, dict):
