@@ -32,7 +32,11 @@ true/false.
 
 **σ** (per axis, the same for the whole record) is ``--sigma``, else the metadata ``sigma`` [m], else
 estimated from the data (:func:`estimate_sigma`: a robust estimate from the second differences of the
-positions), and the metadata of the output says which, with the method.
+positions), and the metadata of the output says which, with the method. A ``sigma`` column that varies
+from row to row (a per-scan σ) is not supported: it is ignored when σ is given or in the metadata (the
+output's metadata says so, ``sigma_column``), and refused, naming its line, when σ would be estimated
+(assumed: the user then chooses ``--sigma`` or ``--sigma estimate``). Where σ cannot be estimated (too few
+consecutive measured scans, or noise-free positions) and none was given, the error names the file.
 
 Every failure is one line: a bad record an :class:`~motionsig_cli.errors.InputError` ``file:line: column
 'name': …``, a bad option a :class:`~motionsig_cli.config.ConfigError` naming its field.
@@ -65,6 +69,7 @@ from motionsig_cli.records import (
     Record,
     RecordSpec,
     Role,
+    fit_period,
     grid_period,
     parse_columns,
     read_record,
@@ -133,6 +138,9 @@ class TrackRecord:
         T: the scan period [s].
         T_source: how T was obtained (for the metadata).
         record: the record read (its provenance, metadata and lines).
+        sigma_column: where the record's ``sigma`` column varies from row to row: (line, ``σ changes from
+            5 to 6``), or None. A per-scan σ is not supported: the column is ignored when σ is
+            given (or in the metadata), and refused when σ would be estimated (:func:`track_record`).
     """
 
     z: np.ndarray
@@ -141,6 +149,7 @@ class TrackRecord:
     T: float
     T_source: str
     record: Record
+    sigma_column: tuple[int, str] | None = None
 
     @property
     def measured(self) -> np.ndarray:
@@ -171,19 +180,29 @@ def _meta_number(rec: Record, key: str, lo: float, hi: float, unit: str) -> floa
         raise InputError(f"{rec.source}: metadata {key!r} = {exc.detail}") from None
 
 
-def _one_run(t: Table, mapped: set[str]) -> None:
+def _one_run(t: Table, mapped: set[str]) -> tuple[int, str] | None:
     """Refuse a file holding several runs (or several σ) of ``--view measurements`` (before the order of
-    its scans is checked: a second run starts again at scan 1)."""
+    its scans is checked: a second run starts again at scan 1).
+
+    Returns:
+        In any other file, where its ``sigma`` column varies (a per-scan σ, which the trackers do not
+        support): the line of its first change and the change (``σ changes from 5 to 6``), else None.
+    """
+    measurements = t.meta.get("command") == "maneuver" and t.meta.get("view") == "measurements"
     for col in ("run", "sigma"):
         if col in t.columns and col not in mapped:
             cells = t.column(col)
             other = next((i for i, v in enumerate(cells) if v != cells[0]), None)
-            if other is not None:
-                line = t.lines[other] if other < len(t.lines) else other + 2
-                raise InputError(
-                    f"{t.source}:{line}: column {col!r}: several values of {col!r} in one file "
-                    f"({cells[other]} after {cells[0]}); track one record at a time"
-                )
+            if other is None:
+                continue
+            line = t.lines[other] if other < len(t.lines) else other + 2
+            if col == "sigma" and not measurements:
+                return line, f"σ changes from {cells[0]} to {cells[other]}"
+            raise InputError(
+                f"{t.source}:{line}: column {col!r}: several values of {col!r} in one file "
+                f"({cells[other]} after {cells[0]}); track one record at a time"
+            )
+    return None
 
 
 def read_track_record(
@@ -208,7 +227,7 @@ def read_track_record(
         in_range("T", T, *T_RANGE, unit="s")
     colmap = parse_columns(columns, SPEC)
     table = source if isinstance(source, Table) else read_table(source, max_rows=SPEC.max_rows)
-    _one_run(table, set(colmap.values()))
+    sigma_column = _one_run(table, set(colmap.values()))
     rec = read_record(table, SPEC, columns=colmap, units=units)
     if not (rec.has("time") or rec.has("scan")):
         cols = ", ".join(rec.table.columns) if rec.table is not None else ""
@@ -255,12 +274,12 @@ def read_track_record(
     scan0 = int(rec["scan"][0]) if rec.has("scan") else 1
     t0 = float(rec["time"][0]) if rec.has("time") else 0.0
     steps = np.arange(K)
-    return TrackRecord(z, scan0 + steps, t0 + steps * T_used, T_used, T_source, rec)
+    return TrackRecord(z, scan0 + steps, t0 + steps * T_used, T_used, T_source, rec, sigma_column)
 
 
 def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.ndarray, float]:
-    """Grid steps k of the rows for the period T (one row per scan), and the least-squares period
-    T̂ = Σ k Δt / Σ k² on that grid."""
+    """Grid steps k of the rows for the period T (one row per scan), and the least-squares period on
+    that grid (a line t ≈ a + k T̂ with intercept: :func:`~motionsig_cli.records.fit_period`)."""
     try:
         k, _ = uniform_grid(rec, times, T, rel_tol=JITTER_TOL)
     except InputError as exc:
@@ -273,8 +292,7 @@ def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.
             "time",
             f"time {times[i]:.9g} s falls on the same scan as the previous row's (T = {T:.6g} s){note}",
         )
-    dt = times - times[0]
-    return k, float(np.dot(k, dt) / np.dot(k, k))
+    return k, fit_period(times, k)[1]
 
 
 def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
@@ -376,10 +394,7 @@ def estimate_sigma(z: np.ndarray) -> SigmaEstimate:
         ConfigError: on ``sigma``: fewer than :data:`MIN_SIGMA_DIFFS` second differences, or σ̂ outside
             :data:`~motionsig_cli.experiments.maneuver.SIGMA_RANGE` (give σ instead).
     """
-    z = np.asarray(z, float)
-    ok = ~np.any(np.isnan(z), axis=1)
-    triple = ok[:-2] & ok[1:-1] & ok[2:] if z.shape[0] >= 3 else np.zeros(0, dtype=bool)
-    d = (z[2:] - 2.0 * z[1:-1] + z[:-2])[triple] if z.shape[0] >= 3 else np.zeros((0, 2))
+    d = _second_differences(z)
     n = int(d.shape[0])
     if n < MIN_SIGMA_DIFFS:
         raise ConfigError(
@@ -388,8 +403,7 @@ def estimate_sigma(z: np.ndarray) -> SigmaEstimate:
             f"needs at least {MIN_SIGMA_DIFFS} runs of three consecutive measured scans, the record has {n}: "
             "give σ [m]",
         )
-    dev = np.abs(d - np.median(d, axis=0))
-    sigma = MAD_TO_SD * float(np.median(dev)) / math.sqrt(6.0)
+    sigma = _mad_sigma(d)
     if not (SIGMA_RANGE[0] <= sigma <= SIGMA_RANGE[1]):
         raise ConfigError(
             "sigma",
@@ -398,6 +412,23 @@ def estimate_sigma(z: np.ndarray) -> SigmaEstimate:
             "give σ [m]",
         )
     return SigmaEstimate(sigma, n)
+
+
+def _second_differences(z: np.ndarray) -> np.ndarray:
+    """(n, 2) second differences z_(k+1) − 2 z_k + z_(k−1) over the runs of three consecutive measured
+    scans of z (K, 2) (NaN rows: missed scans)."""
+    z = np.asarray(z, float)
+    if z.shape[0] < 3:
+        return np.zeros((0, 2))
+    ok = ~np.any(np.isnan(z), axis=1)
+    triple = ok[:-2] & ok[1:-1] & ok[2:]
+    return (z[2:] - 2.0 * z[1:-1] + z[:-2])[triple]
+
+
+def _mad_sigma(d: np.ndarray) -> float:
+    """σ̂ = 1.4826 MAD(d) / √6, the deviations about each axis' median pooled (:func:`estimate_sigma`)."""
+    dev = np.abs(d - np.median(d, axis=0))
+    return MAD_TO_SD * float(np.median(dev)) / math.sqrt(6.0)
 
 
 # --------------------------------------------------------------------------------------------- tracking
@@ -418,6 +449,24 @@ class RecordTrack:
     sigma_estimated: bool
 
 
+def _estimable(rec: TrackRecord) -> None:
+    """Refuse, naming the file, a record σ cannot be estimated from when no σ was given (the failure of
+    :func:`estimate_sigma` names ``--sigma`` only when the user asked for the estimate)."""
+    d = _second_differences(rec.z)
+    n = int(d.shape[0])
+    if n < MIN_SIGMA_DIFFS:
+        raise InputError(
+            f"{rec.source}: σ cannot be estimated from {n} second difference{'s' * (n != 1)} (need "
+            f"{MIN_SIGMA_DIFFS}: three consecutive measured scans each): give σ [m] with --sigma"
+        )
+    sigma = _mad_sigma(d)
+    if not (SIGMA_RANGE[0] <= sigma <= SIGMA_RANGE[1]):
+        raise InputError(
+            f"{rec.source}: σ estimated from the positions is {sigma:g} m, not in [{SIGMA_RANGE[0]:g}, "
+            f"{SIGMA_RANGE[1]:g}] m (noise-free positions?): give σ [m] with --sigma"
+        )
+
+
 def _sigma(rec: TrackRecord, sigma: float | str | None) -> tuple[float, dict[str, Any], bool]:
     """σ, its metadata and whether it was estimated without being asked to."""
     if isinstance(sigma, str):
@@ -429,6 +478,13 @@ def _sigma(rec: TrackRecord, sigma: float | str | None) -> tuple[float, dict[str
         meta = _meta_number(rec.record, "sigma", *SIGMA_RANGE, "m")
         if meta is not None:
             return meta, {"sigma_source": "metadata 'sigma'"}, False
+        if rec.sigma_column is not None:
+            line, change = rec.sigma_column
+            raise InputError(
+                f"{rec.source}:{line}: column 'sigma': {change}: a per-scan σ column is not supported (the trackers use one σ per "
+                "record): give σ [m] with --sigma, or --sigma estimate to estimate it from the positions"
+            )
+        _estimable(rec)
     est = estimate_sigma(rec.z)
     how = "--sigma estimate" if sigma == "estimate" else "estimated: no --sigma, no metadata 'sigma'"
     return (
@@ -458,6 +514,11 @@ def track_record(
     """
     _check_methods(methods)
     s, sigma_meta, implicit = _sigma(rec, sigma)
+    if rec.sigma_column is not None:
+        line, change = rec.sigma_column
+        sigma_meta["sigma_column"] = (
+            f"ignored (line {line}: {change}): a per-scan σ is not supported, one σ for the record"
+        )
     measured = rec.measured
     idx = np.flatnonzero(measured)
     a, b = int(idx[0]), int(idx[1])

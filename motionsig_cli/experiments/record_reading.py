@@ -26,8 +26,8 @@ refused, since the record was edited.
 **Missing samples.** An empty or NaN cell, and a sample absent from the time grid, is NaN in
 :attr:`VehicleRecord.y` (a 2-D sample missing either coordinate is missing as a whole): the filter banks
 make it a predict-only step. **Bad input** (a wrong header, text in a number column, a repeated or
-decreasing time, an unknown unit, an empty file, more than :data:`MAX_RECORD` samples, a range ≤ 0, a
-bearing beyond ±π) is an :class:`~motionsig_cli.errors.InputError` naming the file, line and column; a bad
+decreasing time, an unknown unit, an empty file, more than :data:`MAX_RECORD` samples, a position or range
+beyond ±:data:`MAX_MAGNITUDE`, a range ≤ 0, a bearing beyond ±π) is an :class:`~motionsig_cli.errors.InputError` naming the file, line and column; a bad
 option value a :class:`~motionsig_cli.config.ConfigError` naming its field. Horizons are checked against
 the record's length (:func:`record_horizons`, a ConfigError naming ``horizons``).
 """
@@ -69,6 +69,10 @@ from motionsig_cli.tables import Table, read_table
 NEEDED_META_1D = ("T", "m_rho", "K", "R", "codes", "f_c", "a_sig")
 NEEDED_META_2D = ("T", "m_rho", "K", "R_range", "R_bearing", "codes", "f_c", "a_sig", "start")
 MAX_DEFAULT_HORIZONS = 1000
+MAX_MAGNITUDE = 1e9
+"""Largest |position| or range accepted from a record [m] (assumed, as ``maneuver``'s bound: a million km,
+beyond any radar's range; the filters' squared innovations, divided by the smallest measurement variances,
+stay far from float overflow, where a value such as 1e300 makes the statistic NaN)."""
 HINT_1D = "produce the record with 'motionsig simulate'"
 HINT_2D = "produce the record with 'motionsig simulate --example 2d'"
 DEFAULT = "default (assumed)"
@@ -468,6 +472,9 @@ def _measurements(
     rec: Record, layout: str, k: np.ndarray, n: int
 ) -> tuple[np.ndarray, tuple[float, float] | None]:
     """The measurements on the grid (NaN: missing) and, 2-D, the first measured position (x, y)."""
+    for role in LAYOUTS[layout].roles:
+        if role.quantity == "length":
+            _refuse_huge(rec, role.name)
     if layout == "1d":
         y = np.full(n, np.nan)
         y[k] = rec["y"]
@@ -478,8 +485,12 @@ def _measurements(
         bad = np.flatnonzero(present & (rng <= 0))
         if bad.size:
             i = int(bad[0])
-            v = rng[i] / UNITS["length"][rec.units["range"]]
-            raise rec.error(i, "range", f"range {v:g} <= 0: the target is at the radar (bearing undefined)")
+            reason = (
+                "range 0 <= 0: the target is at the radar (bearing undefined)"
+                if rng[i] == 0
+                else f"range {_in_unit(rec, 'range', rng[i])} is not > 0"
+            )
+            raise rec.error(i, "range", reason)
         over = np.flatnonzero(present & (np.abs(brg) > math.pi * (1 + 1e-12)))
         if over.size:
             i, unit = int(over[0]), rec.units["bearing"]
@@ -511,6 +522,28 @@ def _measurements(
         else (float(rng[first] * math.cos(brg[first])), float(rng[first] * math.sin(brg[first])))
     )
     return y, xy
+
+
+def _in_unit(rec: Record, role: str, value: float, fmt: str = "g") -> str:
+    """A length [m] in the unit of its column (``-5 m``, ``-0.005 km``)."""
+    unit = rec.units[role]
+    return f"{value / UNITS['length'][unit] + 0.0:{fmt}} {unit}"  # + 0.0: -0 reads 0
+
+
+def _refuse_huge(rec: Record, role: str) -> None:
+    """Refuse a length whose magnitude exceeds :data:`MAX_MAGNITUDE` (NaN, a missing sample, passes)."""
+    values = rec[role]
+    big = np.flatnonzero(np.abs(values) > MAX_MAGNITUDE)  # NaN compares False; inf is caught
+    if big.size:
+        i = int(big[0])
+        unit = rec.units[role]
+        si = "" if unit == "m" else f" = {abs(values[i]):.9g} m"
+        raise rec.error(
+            i,
+            role,
+            f"|{role}| {_in_unit(rec, role, abs(values[i]), '.9g')}{si} exceeds {MAX_MAGNITUDE:g} m "
+            "(an implausible measurement: a unit error or a fill value?)",
+        )
 
 
 def _first_missing(

@@ -13,6 +13,7 @@ import datetime as dt
 import io
 import math
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -382,8 +383,13 @@ BAD_FILES = [
     ("span.csv", "t,y\n0,1\n0.05,2\n0.1,3\n100000,4\n", (), ("{f}:5: column 't'", "2000001 samples", "more than 1000000")),
     ("nan.csv", "t,y\n0,\n0.05,nan\n0.1,NA\n", (), ("{f}: no measurement: every sample", "missing")),
     ("offgrid.csv", "t,y\n" + _rows(40), ("--T", "0.07"), ("--T", "does not fit the record's times")),
-    ("range0.csv", "t,range,bearing\n0,70,0.1\n0.05,0,0.1\n", (), ("{f}:3: column 'range': range 0 <= 0",)),
-    ("range_neg.csv", "t,range [km],bearing\n0,1,0.1\n0.05,-0.5,0.1\n", (), ("{f}:3: column 'range [km]'",)),
+    ("range0.csv", "t,range,bearing\n0,70,0.1\n0.05,0,0.1\n", (), ("{f}:3: column 'range': range 0 <= 0: the target is at the radar",)),
+    ("range_neg.csv", "t,range [km],bearing\n0,1,0.1\n0.05,-0.5,0.1\n", (), ("{f}:3: column 'range [km]': range -0.5 km is not > 0",)),
+    ("range_neg_m.csv", "t,range,bearing\n0,70,0.1\n0.05,-5,0.1\n", (), ("{f}:3: column 'range': range -5 m is not > 0",)),
+    ("huge_y.csv", "t,y\n" + _rows(100) + "5.0,1e300\n", (), ("{f}:102: column 'y': |y| 1e+300 m exceeds 1e+09 m",)),
+    ("huge_neg_y.csv", "t,y [km]\n0,1\n0.05,-2e6\n0.1,1\n", (), ("{f}:3: column 'y [km]': |y| 2000000 km = 2e+09 m exceeds 1e+09 m",)),
+    ("huge_range.csv", "t,range,bearing\n0,70,0.1\n0.05,1e150,0.1\n0.1,70,0.1\n", (), ("{f}:3: column 'range': |range| 1e+150 m exceeds",)),
+    ("huge_x.csv", "t,x,y\n0,70,1\n0.05,70,-1e10\n0.1,70,1\n", (), ("{f}:3: column 'y': |y| 1e+10 m exceeds",)),
     (
         "bearing.csv", "t,range,bearing\n0,70,0.1\n0.05,70,57\n", (),
         ("{f}:3: column 'bearing': bearing 57 is outside", "degrees in a column labelled radians"),
@@ -440,3 +446,37 @@ def test_record_options_are_refused_with_the_monte_carlo(capsys):
     for opt in (("--R", "1e-3"), ("--columns", "time=t"), ("--codes", "gold:45,75:3"), ("--T", "0.1")):
         err = one_line_error(capsys, "detect", "--montecarlo", "--trials", "1", *opt)
         assert opt[0] in err and "applies to a record" in err
+
+
+@pytest.mark.parametrize(
+    ("header", "plain", "bad", "column"),
+    [
+        ("t,y", "1e-5", "{v}", "y"),
+        ("t,range,bearing", "70,0.1", "{v},0.1", "range"),
+        ("t,x,y", "70,3", "70,{v}", "y"),
+    ],
+    ids=["1d", "polar", "cartesian"],
+)
+def test_a_magnitude_beyond_the_bound_is_refused_and_one_at_it_keeps_the_statistic_finite(
+    tmp_path, capsys, header, plain, bad, column
+):
+    """A fill value such as 1e300 made the statistic NaN (overflowing squares) and exited 0; beyond 1e9 m a
+    position or range is refused with its line and column. At the bound itself the filters' arithmetic
+    stays finite: the run succeeds without a RuntimeWarning and every statistic is finite (the bound is
+    not arbitrary). One implausible sample at line 102 (sample 100) of an otherwise constant record."""
+
+    def record(name: str, v: str):
+        rows = "".join(f"{k * 0.05!r},{bad.format(v=v) if k == 100 else plain}\n" for k in range(240))
+        (tmp_path / name).write_text(header + "\n" + rows)
+        return tmp_path / name
+
+    at, beyond = record("at.csv", "1e9" if column == "range" else "-1e9"), record("beyond.csv", "1.0000001e9")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a RuntimeWarning (overflow, invalid value) fails the test
+        rc, out, err = run(capsys, "detect", str(at), "--horizons", "10")
+    assert rc == 0, err
+    assert all(math.isfinite(float(v)) for v in table(out, tmp_path).column("statistic"))
+    target = tmp_path / "out.csv"
+    err = one_line_error(capsys, "detect", str(beyond), "--horizons", "10", "-o", str(target))
+    assert f"{beyond}:102: column '{column}': |{column}| 1.0000001e+09 m exceeds 1e+09 m" in err
+    assert not target.exists()

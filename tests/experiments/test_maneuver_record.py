@@ -210,6 +210,89 @@ def test_sigma_estimate_is_robust_and_refuses_too_little_data():
         mr.estimate_sigma(_cv(40, 0.0)[1])
 
 
+def test_without_a_given_sigma_a_failed_estimate_names_the_file_not_the_option(tmp_path):
+    """No --sigma and no metadata 'sigma': a record σ cannot be estimated from is the record's fault (an
+    InputError naming the file, the count and the need for --sigma); asked for with --sigma estimate, the
+    same failure names the option (a ConfigError on sigma)."""
+    cfg = ex.TrackerConfig()
+    pos, z = _cv(12)
+    z[::3] = np.nan  # 8 measured scans, never three consecutive: 0 second differences
+    rec = mr.read_track_record(_csv(tmp_path, ["scan", "x", "y"], [[i + 1, *r] for i, r in enumerate(z)]))
+    with pytest.raises(InputError) as exc:
+        mr.track_record(rec, ("cv",), cfg)
+    msg = str(exc.value)
+    assert msg.startswith(f"{rec.source}: σ cannot be estimated from 0 second differences (need 10")
+    assert "--sigma" in msg and "Invalid value" not in msg
+    with pytest.raises(ConfigError) as cexc:
+        mr.track_record(rec, ("cv",), cfg, sigma="estimate")
+    assert cexc.value.field == "sigma"
+    assert mr.track_record(rec, ("cv",), cfg, sigma=50.0).table.meta["sigma_source"] == "--sigma"
+    # 9 differences: one short of MIN_SIGMA_DIFFS (11 consecutive measured scans)
+    nine = mr.read_track_record(
+        _csv(
+            tmp_path,
+            ["t", "x", "y"],
+            [[i, *r] for i, r in enumerate(_cv(11)[1])],
+            name="n.csv",
+        )
+    )
+    with pytest.raises(InputError, match=r"n.csv: σ cannot be estimated from 9 second differences \(need 10"):
+        mr.track_record(nine, ("cv",), cfg)
+    ten = mr.read_track_record(
+        _csv(tmp_path, ["t", "x", "y"], [[i, *r] for i, r in enumerate(_cv(12)[1])], name="t.csv")
+    )
+    assert mr.track_record(ten, ("cv",), cfg).table.meta["sigma_differences"] == 10
+    # noise-free positions: σ̂ = 0 m, outside the accepted range
+    exact = mr.read_track_record(
+        _csv(tmp_path, ["scan", "x", "y"], [[i + 1, *r] for i, r in enumerate(pos)], name="e.csv")
+    )
+    with pytest.raises(
+        InputError, match=r"e.csv: σ estimated from the positions is 0 m, not in .*give σ \[m\] with --sigma"
+    ):
+        mr.track_record(exact, ("cv",), cfg)
+
+
+def test_a_varying_sigma_column_is_not_a_per_scan_sigma(tmp_path):
+    """A user's export with a per-row 'sigma' column that varies: the trackers use one σ per record, so
+    without a σ (option or metadata) it is refused naming the line where it first changes; with one, the
+    column is ignored and the output's metadata says so. A constant column changes nothing; the several σ
+    of a 'maneuver --view measurements' file are still several records."""
+    cfg = ex.TrackerConfig()
+    _, z = _cv(40, 30.0, seed=5)
+    sig = [5 if i % 3 else 7 for i in range(40)]  # changes at row 1 (line 3)
+    rows = [[i, *r, s] for i, (r, s) in enumerate(zip(z, sig, strict=True))]
+    p = _csv(tmp_path, ["time", "x", "y", "sigma"], rows)
+    rec = mr.read_track_record(p)
+    with pytest.raises(InputError) as exc:
+        mr.track_record(rec, ("cv",), cfg)
+    msg = str(exc.value)
+    assert msg.startswith(
+        f"{p}:3: column 'sigma': σ changes from 7 to 5: a per-scan σ column is not supported"
+    )
+    assert "several values" not in msg and "--sigma" in msg
+    given = mr.track_record(rec, ("cv",), cfg, sigma=30.0).table.meta
+    assert given["sigma"] == 30.0 and given["sigma_column"].startswith(
+        "ignored (line 3: σ changes from 7 to 5)"
+    )
+    est = mr.track_record(rec, ("cv",), cfg, sigma="estimate").table.meta
+    assert est["sigma_source"] == "--sigma estimate" and "sigma_column" in est
+    in_meta = mr.read_track_record(
+        _csv(tmp_path, ["time", "x", "y", "sigma"], rows, meta=["sigma: 30"], name="m.csv")
+    )
+    assert mr.track_record(in_meta, ("cv",), cfg).table.meta["sigma_source"] == "metadata 'sigma'"
+    const = mr.read_track_record(
+        _csv(tmp_path, ["time", "x", "y", "sigma"], [[*r[:3], 5] for r in rows], name="c.csv")
+    )
+    out = mr.track_record(const, ("cv",), cfg).table.meta
+    assert out["sigma_source"].startswith("estimated") and "sigma_column" not in out
+    view = ['command: "maneuver"', 'view: "measurements"', "sigma: [100.0, 200.0]"]
+    runs = [[s, 0, i + 1, *r] for s in (100.0, 200.0) for i, r in enumerate(z[:5])]
+    with pytest.raises(InputError, match=r"v.csv:10: column 'sigma': several values of 'sigma' in one file"):
+        mr.read_track_record(
+            _csv(tmp_path, ["sigma", "run", "scan", "z_x", "z_y"], runs, meta=view, name="v.csv")
+        )
+
+
 # ------------------------------------------------------------------------------------------- tracking
 def test_a_record_without_missed_scans_tracks_bit_identically_to_the_monte_carlo_trackers(tmp_path):
     sc = ex.ManeuverScenario("turn90", scans=240)

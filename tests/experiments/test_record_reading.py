@@ -10,6 +10,7 @@ import pytest
 from motionsig_cli.config import ConfigError
 from motionsig_cli.errors import InputError
 from motionsig_cli.experiments.record_reading import (
+    MAX_MAGNITUDE,
     read_record_1d,
     read_record_2d,
     record_horizons,
@@ -106,7 +107,9 @@ def _cells(table: Table, column: str, row: int, value: float) -> Table:
 @pytest.mark.parametrize(
     ("column", "value", "message"),
     [
-        ("range", 0.0, "range 0 <= 0"),
+        ("range", 0.0, "range 0 <= 0: the target is at the radar"),
+        ("range", -5.0, "column 'range': range -5 m is not > 0"),
+        ("range", 1e300, r"column 'range': \|range\| 1e\+300 m exceeds 1e\+09 m"),
         ("bearing", 57.3, "degrees in a column labelled radians"),
         ("range", math.inf, "column 'range': 'inf' is not finite"),
         ("t", 0.0, "time is not increasing"),
@@ -118,6 +121,20 @@ def test_bad_cells_name_the_line(rec2, tmp_path, column, value, message):
     with pytest.raises(InputError, match=message) as exc:
         read_record_2d(_write(_cells(rec2, column, 4, value), path))
     assert str(path) in str(exc.value)
+
+
+@pytest.mark.parametrize("value", [1e300, -1e300, 1.5e9])
+def test_an_implausible_1d_position_names_the_line(rec1, tmp_path, value):
+    """|y| > 1e9 m (MAX_MAGNITUDE) is refused before it reaches the filters (row 4: line 4 after the
+    metadata and the header)."""
+    path = tmp_path / "h.csv"
+    edited = _write(_cells(rec1, "y", 4, value), path)
+    with pytest.raises(InputError, match=r"column 'y': \|y\| .* m exceeds 1e\+09 m") as exc:
+        read_record_1d(edited)
+    assert f"{path}:{edited.lines[4]}:" in str(exc.value)
+    assert MAX_MAGNITUDE == 1e9
+    ok = read_record_1d(_write(_cells(rec1, "y", 4, -MAX_MAGNITUDE), tmp_path / "ok.csv"))
+    assert ok.y[4] == -1e9  # at the bound: read
 
 
 def test_too_short_a_record(rec1, tmp_path):
