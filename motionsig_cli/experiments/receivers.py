@@ -3,9 +3,11 @@
 A receivers table is a record (:mod:`motionsig_cli.records`: CSV with optional ``# key: value`` metadata, or
 the JSON the commands write; ``--columns role=name`` and ``--units role=unit`` apply). Its roles:
 
-- ``receiver`` (aliases ``id``, ``station``, ``satellite``, ``sat``, ``name``): a label; optional for a
-  table of one epoch (the receivers are then ``1``, ``2``, … in row order), required when positions change
-  from epoch to epoch;
+- ``receiver`` (aliases ``id``, ``station``, ``satellite``, ``sat``, ``name``, ``receiver_id``, ``site``):
+  a label; optional for a table of one epoch (the receivers are then ``1``, ``2``, … in row order), required
+  when positions change from epoch to epoch, and wherever another file names the receivers
+  (``require_label``: ``track-sat solve``'s measurements name each row's receiver, and numbering the rows
+  would pair them with the wrong stations);
 - the position, in one of three forms:
 
   * ``x``, ``y``, ``z``: Earth-centred Earth-fixed (ECEF) coordinates [m unless stated];
@@ -18,7 +20,7 @@ the JSON the commands write; ``--columns role=name`` and ``--units role=unit`` a
   :data:`AGREE_M`;
 - optionally ``epoch`` (an integer; aliases ``pulse``, ``update``, ``scan``) and/or ``time`` (seconds or
   ISO 8601) for positions that change from epoch to epoch (satellites, a moving receiver): the rows of an
-  epoch are consecutive, epochs increase.
+  epoch are consecutive and share one time, epochs increase (:func:`epoch_groups`).
 
 Plausibility checks (each an :class:`~motionsig_cli.errors.InputError` ``file:line: column 'name': …``):
 latitudes in [−90, 90] and longitudes in [−360, 360] degrees; every ECEF position between
@@ -38,6 +40,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from datetime import datetime
+from decimal import Decimal, InvalidOperation, localcontext
 from pathlib import Path
 from typing import Any
 
@@ -45,7 +48,7 @@ import numpy as np
 
 from motionsig_cli.config import ConfigError, integer, one_of
 from motionsig_cli.errors import InputError
-from motionsig_cli.records import UNITS, Record, RecordSpec, Role, read_record
+from motionsig_cli.records import MISSING, UNITS, Record, RecordSpec, Role, read_record
 from motionsig_cli.surveillance.geodesy import ecef_to_geodetic, geodetic_to_ecef
 from motionsig_cli.surveillance.multilateration import ecef
 from motionsig_cli.tables import MAX_ROWS, Table
@@ -66,6 +69,7 @@ __all__ = [
     "check_coincident",
     "check_unique",
     "epoch_groups",
+    "exact_values",
     "positions_from",
     "read_receivers",
     "receivers_spec",
@@ -107,7 +111,7 @@ POSITION_ROLES: tuple[Role, ...] = (
 """The position roles of a receivers table (and of a measurement record that carries the positions)."""
 ID_ROLE = Role(
     "receiver",
-    ("id", "station", "satellite", "sat", "name", "receiver_id"),
+    ("id", "station", "satellite", "sat", "name", "receiver_id", "site"),
     kind="label",
     required=False,
     help="receiver label",
@@ -125,18 +129,21 @@ TIME_ROLE = Role(
     ("t", "timestamp"),
     kind="time",
     required=False,
-    order="non-decreasing",
     help="epoch time: seconds or ISO 8601 (positions that change per epoch)",
 )
+"""The order of the times is checked by :func:`epoch_groups` (with an epoch column, a row whose time differs
+from its epoch's is named, not the row after it)."""
 
 
-def receivers_spec(max_rows: int = MAX_ROWS) -> RecordSpec:
-    """The record specification of a receivers table (at most ``max_rows`` rows)."""
+def receivers_spec(max_rows: int = MAX_ROWS, columns_option: str = "--columns") -> RecordSpec:
+    """The record specification of a receivers table (at most ``max_rows`` rows; ``columns_option``: the
+    option that maps its columns, named in messages)."""
     return RecordSpec(
         (ID_ROLE, EPOCH_ROLE, TIME_ROLE, *POSITION_ROLES),
         max_rows=max_rows,
         what="receivers table",
         hint="a receivers table has x, y, z [m] (ECEF) or latitude, longitude [deg], altitude [m] (WGS-84)",
+        columns_option=columns_option,
     )
 
 
@@ -423,29 +430,137 @@ class Receivers:
         return out
 
 
-def epoch_groups(rec: Record) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+DECIMAL_DIGITS = 60
+"""Precision of the decimal arithmetic of :func:`exact_values` and its callers (a cell of 30 digits times a
+unit factor, minus another: exact)."""
+
+
+def _cells(rec: Record, role: str) -> list[Any] | None:
+    """The raw cells of a role's column (the record's table), or None when the record has no table."""
+    t = rec.table
+    if t is None or role not in rec.columns or rec.columns[role] not in t.columns or len(t.rows) != len(rec):
+        return None
+    j = t.columns.index(rec.columns[role])
+    return [row[j] for row in t.rows]
+
+
+def _decimal(v: Any) -> Decimal | None:
+    """A cell as an exact decimal (None: missing): a text as written, an integer exactly, a float (a JSON
+    number with a fraction, already float64 when parsed) by its shortest representation."""
+    if isinstance(v, str):
+        try:
+            d = Decimal(v)  # surrounding blanks allowed, as float() allows them
+        except InvalidOperation:
+            text = v.strip()
+            if text.lower() in MISSING:
+                return None
+            return Decimal(
+                repr(float(text))
+            )  # a form float() reads and Decimal does not (the record read it)
+        return None if d.is_nan() else d
+    if v is None:
+        return None
+    if isinstance(v, bool):
+        return Decimal(int(v))
+    if isinstance(v, int):
+        return Decimal(v)
+    return None if v != v else Decimal(repr(float(v)))
+
+
+def exact_values(rec: Record, role: str, quantity: str) -> list[Decimal | None]:
+    """A role's cells as exact decimals in SI units (None: missing), from the text of the record's table.
+
+    Float64 keeps 15–17 significant digits: an absolute time of arrival such as Unix seconds with 12
+    decimals (1777629600.000009523) or integer nanoseconds (1777629600000009523) loses 0.24 µs (70 m of
+    range) when parsed as a float. Differences of these decimals (:func:`decimal_seconds`) are exact, and
+    only they are converted to float. The unit factors of :data:`motionsig_cli.records.UNITS` are decimal
+    numbers (1e-9, 0.3048, …), taken exactly. A record without its table (built in code) gives its float
+    values' shortest representations.
+    """
+    unit = rec.units.get(role)
+    factor = Decimal(repr(UNITS[quantity][unit])) if unit is not None else Decimal(1)
+    cells = _cells(rec, role)
+    with localcontext() as ctx:
+        ctx.prec = DECIMAL_DIGITS
+        if cells is None:
+            return [None if v != v else Decimal(repr(float(v))) for v in rec[role].tolist()]
+        out = list(map(_decimal, cells))
+        if factor != 1:
+            out = [None if d is None else d * factor for d in out]
+    return out
+
+
+def decimal_seconds(rec: Record) -> list[Decimal]:
+    """The ``time`` column as exact decimal seconds: numbers from their text (:func:`exact_values`), ISO 8601
+    timestamps as the record's whole microseconds after its first timestamp (exact in the record's floats
+    up to 10⁹ s)."""
+    if rec.time_origin is None:
+        out = exact_values(rec, "time", "time")
+        assert all(d is not None for d in out)  # the record refuses missing times
+        return out  # type: ignore[return-value]
+    return [Decimal(round(v * 1e6)).scaleb(-6) for v in rec["time"].tolist()]
+
+
+def _text(rec: Record, role: str, i: int) -> str:
+    """Row ``i``'s cell of a role as written, with the column's unit (for messages)."""
+    cells = _cells(rec, role)
+    v = cells[i] if cells is not None else None
+    if v is None:
+        return f"{float(rec[role][i]):.15g} s"
+    text = str(v).strip()
+    if role == "time" and rec.time_origin is not None:
+        return text
+    return f"{text} {rec.units.get(role, 's')}"
+
+
+def epoch_groups(
+    rec: Record, time: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
     """Epochs of a record's rows (consecutive rows with the same ``epoch``, else the same ``time``; one epoch
     without either): the epoch index (N,) of each row, the first row of each epoch, and the epochs' numbers
-    and times (None without that column). With both columns, an epoch has one time and the times
-    increase from epoch to epoch (:class:`InputError` otherwise)."""
+    and times (None without that column).
+
+    ``time``: (N,) the rows' times to compare (default the record's ``time`` values), e.g. exact differences
+    from a reference where the absolute values exceed float64's resolution. Without an epoch column the
+    times do not decrease; with one, an epoch has one time — the row that differs from its epoch's common
+    time (the most frequent; on a tie, its first row's) is named — and the times increase from epoch to
+    epoch (:class:`InputError` otherwise, ``file:line: column 'time': …``).
+    """
     n = len(rec)
     has_e, has_t = rec.has("epoch"), rec.has("time")
     if not (has_e or has_t):
         return np.zeros(n, dtype=np.int64), np.zeros(min(n, 1), dtype=np.int64), None, None
-    key = rec["epoch"] if has_e else rec["time"]
+    t = (rec["time"] if time is None else np.asarray(time, float)) if has_t else None
+    if t is not None and not has_e:
+        back = np.flatnonzero(np.diff(t) < 0)
+        if back.size:
+            i = int(back[0]) + 1
+            raise rec.error(
+                i, "time", f"time goes backwards ({_text(rec, 'time', i)} after {_text(rec, 'time', i - 1)})"
+            )
+    key = rec["epoch"] if has_e else t
+    assert key is not None
     start = np.flatnonzero(np.concatenate([[True], key[1:] != key[:-1]])) if n else np.zeros(0, np.int64)
     group = np.cumsum(np.concatenate([[False], key[1:] != key[:-1]])) if n else np.zeros(0, np.int64)
     times = None
-    if has_t:
-        t = rec["time"]
+    if t is not None:
         if has_e:  # one time per epoch, increasing from epoch to epoch
             bad = np.flatnonzero(t != t[start][group])
             if bad.size:
-                i = int(bad[0])
+                e = int(group[bad[0]])
+                rows = np.arange(int(start[e]), int(start[e + 1]) if e + 1 < len(start) else n)
+                values, first, counts = np.unique(t[rows], return_index=True, return_counts=True)
+                common = values[np.lexsort((first, -counts))[0]]  # most frequent, then earliest
+                i = int(rows[np.flatnonzero(t[rows] != common)[0]])
+                same = rows[t[rows] == common]
+                c = int(same[0])
                 raise rec.error(
                     i,
                     "time",
-                    f"epoch {int(rec['epoch'][i])} has two times ({t[start[group[i]]]:.9g} s and {t[i]:.9g} s)",
+                    f"epoch {int(rec['epoch'][i])} has two times: {_text(rec, 'time', i)} here, "
+                    f"{_text(rec, 'time', c)} at line {int(rec.lines[c])}"
+                    + (f" and {same.size - 1} more of its rows" if same.size > 1 else "")
+                    + "; the rows of an epoch share its time",
                 )
             d = np.diff(t[start])
             bad = np.flatnonzero(d <= 0)
@@ -458,15 +573,24 @@ def epoch_groups(rec: Record) -> tuple[np.ndarray, np.ndarray, np.ndarray | None
     return group.astype(np.int64), start.astype(np.int64), rec["epoch"][start] if has_e else None, times
 
 
-def _labels(rec: Record, group: np.ndarray, multi: bool) -> np.ndarray:
+def _labels(rec: Record, group: np.ndarray, multi: bool, option: str, require: bool) -> np.ndarray:
     if rec.has("receiver"):
         return rec["receiver"]
+    if require:
+        cols = ", ".join(rec.table.columns) if rec.table is not None else ", ".join(rec.columns.values())
+        raise rec.error(
+            None,
+            None,
+            f"no receiver column: map one with {option} receiver=NAME (columns: {cols}; a receiver column is "
+            f"named {', '.join(ID_ROLE.names)}): the measurements name their receivers, and rows numbered "
+            "1, 2, ... could pair them with the wrong positions",
+        )
     if multi:
         raise rec.error(
             None,
             None,
-            "missing column 'receiver' (or 'id', 'station', 'satellite'): positions that change from epoch to "
-            "epoch need a receiver label; map one with --columns receiver=NAME",
+            f"missing column 'receiver' (or {', '.join(repr(a) for a in ID_ROLE.aliases)}): positions that "
+            f"change from epoch to epoch need a receiver label; map one with {option} receiver=NAME",
         )
     return np.array([str(i + 1) for i in range(len(group))], dtype=object)
 
@@ -504,6 +628,8 @@ def read_receivers(
     sphere_radius_m: float | None = None,
     norm_range_m: tuple[float, float] = (MIN_NORM_M, MAX_NORM_M),
     max_rows: int = MAX_ROWS,
+    require_label: bool = False,
+    columns_option: str = "--columns",
 ) -> Receivers:
     """Read and check a receivers table (module docstring).
 
@@ -519,6 +645,10 @@ def read_receivers(
         norm_range_m: accepted distances from the Earth's centre [m] (default :data:`MIN_NORM_M` to
             :data:`MAX_NORM_M`).
         max_rows: row limit.
+        require_label: the table must have a receiver column (another file names the receivers: rows
+            numbered 1, 2, … would be paired by position, silently, with the wrong stations).
+        columns_option: the option that maps the table's columns, named in messages (``--columns``, or
+            ``--receivers-columns`` where a command reads another record too).
 
     Raises:
         ConfigError: a bad ``columns``/``units`` text, ``multi_epoch`` or ``min_receivers``.
@@ -528,7 +658,7 @@ def read_receivers(
     integer("min_receivers", min_receivers, 1)
     if sphere_radius_m is not None and not (math.isfinite(sphere_radius_m) and sphere_radius_m > 0):
         raise ConfigError("sphere_radius_m", sphere_radius_m, "is not a finite number > 0")
-    rec = read_record(source, receivers_spec(max_rows), columns=columns, units=units)
+    rec = read_record(source, receivers_spec(max_rows, columns_option), columns=columns, units=units)
     if not len(rec):
         raise InputError(f"{rec.source}: no receivers (the table has a header but no rows)")
     group, start, epochs, times = epoch_groups(rec)
@@ -547,7 +677,7 @@ def read_receivers(
         epochs = None if epochs is None else epochs[:1]
         times = None if times is None else times[:1]
     pos = positions_from(rec, sphere_radius_m=sphere_radius_m, norm_range_m=norm_range_m)
-    labels = _labels(rec, group, len(start) > 1)
+    labels = _labels(rec, group, len(start) > 1, columns_option, require_label)
     codes = check_unique(rec, group, labels)
     check_coincident(rec, pos.ecef, group, labels)
     E = len(start)

@@ -9,19 +9,30 @@ epoch consecutive):
 - ``epoch`` (an integer; aliases ``pulse``, ``update``, ``scan``) and/or ``time`` (seconds or ISO 8601;
   aliases ``t``, ``timestamp``): which pulse a row belongs to, and the epoch's nominal time t_n. Without
   either, the record is one epoch;
-- ``receiver`` (aliases ``id``, ``station``, ``satellite``, …): the receiver's label (required with a
-  receivers file; otherwise the receivers of an epoch are ``1``, ``2``, … in row order);
+- ``receiver`` (aliases ``id``, ``station``, ``satellite``, ``sat``, ``name``, ``receiver_id``, ``site``):
+  the receiver's label (required with a receivers file, and so is the receivers file's own receiver
+  column — rows numbered by position could be paired with the wrong stations; otherwise the receivers of
+  an epoch are ``1``, ``2``, … in row order);
 - the receiver's position in the record's own columns (ECEF ``x, y, z`` or WGS-84 ``latitude, longitude,
   altitude``: :mod:`motionsig_cli.experiments.receivers`), or in a receivers file (``--receivers``;
   static, or per epoch by ``epoch`` or ``time``);
-- the measurement: ``toa`` [s] (aliases ``arrival``, ``time_of_arrival``) — the arrival time, in the time
+- the measurement: ``toa`` [s] (aliases ``arrival``, ``time_of_arrival``, ``toa_s``) — the arrival time, in the time
   frame of the ``time`` column (seconds after its first timestamp when the times are timestamps), or
   measured from the epoch's own time with ``toa_origin="epoch"`` (and always without a time column) —
-  or ``pseudorange`` [m] (aliases ``pr``, ``rho``) = c(T − t_n);
-- optionally ``sigma`` (aliases ``sd``, ``std``): the measurement's standard deviation, in the unit of the
-  measurement (s for a TOA, m for a pseudorange, unless stated).
+  or ``pseudorange`` [m] (aliases ``pr``, ``rho``, ``pseudorange_m``) = c(T − t_n);
+- optionally ``sigma`` (aliases ``sd``, ``std``, ``sigma_toa``, ``sigma_pr``): the measurement's standard
+  deviation, in the unit of the measurement (s for a TOA, m for a pseudorange, unless stated).
 
-An empty or NaN measurement is a receiver that missed the pulse: it drops out of that epoch.
+An empty or NaN measurement is a receiver that missed the pulse: it drops out of that epoch. The rows of
+an epoch share its time; the row that differs from the others is named.
+
+**Exact reading.** Times, TOAs and pseudoranges are read as decimals from the cells' text (with their unit
+factors, exactly) and differenced before anything is rounded to float64: absolute TOAs as Unix seconds with
+12 decimals or as integer nanoseconds (1777629600000009523 ns), where float64 resolves only 0.24 µs (70 m
+of range), keep every digit. The offsets τ − t_n (TOA minus its epoch's time) are exact decimals, then
+floats; the epochs' times are compared as exact differences from the first epoch's whole second, and the
+output metadata (``reading``) states that first time. A JSON number with a fraction is already float64
+when the JSON is parsed: give such times as strings or integers in JSON.
 
 **Clock offset** (defined precisely): b_n/c = τ_n − t_n, the emission time of epoch n's pulse in the
 receivers' common time frame minus the epoch's nominal time t_n (the ``time`` value; 0 for TOAs measured
@@ -59,6 +70,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from decimal import ROUND_FLOOR, Decimal, localcontext
 from pathlib import Path
 from typing import Any
 
@@ -67,12 +79,15 @@ import numpy as np
 from motionsig_cli.config import ConfigError, in_range, integer, one_of
 from motionsig_cli.errors import InputError
 from motionsig_cli.experiments.receivers import (
+    DECIMAL_DIGITS,
     ID_ROLE,
     POSITION_ROLES,
     Receivers,
     check_coincident,
     check_unique,
+    decimal_seconds,
     epoch_groups,
+    exact_values,
     positions_from,
     read_receivers,
     subset_rows,
@@ -177,8 +192,8 @@ def measurement_spec(kind: str, max_rows: int = MAX_MEASUREMENTS) -> RecordSpec:
         (
             Role("epoch", ("pulse", "update", "scan"), kind="integer", required=False, order="non-decreasing",
                  help="epoch (pulse) number"),
-            Role("time", ("t", "timestamp"), kind="time", required=False, order="non-decreasing",
-                 help="the epoch's nominal time: seconds or ISO 8601"),
+            Role("time", ("t", "timestamp"), kind="time", required=False,
+                 help="the epoch's nominal time: seconds or ISO 8601 (order checked by epoch_groups)"),
             ID_ROLE,
             meas,
             Role("sigma", ("sd", "std", "sigma_toa", "sigma_pr"), quantity=q, required=False, missing=True,
@@ -287,6 +302,9 @@ class Measurements:
         first_row: (E,) the first record row of each epoch.
         record: the record read.
         receivers_file: the receivers table, or None (positions in the record).
+        first_time: the first epoch's time as an exact decimal text [s] (seconds after the first timestamp
+            for timestamps), or None without a time column: what the TOAs' and times' differences were
+            taken from (:func:`read_measurements`).
     """
 
     kind: str
@@ -302,6 +320,7 @@ class Measurements:
     first_row: np.ndarray
     record: Record
     receivers_file: Receivers | None = None
+    first_time: str | None = None
 
     @property
     def E(self) -> int:
@@ -351,8 +370,9 @@ def _kind(table: Table, colmap: dict[str, str]) -> str:
             "times of arrival or pseudoranges, not both; map one with --columns toa=NAME or pseudorange=NAME"
         )
     if not (found.has("toa") or found.has("pseudorange")):
+        toa, pr = (", ".join(repr(a) for a in r.aliases) for r in probe.roles)
         raise InputError(
-            f"{where}: missing column 'toa' (or 'arrival', 'time_of_arrival') [s] or 'pseudorange' (or 'pr') [m]: "
+            f"{where}: missing column 'toa' (or {toa}) [s] or 'pseudorange' (or {pr}) [m]: "
             f"columns are {', '.join(table.columns)}; map one with --columns toa=NAME"
         )
     return "toa" if found.has("toa") else "pseudorange"
@@ -407,7 +427,16 @@ def read_measurements(
     rec = read_record(table, spec, columns=parse_columns(colmap, spec), units=_filter_units(unitmap, spec))
     if not len(rec):
         raise InputError(f"{rec.source}: no measurements (the record has a header but no rows)")
-    group, start, epochs, times = epoch_groups(rec)
+    # times as exact decimals: compared and differenced from the first epoch's whole second, not as floats
+    t_dec: list[Decimal] | None = decimal_seconds(rec) if rec.has("time") else None
+    t_rel: np.ndarray | None = None
+    if t_dec is not None:
+        with localcontext() as ctx:
+            ctx.prec = DECIMAL_DIGITS
+            t0 = t_dec[0].to_integral_value(rounding=ROUND_FLOOR)
+            t_rel = np.array([float(d - t0) for d in t_dec])
+    group, start, epochs, _ = epoch_groups(rec, t_rel)
+    times = None if t_dec is None else np.array([float(t_dec[i]) for i in start.tolist()])
     E = len(start)
     has_pos = any(rec.has(r.name) for r in POSITION_ROLES)
     rx: Receivers | None = None
@@ -427,17 +456,26 @@ def read_measurements(
                     receivers,
                     columns=receivers_columns,
                     units={k: v for k, v in unitmap.items() if k in RECEIVER_ROLES},
+                    require_label=True,
+                    columns_option="--receivers-columns",
                 )
             except ConfigError as exc:  # name the option of the receivers file
                 if exc.field != "columns":
                     raise
                 raise ConfigError("receivers_columns", exc.value, exc.reason) from None
+        if not rx.record.has("receiver"):  # a table read without require_label: its rows are numbered
+            raise rx.record.error(
+                None,
+                None,
+                "no receiver column: map one with --receivers-columns receiver=NAME (columns: "
+                f"{', '.join(rx.record.columns.values())}): the measurements name their receivers",
+            )
         if not rec.has("receiver"):
             raise rec.error(
                 None,
                 None,
-                f"missing column 'receiver' (or 'id', 'station', 'satellite'): the positions are in "
-                f"{rx.source}, so each row must name its receiver; map it with --columns receiver=NAME",
+                f"missing column 'receiver' (or {', '.join(repr(a) for a in ID_ROLE.aliases)}): the positions "
+                f"are in {rx.source}, so each row must name its receiver; map it with --columns receiver=NAME",
             )
     elif receivers_columns is not None:
         raise ConfigError(
@@ -478,11 +516,25 @@ def read_measurements(
         check_coincident(rec, pos, group, labels_row)
     else:
         pos = _receiver_positions(rec, rx, group, codes, epochs, times)
-    # the measurement as a pseudorange [m]
+    # the measurement as a pseudorange [m]: decimal differences of the cells' text, then float64
     t_epoch = times if times is not None else np.zeros(E)
-    t_ref = t_epoch if (toa_origin == "time" and times is not None) else np.zeros(E)
+    from_time = toa_origin == "time" and t_dec is not None
+    t_ref = t_epoch if from_time else np.zeros(E)
     if kind == "toa":
-        offset = rec["toa"] - t_ref[group]
+        toa_dec = exact_values(rec, "toa", "time")
+        with localcontext() as ctx:
+            ctx.prec = DECIMAL_DIGITS
+            if from_time:
+                assert t_dec is not None
+                ref_dec = [t_dec[i] for i in start.tolist()]
+                offset = np.array(
+                    [
+                        math.nan if a is None else float(a - ref_dec[g])
+                        for a, g in zip(toa_dec, group.tolist(), strict=True)
+                    ]
+                )
+            else:
+                offset = np.array([math.nan if a is None else float(a) for a in toa_dec])
         rho_row = C_M_PER_S * offset
         far = np.flatnonzero(np.abs(offset) > MAX_TOA_OFFSET_S)  # NaN compares False
         if far.size:
@@ -505,7 +557,9 @@ def read_measurements(
                 + ")",
             )
     else:
-        rho_row = rec["pseudorange"]
+        rho_row = np.array(
+            [math.nan if a is None else float(a) for a in exact_values(rec, "pseudorange", "length")]
+        )
         far = np.flatnonzero(np.abs(rho_row) > C_M_PER_S * MAX_TOA_OFFSET_S)
         if far.size:
             i = int(far[0])
@@ -549,7 +603,8 @@ def read_measurements(
         sig = np.full((E, K), np.nan)
         sig[group, codes] = sigma_row
     ep = epochs if epochs is not None else np.arange(E, dtype=np.int64)
-    return Measurements(kind, rho, sig, source_s, S, row, labels, ep, times, t_ref, start, rec, rx)
+    first = None if t_dec is None else format(t_dec[0].normalize(), "f")
+    return Measurements(kind, rho, sig, source_s, S, row, labels, ep, times, t_ref, start, rec, rx, first)
 
 
 def _receiver_positions(
@@ -1101,6 +1156,7 @@ def _meta(
         **extra,
         measurement=meas.kind,
         toa_origin=(cfg.toa_origin if meas.kind == "toa" else None),
+        reading=_reading(meas, cfg),
         clock_offset=f"tau - t: the emission time minus the epoch's nominal time t ({_tref_text(meas, cfg)}); "
         "the transmitter's clock error is its negative",
         speed_of_light_m_s=C_M_PER_S,
@@ -1145,6 +1201,27 @@ def _meta(
     )
 
 
+def _reading(meas: Measurements, cfg: SolveConfig) -> dict[str, Any]:
+    """How the measurements were converted (metadata): exact decimal differences, then float64."""
+    rec = meas.record
+    out: dict[str, Any] = {
+        "arithmetic": "exact decimals from the cells' text (times, TOAs, pseudoranges, with their units); only "
+        "differences are rounded to float64",
+    }
+    if meas.first_time is not None:
+        out["first_epoch_time_s"] = meas.first_time + (
+            " after the first timestamp" if rec.time_origin is not None else ""
+        )
+    if meas.kind == "toa":
+        out["toa_minus"] = (
+            "its epoch's time (column "
+            f"{rec.columns['time']!r}): the offsets tau - t are exact before rounding"
+            if meas.time is not None and cfg.toa_origin == "time"
+            else "nothing: each TOA is measured from its epoch's time"
+        )
+    return out
+
+
 def _tref_text(meas: Measurements, cfg: SolveConfig) -> str:
     if meas.kind == "pseudorange":
         return "the pseudoranges' own reference: rho = c(T - t)"
@@ -1159,10 +1236,16 @@ def _summary(
     parts = [f"track-sat solve: {meas.E} epoch(s), {meas.K} receiver(s)"]
     fix = res.fix
     if fix is not None:
-        parts.append(
-            f"{len(res.fix_epochs)} snapshot fix(es): median PDOP {float(np.median(fix.pdop)):.3g}, median RMS "
-            f"residual {float(np.median(fix.rms_residual)) * to_res:.4g} {residual_unit}"
-        )
+        ok = fix.converged
+        n_ok, n_all = int(ok.sum()), len(res.fix_epochs)
+        if n_ok:
+            of = f" (of {n_all} epochs with four receivers)" if n_ok < n_all else ""
+            parts.append(
+                f"{n_ok} snapshot fix(es){of}: median PDOP {float(np.median(fix.pdop[ok])):.3g}, median RMS "
+                f"residual {float(np.median(fix.rms_residual[ok])) * to_res:.4g} {residual_unit}"
+            )
+        else:
+            parts.append(f"no snapshot fix: none of {n_all} epoch(s) converged")
     tr = res.track
     if tr is not None:
         sd = np.sqrt(tr.var[0, -1]) / C_M_PER_S * Tf

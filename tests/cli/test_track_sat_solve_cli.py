@@ -289,10 +289,16 @@ BAD = {
     "too few receivers": ({"toa": lambda s: "\n".join(r for i, r in enumerate(s.splitlines(), 1) if i not in (363, 364, 365)) + "\n"},
                           (), r"m.csv:362: column 'toa': epoch 60 has 3 receiver\(s\) with a measurement: a snapshot fix needs at least 4 \(with --clock track, 3 are enough"),
     "time going backwards": ({"toa": _replace_line(8, lambda r: r.replace("1001.0,", "999.0,", 1))}, (),
-                             r"m.csv:8: column 'time': time goes backwards \(999 s after 1000 s\)"),
+                             r"m.csv:8: column 'time': epoch 1 has two times: 999.0 s here, 1001.0 s at line 9"),
+    "odd time in an epoch": ({"toa": _replace_line(4, lambda r: r.replace("1000.0,", "1000.5,", 1))}, (),
+                             r"m.csv:4: column 'time': epoch 0 has two times: 1000.5 s here, 1000.0 s at line 2 and 4 more"),
     "positions in km": ({"stations": _km}, (), r"s.csv:2: column 'x': positions look like kilometres: \|r\| = 6366.\d+ m"),
     "unknown receiver": ({"toa": _replace_line(5, lambda r: r.replace("MOO", "XYZ"))}, (), r"m.csv:5: column 'station': unknown receiver 'XYZ'"),
-    "missing column": ({"toa": lambda s: s.replace("station", "site", 1)}, (), r"m.csv:1: missing column 'receiver'"),
+    "missing column": ({"toa": lambda s: s.replace("station", "stn", 1)}, (), r"m.csv:1: missing column 'receiver'"),
+    "stations without labels": ({"stations": lambda s: "\n".join(r.split(",", 1)[1] for r in s.splitlines()) + "\n"}, (),
+                                r"s.csv:1: no receiver column: map one with --receivers-columns receiver=NAME \(columns: latitude, "),
+    "stations column not there": ({}, ("--receivers-columns", "receiver=site_no"),
+                                  r"s.csv:1: no column 'site_no' for --receivers-columns receiver=site_no"),
     "text in number": ({"toa": _replace_line(4, lambda r: r.rsplit(",", 2)[0] + ",12:00:00.1,10")}, (), r"m.csv:4: column 'toa': '12:00:00.1' is not a number"),
     "empty file": ({"toa": lambda s: ""}, (), r"m.csv: no header row"),
     "unknown unit": ({}, ("--units", "toa=fortnight"), r"Invalid value for --units: 'toa=fortnight' is not a time unit"),
@@ -341,3 +347,52 @@ def test_the_output_may_not_overwrite_the_record(capsys, tmp_path, example):
         capsys, "track-sat", "solve", str(m), "--receivers", str(d / "stations.csv"), "-o", str(m)
     )
     assert "--out" in err and "is the measurement record" in err
+
+
+def test_the_summary_counts_converged_fixes_only(capsys, tmp_path, plain):
+    """With one Gauss-Newton step no epoch converges: the summary says so (not "120 snapshot fix(es)")."""
+    d, _, _ = plain
+    rc, out, err = run(capsys, "track-sat", "solve", str(d / "toa.csv"), "--receivers", str(d / "stations.csv"),
+                       "--max-iter", "1")  # fmt: skip
+    assert rc == 0, err
+    assert "no snapshot fix: none of 120 epoch(s) converged" in err and "snapshot fix(es)" not in err
+    assert table(out, tmp_path).meta["fixes"]["not_converged"] == 120
+
+
+def test_unix_nanosecond_records_solve_end_to_end(capsys, tmp_path, plain):
+    """The worked example with its times and TOAs as integer nanoseconds since the Unix epoch (``time [ns]``,
+    ``toa [ns]``, written here with Python integers; float64 would lose up to 128 ns = 38 m there): each fix
+    differs from that of the record in seconds only by the TOAs' nanosecond rounding δρ (|δT| ≤ 0.5 ns):
+    ‖δp‖ ≤ PDOP ‖δρ‖₂ per epoch (equal weights: δp = pinv(H)[:3] δρ, whose spectral norm is at most its
+    Frobenius norm, the PDOP), to first order (+1 mm). The metadata states the first time."""
+    from decimal import Decimal
+
+    d, _, _ = plain
+    rows = list(csv.reader(open(d / "toa.csv")))
+    t0 = 1_777_629_600 * 10**9
+    out_rows = ["epoch,time [ns],station,toa [ns],sigma [ns]"]
+    drho2 = np.zeros(E)
+    for r in rows[1:]:
+        t = t0 + int(Decimal(r[1]) * 10**9)
+        toa = ""
+        if r[3]:
+            exact = Decimal(r[3]) * 10**9
+            toa = str(t0 + int(exact.to_integral_value()))
+            drho2[int(r[0])] += (float(exact.to_integral_value() - exact) * 1e-9 * C) ** 2
+        out_rows.append(f"{r[0]},{t},{r[2]},{toa},{r[4]}")
+    m = tmp_path / "ns.csv"
+    m.write_text("\n".join(out_rows) + "\n")
+    assert "1777630600000000000,MUC1,17776306000001" in m.read_text()
+    rc, out, err = run(capsys, "track-sat", "solve", str(m), "--receivers", str(d / "stations.csv"))
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    rc, ref_out, err = run(
+        capsys, "track-sat", "solve", str(d / "toa.csv"), "--receivers", str(d / "stations.csv")
+    )
+    ref = table(ref_out, tmp_path, "ref.csv")
+    dp = np.linalg.norm(np.column_stack([_col(t, f"{a}_m") - _col(ref, f"{a}_m") for a in "xyz"]), axis=1)
+    bound = _col(ref, "pdop") * np.sqrt(drho2)
+    assert np.all(dp <= bound + 1e-3), np.max(dp - bound)
+    assert np.median(dp) > 0.01  # the rounding shows (a test of the comparison itself)
+    assert t.meta["reading"]["first_epoch_time_s"] == "1777630600"  # 1777629600 s + the first time, 1000 s
+    assert _col(t, "time_s")[:2].tolist() == [1777630600.0, 1777630601.0]

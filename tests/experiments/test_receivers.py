@@ -120,6 +120,18 @@ BAD = {
                           r"bad.csv:1: missing column 'receiver'"),
     "time backwards": (["time", "id", "x", "y", "z"], [(1.0, "A", 6378137.0, 0, 0), (0.5, "A", 6378137.0, 0, 0)], {},
                        r"bad.csv:3: column 'time': time goes backwards"),
+    "epoch with two times": (["epoch", "time", "id", "x", "y", "z"],
+                             [(0, 1.0, "A", 6378137.0, 0, 0), (0, 1.0, "B", 6378137.0, 1e3, 0), (0, 1.5, "C", 6378137.0, 0, 1e3),
+                              (0, 1.0, "D", 6378137.0, 1e3, 1e3)], {},
+                             r"bad.csv:4: column 'time': epoch 0 has two times: 1.5 s here, 1.0 s at line 2 and 2 more"),
+    "no label where required": (["lat", "lon", "alt"], [(48.0, 11.0, 450.0)], {"require_label": True},
+                                r"bad.csv:1: no receiver column: map one with --columns receiver=NAME \(columns: lat, lon, alt"),
+    "no label, other option": (["lat", "lon", "alt"], [(48.0, 11.0, 450.0)],
+                               {"require_label": True, "columns_option": "--receivers-columns"},
+                               r"no receiver column: map one with --receivers-columns receiver=NAME"),
+    "mapped column absent": (["site_no", "lat", "lon", "alt"], [(1, 48.0, 11.0, 450.0)],
+                             {"columns": "receiver=site", "columns_option": "--receivers-columns"},
+                             r"bad.csv:1: no column 'site' for --receivers-columns receiver=site"),
     "empty": (["id", "x", "y", "z"], [], {}, r"bad.csv: no receivers"),
 }  # fmt: skip
 
@@ -158,3 +170,33 @@ def test_time_shift_between_timestamp_origins():
     assert rx.time_shift(None, "2026-05-01T12:00:00") == 0.0
     with pytest.raises(ValueError, match="time zone"):
         rx.time_shift("2026-05-01T12:00:00Z", "2026-05-01T12:00:00")
+
+
+def test_rows_are_numbered_only_where_no_label_is_required(tmp_path):
+    """Without a receiver column a table of one epoch is numbered 1, 2, … (constellation, rms, simulate use
+    the labels as names only); ``site`` is a receiver column."""
+    p = _write(tmp_path / "n.csv", ["lat", "lon", "alt"], [s[1:] for s in STATIONS])
+    assert rx.read_receivers(p).ids == ("1", "2", "3", "4", "5")
+    q = _write(tmp_path / "s.csv", ["site", "lat", "lon", "alt"], STATIONS)
+    assert rx.read_receivers(q, require_label=True).ids == tuple(s[0] for s in STATIONS)
+
+
+def test_exact_values_keep_every_digit(tmp_path):
+    """exact_values: the cells' decimals times the unit exactly (an integer of 19 digits in ns, a text of 22
+    significant digits), a missing cell None; float64 of the same cells loses the last digits."""
+    from decimal import Decimal
+
+    from motionsig_cli.records import RecordSpec, Role, read_record
+
+    p = tmp_path / "t.csv"
+    p.write_text("t [ns],a [km]\n1777629600000009523,1234.567890123456789012\n1777629600000000001,\n")
+    spec = RecordSpec((Role("t", quantity="time"), Role("a", quantity="length", missing=True)))
+    rec = read_record(p, spec)
+    assert rx.exact_values(rec, "t", "time") == [
+        Decimal("1777629600.000009523"),
+        Decimal("1777629600.000000001"),
+    ]
+    assert rx.exact_values(rec, "a", "length") == [Decimal("1234567.890123456789012"), None]
+    exact = rx.exact_values(rec, "t", "time")
+    assert float(exact[0] - exact[1]) == 9.522e-6
+    assert abs((rec["t"][0] - rec["t"][1]) - 9.522e-6) > 1e-8  # float64 of the cells: off by ~0.1 µs
