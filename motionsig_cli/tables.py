@@ -310,12 +310,15 @@ def _read_json(text: str, name: str, max_rows: int) -> Table:
         raise InputError(f"{name}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg})") from None
     if isinstance(doc, list):  # a bare list of records (pandas: to_json(orient="records"))
         doc = {"data": doc}
+    # the data's numbers as their text, like CSV cells: a reader can then convert them exactly
+    raw = json.loads(text, parse_float=str, parse_int=str)
+    raw_data = raw if isinstance(raw, list) else raw.get("data") if isinstance(raw, dict) else None
     if not isinstance(doc, dict) or not isinstance(doc.get("data"), list):
         raise InputError(
             f'{name}: a JSON table is {{"meta": {{...}}, "columns": [...], "data": [{{...}}, ...]}} (as the commands '
             'write it) or a list of records [{"column": value, ...}, ...]'
         )
-    data = doc["data"]
+    data = raw_data if isinstance(raw_data, list) and len(raw_data) == len(doc["data"]) else doc["data"]
     meta = doc.get("meta", {})
     if not isinstance(meta, dict):
         raise InputError(f'{name}: "meta" must be an object')
