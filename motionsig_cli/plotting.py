@@ -697,7 +697,13 @@ def ebpsk_waveform_figure(
 
 
 def ebpsk_ber_figure(
-    ebn0_db: np.ndarray, ber: np.ndarray, se: np.ndarray, bound: np.ndarray, *, label: str = "", title: str = ""
+    ebn0_db: np.ndarray,
+    ber: np.ndarray,
+    se: np.ndarray,
+    bound: np.ndarray,
+    *,
+    label: str = "",
+    title: str = "",
 ) -> Figure:
     """BER of the EBPSK amplitude demodulator against E_b/N_0 (±2 SE bars; zero counts not drawn) beside
     the coherent bound Q(√((1 − ρ) E_b/N_0))."""
@@ -715,4 +721,43 @@ def ebpsk_ber_figure(
     ax.legend(fontsize="small")
     if title:
         ax.set_title(title, fontsize="medium")
+    return fig
+
+
+def ebpsk_front_end_figure(
+    scan: np.ndarray,
+    range_km: np.ndarray,
+    enr_db: np.ndarray,
+    pd: np.ndarray,
+    sigma_range: np.ndarray,
+    sigma_cross: np.ndarray,
+    sigma_pos: np.ndarray,
+    sigma_paper: tuple[float, ...] = (100.0, 200.0),
+    *,
+    title: str = "",
+) -> Figure:
+    """What the EBPSK front end delivers along the track: range and E/N_0, P_D, and the range, cross-range and
+    position σ beside the paper's constant σ values."""
+    fig = Figure(figsize=(8, 8), layout="constrained")
+    axes = fig.subplots(3, 1, sharex=True)
+    axes[0].plot(scan, range_km, color="C0")
+    axes[0].set_ylabel("range [km]", color="C0")
+    twin = axes[0].twinx()
+    twin.plot(scan, enr_db, color="C1")
+    twin.set_ylabel(r"$E/N_0$ [dB]", color="C1")
+    axes[1].plot(scan, pd, color="C2")
+    axes[1].set_ylim(-0.02, 1.02)
+    axes[1].set_ylabel(r"$P_D$")
+    axes[2].semilogy(scan, sigma_pos, color="C3", label=r"position $\sigma$ (per axis)")
+    axes[2].semilogy(scan, sigma_cross, color="C4", ls="--", lw=1, label=r"cross-range $r\sigma_\varphi$")
+    axes[2].semilogy(scan, sigma_range, color="C5", ls=":", lw=1, label=r"range $\sigma_r$")
+    for i, s in enumerate(sigma_paper):
+        axes[2].axhline(s, color="k", ls=(0, (4, 2 + 2 * i)), lw=0.8, label=f"paper σ = {s:g} m")
+    axes[2].set_ylabel(r"$\sigma$ [m]")
+    axes[2].set_xlabel("scan k")
+    axes[2].legend(fontsize="small", ncol=2)
+    for ax in axes:
+        ax.grid(alpha=0.3, which="both")
+    if title:
+        fig.suptitle(title, fontsize="medium")
     return fig

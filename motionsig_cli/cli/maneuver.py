@@ -10,6 +10,11 @@ JSON export with a time (seconds or ISO 8601) and/or scan column and the positio
 ``--units``); missed scans are predict-only steps, σ is given, in the metadata or estimated
 (:mod:`motionsig_cli.experiments.maneuver_record`).
 
+Front ends: ``gaussian`` (default: the paper's positions with σ per axis) or ``ebpsk`` (positions located by the
+EBPSK radar, with their covariance per scan and missed detections,
+:mod:`motionsig_cli.experiments.ebpsk_tracking`; ``--view front-end`` tabulates what it delivers along the
+track).
+
 The command parses the options and writes the results; the configurations of
 :mod:`motionsig_cli.experiments.maneuver` check every value, and its :class:`ManeuverJob` is the Monte Carlo.
 """
@@ -32,13 +37,16 @@ CHI2_2_999 = -2.0 * math.log(1e-3)
 """The default GLR threshold, the 0.999 quantile of χ²₂ (``detection.glr.CHI2_2_999``, which needs NumPy)."""
 
 OPTIONS = {"sigmas": "--sigma", "methods": "--method", "Pi": "--transition", "g2": "--G2",
-           "sigma_u": "--mlr-sigma-u"}  # fmt: skip
+           "sigma_u": "--mlr-sigma-u", "g_t_db": "--gain-db", "g_r_db": "--gain-db", "range": "--radar-position",
+           "source": "--front-end"}  # fmt: skip
 """Configuration fields whose option is not ``--`` + the field's name."""
 
 
 G2 = choices("G2", "Form of G₂ = G₃ (``models.motion.G2_FORMS``).", "paper-fixed", "standard")
 Preset = choices("Preset", "Trajectory preset (``experiments.maneuver.PRESETS``).", "literal", "turn90")
-View = choices("View", "What the table holds.", "scans", "events", "summary", "measurements")
+View = choices("View", "What the table holds.", "scans", "events", "summary", "measurements", "front-end")
+FrontEnd = choices("FrontEnd", "Where the trackers' measurements come from.", "gaussian", "ebpsk")
+Level = choices("Level", "How the EBPSK front end is simulated.", "detector", "samples")
 Correction = choices("Correction", "State correction on a declaration.", "exact", "paper")
 Continuation = choices(
     "Continuation", "What happens to the input estimate after a declaration.", "estimate", "known"
@@ -132,7 +140,9 @@ ContinuationOpt = Annotated[
 ResponseOpt = Annotated[
     int, _opt("--response", "Scans after a change a declaration can be attributed to it, 1 to 10000.")
 ]
-ViewOpt = Annotated[View, _opt("--view", "scans, events, summary or measurements.")]
+ViewOpt = Annotated[
+    View, _opt("--view", "scans, events, summary, measurements or front-end (ebpsk: σ, P_D along the track).")
+]
 InputOpt = Annotated[
     str | None,
     _opt(
@@ -150,6 +160,42 @@ ColumnsOpt = Annotated[
 UnitsOpt = Annotated[
     str | None, _opt("--units", "With --input: units of the columns, e.g. x=km,y=km,time=ms (default m, s).")
 ]
+FrontEndOpt = Annotated[
+    FrontEnd,
+    _opt(
+        "--front-end",
+        "gaussian (the paper's positions, σ per axis) or ebpsk (the EBPSK radar's located positions with their "
+        "covariance per scan and missed detections).",
+    ),
+]
+LevelOpt = Annotated[
+    Level | None,
+    _opt(
+        "--level",
+        "ebpsk: detector (draws from the detector's statistics; default) or samples (the sample-level echo, "
+        "impacting filter and CFAR at every scan: slow).",
+    ),
+]
+RadarPositionOpt = Annotated[
+    str | None, _opt("--radar-position", "ebpsk: the radar's x,y [m] (assumed 150000,150000).")
+]
+PtOpt = Annotated[
+    float | None,
+    _opt(
+        "--p-t",
+        "ebpsk: transmit power [W]. Default: set so that the median position σ along the track is each --sigma.",
+    ),
+]
+GainOpt = Annotated[float | None, _opt("--gain-db", "ebpsk: transmit and receive antenna gain [dBi] (38).")]
+RcsOpt = Annotated[float | None, _opt("--rcs", "ebpsk: target radar cross-section [m²] (1).")]
+LossOpt = Annotated[float | None, _opt("--loss-db", "ebpsk: system losses [dB], 0 to 100 (6).")]
+NoiseFigureOpt = Annotated[float | None, _opt("--noise-figure-db", "ebpsk: receiver noise figure [dB] (3).")]
+PulsesOpt = Annotated[int | None, _opt("--n-pulses", "ebpsk: pulses integrated coherently per scan (1).")]
+PfaOpt = Annotated[float | None, _opt("--pfa", "ebpsk: CA-CFAR false-alarm probability per cell (1e-6).")]
+PriOpt = Annotated[
+    float | None, _opt("--pri", "ebpsk: pulse repetition interval [s] (5e-3: unambiguous range 749 km).")
+]
+BeamwidthOpt = Annotated[float | None, _opt("--beamwidth", "ebpsk: 3-dB beamwidth [deg], 0 to 180 (2).")]
 PlotCompareOpt = Annotated[
     Path | None, _opt("--plot-compare", "Also draw RMS error and declarations of every method.")
 ]
@@ -181,6 +227,18 @@ def maneuver(
     columns: ColumnsOpt = None,
     units: UnitsOpt = None,
     plot_compare: PlotCompareOpt = None,
+    front_end: FrontEndOpt = FrontEnd.gaussian,
+    level: LevelOpt = None,
+    radar_position: RadarPositionOpt = None,
+    p_t: PtOpt = None,
+    gain_db: GainOpt = None,
+    rcs: RcsOpt = None,
+    loss_db: LossOpt = None,
+    noise_figure_db: NoiseFigureOpt = None,
+    n_pulses: PulsesOpt = None,
+    pfa: PfaOpt = None,
+    pri: PriOpt = None,
+    beamwidth: BeamwidthOpt = None,
     *,
     output: Output,
     parallel: Parallel,
@@ -197,6 +255,8 @@ def maneuver(
       motionsig maneuver --view measurements --runs 1 --sigma 100 | motionsig maneuver --input - --method glr
       motionsig maneuver --input export.csv --columns x=East,y=North --units x=km,y=km --plot track.png
       motionsig maneuver --runs 5000 --method all --workers 8 --checkpoint ckpt/   # resumable if interrupted
+      motionsig maneuver --front-end ebpsk --method all --view summary   # on the EBPSK radar's positions
+      motionsig maneuver --front-end ebpsk --view front-end --plot sigma.png
 
     --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary); the
     measurements view and --input run no Monte Carlo and ignore them.
@@ -212,7 +272,22 @@ def maneuver(
     cfg = exp.TrackerConfig(g2=g2.value, q0=q0, window=window, glr_threshold=glr_threshold,
                             mlr_threshold=mlr_threshold, sigma_u=mlr_sigma_u, correction=correction.value,
                             continuation=continuation.value, **extra)  # fmt: skip
+    radar_given = {"--level": level, "--radar-position": radar_position, "--p-t": p_t, "--gain-db": gain_db,
+                   "--rcs": rcs, "--loss-db": loss_db, "--noise-figure-db": noise_figure_db, "--n-pulses": n_pulses,
+                   "--pfa": pfa, "--pri": pri, "--beamwidth": beamwidth}  # fmt: skip
+    if front_end is FrontEnd.gaussian:
+        for name, given in radar_given.items():
+            if given is not None:
+                raise typer.BadParameter("sets the EBPSK radar; give --front-end ebpsk", param_hint=name)
+        if view is View.front_end:
+            raise typer.BadParameter(
+                "tabulates the EBPSK front end; give --front-end ebpsk", param_hint="--view"
+            )
     if input_file is not None:
+        if front_end is not FrontEnd.gaussian:
+            raise typer.BadParameter(
+                "with --input the record holds the measurements", param_hint="--front-end"
+            )
         _track_record(input_file, methods, cfg, sigma, T, columns, units, view, plot_compare, output)
         return
     for name, given in (("--columns", columns), ("--units", units)):
@@ -224,7 +299,16 @@ def maneuver(
         (100.0, 200.0) if sigma is None else common.checked("--sigma", common.float_list, sigma, what="σ")
     )
     sc = exp.ManeuverScenario(preset=preset.value, T=1.0 if T is None else T, scans=scans)
-    job = exp.ManeuverJob(sc, tuple(dict.fromkeys(sigmas)), runs, seed, methods, cfg, quiet_fp=True)
+    source: Any = "gaussian"
+    if front_end is FrontEnd.ebpsk:
+        fe = _front_end(sc, level, radar_position, p_t, gain_db, rcs, loss_db, noise_figure_db, n_pulses, pfa, pri,
+                        beamwidth)  # fmt: skip
+        if view is View.front_end:
+            _front_end_view(sc, fe, sigmas, p_t is None, output)
+            return
+        source, sigmas = _ebpsk_source(sc, fe, sigma, p_t, sigmas)
+    job = exp.ManeuverJob(sc, tuple(dict.fromkeys(sigmas)), runs, seed, methods, cfg, quiet_fp=True,
+                          source=source)  # fmt: skip
     if view is View.measurements:
         for name, path in (("--plot", output.plot), ("--plot-compare", plot_compare)):
             if path is not None:
@@ -246,6 +330,84 @@ def maneuver(
             output.figure(maneuver_comparison_figure(**report.compare_figure), plot_compare)
     output.emit(report.table)  # after the figures: all or nothing
     output.note(f"maneuver: {report.note}")
+
+
+def _front_end(
+    sc: exp.ManeuverScenario, level: Any, radar_position: str | None, p_t: float | None, gain_db: float | None,
+    rcs: float | None, loss_db: float | None, noise_figure_db: float | None, n_pulses: int | None,
+    pfa: float | None, pri: float | None, beamwidth: float | None,
+) -> Any:  # fmt: skip
+    """The EBPSK front end of the options (defaults: those of the radar modules), checked against the track."""
+    from motionsig_cli.config import in_range
+    from motionsig_cli.experiments import ebpsk_radar as er
+    from motionsig_cli.experiments import ebpsk_tracking as et
+    from motionsig_cli.models.radar_equation import RadarEquation
+
+    eq_args = {k: v for k, v in (("p_t", p_t), ("g_t_db", gain_db), ("g_r_db", gain_db), ("rcs", rcs),
+               ("loss_db", loss_db), ("noise_figure_db", noise_figure_db), ("n_pulses", n_pulses))
+               if v is not None}  # fmt: skip
+    radar_args: dict[str, Any] = {k: v for k, v in (("pfa", pfa), ("pri", pri)) if v is not None}
+    if beamwidth is not None:
+        radar_args["beamwidth"] = math.radians(in_range("beamwidth", beamwidth, 0.0, 180.0, lo_open=True,
+                                                        hi_open=True, unit="°"))  # fmt: skip
+    position = et.DEFAULT_RADAR_POSITION
+    if radar_position is not None:
+        vals = common.checked("--radar-position", common.float_list, radar_position, what="coordinate")
+        if len(vals) != 2:
+            raise typer.BadParameter(f"give x,y [m]; got {radar_position!r}", param_hint="--radar-position")
+        position = (vals[0], vals[1])
+    radar = er.EbpskRadarConfig(radar=RadarEquation(**eq_args), **radar_args)
+    fe = et.EbpskFrontEnd(radar=radar, position=position, level="detector" if level is None else level.value)
+    fe.check_track(sc.truth())
+    return fe.prepared(sc.truth())
+
+
+def _ebpsk_source(
+    sc: exp.ManeuverScenario, fe: Any, sigma: str | None, p_t: float | None, sigmas: Any
+) -> tuple[Any, tuple[float, ...]]:
+    """The ebpsk source: P_t calibrated to each --sigma (the median position σ along the track), or the radar
+    as given by --p-t (its median σ is then the table's σ)."""
+    from motionsig_cli.experiments import ebpsk_tracking as et
+
+    if p_t is None:
+        for s in sigmas:
+            fe.calibrated(sc.truth(), s)  # a σ no power reaches: an error naming --sigma, before any run
+        return et.EbpskPositions(fe, calibrate=True), tuple(sigmas)
+    if sigma is not None:
+        raise typer.BadParameter(
+            "sets the EBPSK transmit power (median position σ along the track); with --p-t leave it out",
+            param_hint="--sigma",
+        )
+    import numpy as np
+
+    med = float(np.median(fe.scans(sc.truth()).sigma_pos))
+    return et.EbpskPositions(fe, calibrate=False), (med,)
+
+
+def _front_end_view(sc: exp.ManeuverScenario, fe: Any, sigmas: Any, calibrate: bool, output: Output) -> None:
+    """``--view front-end``: per phase, what the front end delivers (at --p-t, else at the power that makes
+    the median position σ the first --sigma) and the power that would give each σ."""
+    import numpy as np
+
+    from motionsig_cli.experiments import ebpsk_tracking as et
+
+    if calibrate:
+        fe = fe.calibrated(sc.truth(), sigmas[0])
+    table = et.front_end_table(sc, fe, sigmas)
+    table.meta["front_end"]["p_t_W"] = fe.p_t
+    table.meta["p_t"] = (
+        f"set so that the median position σ along the track is {sigmas[0]:g} m" if calibrate else "--p-t"
+    )
+    if output.plot is not None:
+        from motionsig_cli.plotting import ebpsk_front_end_figure
+
+        output.figure(ebpsk_front_end_figure(**et.front_end_figure_data(sc, fe, sigmas)))
+    output.emit(table)
+    r = table.rows[-1]
+    med = float(np.median(fe.scans(sc.truth()).sigma_pos))
+    output.note(
+        f"maneuver: front end at P_t = {fe.p_t:.3g} W: median position σ {med:.0f} m, mean P_D {r[6]:.3f}"
+    )
 
 
 def _track_record(

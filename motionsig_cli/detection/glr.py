@@ -57,6 +57,11 @@ scans refine it like any other state. ``continuation="known"`` is the paper's co
 is then used as an exactly known input. That variant cannot undo an error of û except by a further
 declaration; a false alarm on a short window (Σ_û of hundreds of m/s² at σ = 100 m) leaves a large wrong
 acceleration in the model, and declarations cascade.
+
+**Time-varying measurement covariance.** ``R`` (B, N, m, m) replaces the model's R with one covariance per run
+and scan (e.g. a location step whose accuracy changes along the track): S_j = H P_{j|j−1} Hᵀ + R_j enters the
+gains, the bias propagation and the statistics above unchanged in form. Entries at a missed scan are ignored.
+With the model's single R the recursion is the one above, bit for bit.
 """
 
 from __future__ import annotations
@@ -67,6 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, integer, one_of
+from motionsig_cli.filters.imm import scan_covariances
 from motionsig_cli.filters.kalman import joseph_update, spd_inv_logdet
 
 __all__ = [
@@ -198,6 +204,7 @@ def input_tracker(
     cfg: GLRConfig,
     *,
     keep_P: bool = False,
+    R: np.ndarray | None = None,
 ) -> InputTrack:
     """Track with GLR or MLR maneuver detection, state correction and continuation.
 
@@ -214,6 +221,8 @@ def input_tracker(
         x0: (B, n) or (n,) updated estimate at the scan before z[:, 0]; P0: (n, n) or (B, n, n).
         cfg: method, window, threshold, MLR prior, correction, continuation.
         keep_P: also return the covariance of every scan.
+        R: (B, N, m, m) measurement covariance per run and scan, in place of ``model.R`` (module docstring);
+            None: ``model.R`` for every scan.
     """
     z = np.asarray(z, float)
     if z.ndim != 3:
@@ -233,7 +242,13 @@ def input_tracker(
     Q = np.zeros((na, na))
     Q[:n, :n] = model.Q
     H = np.hstack([model.H, np.zeros((m, p))])  # H_ξ
-    R = model.R
+    varying = R is not None
+    if R is None:
+        R = model.R
+    elif np.shape(R) != (B, N, m, m):
+        raise ValueError(f"R must be ({B}, {N}, {m}, {m}); got {np.shape(R)}")
+    else:
+        R = scan_covariances(R, measured)
     s = cfg.window
     eye = np.eye(na)
     Su_inv = np.eye(p) / cfg.sigma_u**2
@@ -264,7 +279,8 @@ def input_tracker(
         xp = x @ F.T  # ξ_{k|k−1} = F_ξ ξ_{k−1|k−1}: x̂ = F x̂ + G û, the current input estimate as the input
         Pp = F @ P @ F.T + Q
         Pp = 0.5 * (Pp + np.swapaxes(Pp, -1, -2))
-        up = joseph_update(xp, Pp, z[:, k], H, R)
+        Rk = R[:, k] if varying else R
+        up = joseph_update(xp, Pp, z[:, k], H, Rk)
         seen = None if every else measured[:, k]  # (B,) runs measured at scan k (None: all of them)
         if seen is not None and seen.all():
             seen = None
@@ -315,7 +331,8 @@ def input_tracker(
                     else:  # the paper's step 4: correct the prediction, redo the update with z_k
                         Pb = Pp[b] + Mb @ cov_u @ np.swapaxes(Mb, -1, -2)
                         redo = joseph_update(xp[b] + (Mb @ u_hat[..., None])[..., 0],
-                                             0.5 * (Pb + np.swapaxes(Pb, -1, -2)), z[b, k], H, R)  # fmt: skip
+                                             0.5 * (Pb + np.swapaxes(Pb, -1, -2)), z[b, k], H,
+                                             Rk[b] if varying else Rk)  # fmt: skip
                         xb, Pb = redo.x, redo.P
                     if cfg.continuation == "known":  # the paper's continuation: û_cur is then a known input
                         Pb[:, n:, :] = 0.0

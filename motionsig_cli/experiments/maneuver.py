@@ -8,8 +8,11 @@ it: p(k+1) = p(k) + v(k)T + ½u(k)T², v(k+1) = v(k) + u(k)T (exact constant-acc
 tracker initialises by two-point differencing at scan 2, so estimates start at scan 3.
 
 **Measurements.** A :class:`MeasurementSource` turns the truth into the records the trackers see; the
-sources are registered in :data:`SOURCES` (today ``gaussian``: true position + N(0, σ²) Cartesian noise per
-axis, :class:`GaussianPositions`). Run r draws only from ``trial_rng(seed, r)``, its seed child: every σ and
+sources are registered in :data:`SOURCES`: ``gaussian`` (true position + N(0, σ²) Cartesian noise per
+axis, :class:`GaussianPositions`) and ``ebpsk`` (positions located by the EBPSK radar front end, with a
+covariance R(k) per run and scan and missed detections:
+:class:`~motionsig_cli.experiments.ebpsk_tracking.EbpskPositions`; every tracker then runs with the time-varying
+R(k)). Run r draws only from ``trial_rng(seed, r)``, its seed child: every σ and
 every method therefore sees the same draws (common random numbers), and a result does not depend on the
 number of runs, their order or how they are chunked.
 
@@ -46,6 +49,7 @@ from motionsig_cli.detection.glr import (
     input_tracker,
 )
 from motionsig_cli.engine import Engine, run_job, tasks_of, trials_per_task
+from motionsig_cli.experiments.ebpsk_tracking import EbpskPositions
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.models.motion import (
     G2_FORMS,
@@ -87,11 +91,13 @@ __all__ = [
     "measurement_source",
     "measurement_table",
     "measurements",
+    "measurements_cov",
     "monte_carlo",
     "report",
     "run_trackers",
     "track",
     "track_from",
+    "two_point_init_cov",
 ]
 
 METHODS = ("imm", "glr", "mlr", "cv")
@@ -312,6 +318,13 @@ class MeasurementSource(Protocol):
         """
         ...
 
+    def measure_cov(
+        self, truth: np.ndarray, sigma: float, rngs: Sequence[np.random.Generator]
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """The measurements z (B, N, 2) and their covariances R (B, N, 2, 2), or None when the trackers are to
+        assume R = σ² I (NaN rows of z: missed scans)."""
+        ...
+
 
 @dataclass(frozen=True)
 class GaussianPositions:
@@ -330,24 +343,61 @@ class GaussianPositions:
         w = np.stack([g.standard_normal((n, 2)) for g in rngs]) if len(rngs) else np.zeros((0, n, 2))
         return pos[None] + sigma * w
 
+    def measure_cov(
+        self, truth: np.ndarray, sigma: float, rngs: Sequence[np.random.Generator]
+    ) -> tuple[np.ndarray, None]:
+        """(:meth:`measure`, None): the trackers assume R = σ² I."""
+        return self.measure(truth, sigma, rngs), None
 
-SOURCES: dict[str, MeasurementSource] = {s.name: s for s in (GaussianPositions(),)}
-"""The measurement sources by name: add a member here."""
+
+SOURCES: dict[str, MeasurementSource] = {s.name: s for s in (GaussianPositions(), EbpskPositions())}
+"""The measurement sources by name (``ebpsk``: the front end with its defaults, calibrated to σ): add a
+member here. A job may also carry a configured source instance (:attr:`ManeuverJob.source`)."""
+
+Source = str | MeasurementSource
+"""A registered source's name or a configured source."""
 
 
-def measurement_source(name: str) -> MeasurementSource:
-    """The registered source ``name`` (:class:`ConfigError` on ``source`` if there is none)."""
+def measurement_source(name: Source) -> MeasurementSource:
+    """The registered source ``name`` (:class:`ConfigError` on ``source`` if there is none), or ``name`` itself
+    when it is a source."""
+    if not isinstance(name, str):
+        return name
     return SOURCES[one_of("source", name, tuple(SOURCES))]
 
 
 def measurements(
-    sc: ManeuverScenario, sigma: float, runs: Sequence[int], seed: int, source: str = "gaussian"
+    sc: ManeuverScenario, sigma: float, runs: Sequence[int], seed: int, source: Source = "gaussian"
 ) -> np.ndarray:
     """z (B, N, 2) of runs ``runs`` from ``source`` (default: truth position + σ w_r, w_r from
     ``trial_rng(seed, r)``)."""
+    return measurements_cov(sc, sigma, runs, seed, source)[0]
+
+
+def measurements_cov(
+    sc: ManeuverScenario, sigma: float, runs: Sequence[int], seed: int, source: Source = "gaussian"
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """z (B, N, 2) and R (B, N, 2, 2) or None (R = σ² I) of runs ``runs`` from ``source``."""
     _check_sigma("sigma", sigma)
     src = measurement_source(source)
-    return src.measure(sc.truth(), sigma, [trial_rng(seed, int(r)) for r in runs])
+    return src.measure_cov(sc.truth(), sigma, [trial_rng(seed, int(r)) for r in runs])
+
+
+def two_point_init_cov(
+    z_a: np.ndarray, z_b: np.ndarray, R_a: np.ndarray, R_b: np.ndarray, T: float, n: int = 6
+) -> tuple[np.ndarray, np.ndarray]:
+    """Two-point differencing with measurement covariances R_a, R_b (B, 2, 2) of z_a, z_b (B, 2), T apart:
+    the state of :func:`~motionsig_cli.models.motion.two_point_init` and its exact covariance, position R_b,
+    position–velocity R_b/T, velocity (R_a + R_b)/T² (the paper's P(2/2), §IV, with R(1), R(2) for δ² I)."""
+    x, _ = two_point_init(z_a, z_b, T, 1.0, n=n)
+    B = x.shape[0]
+    pos, vel = [0, 2], [1, 3]
+    P = np.zeros((B, n, n))
+    P[:, np.ix_(pos, pos)[0], np.ix_(pos, pos)[1]] = R_b
+    P[:, np.ix_(pos, vel)[0], np.ix_(pos, vel)[1]] = R_b / T
+    P[:, np.ix_(vel, pos)[0], np.ix_(vel, pos)[1]] = R_b / T
+    P[:, np.ix_(vel, vel)[0], np.ix_(vel, vel)[1]] = (R_a + R_b) / (T * T)
+    return x, P
 
 
 @dataclass(frozen=True)
@@ -375,13 +425,23 @@ class Tracks:
         return self.state[..., [0, 2]]
 
 
-def track(method: str, z: np.ndarray, T: float, sigma: float, cfg: TrackerConfig) -> Tracks:
+def track(
+    method: str, z: np.ndarray, T: float, sigma: float, cfg: TrackerConfig, *, R: np.ndarray | None = None
+) -> Tracks:
     """Run one tracker on measurement records z (B, N, 2) of scans 1..N (two-point initialisation on scans
-    1 and 2, which must be measured; a NaN later is a missed scan, a predict-only step)."""
+    1 and 2, which must be measured; a NaN later is a missed scan, a predict-only step). ``R`` (B, N, 2, 2):
+    the measurements' covariance per run and scan (None: σ² I)."""
     z = np.asarray(z, float)
     if z.ndim != 3 or z.shape[1] < 3 or z.shape[2] != 2:
         raise ValueError(f"z must be (runs, scans >= 3, 2); got shape {z.shape}")
-    return track_from(method, z[:, 0], z[:, 1], z[:, 2:], T, sigma, cfg)
+    if R is None:
+        return track_from(method, z[:, 0], z[:, 1], z[:, 2:], T, sigma, cfg)
+    R = np.asarray(R, float)
+    if R.shape != (*z.shape, 2):
+        raise ValueError(f"R must be {(*z.shape, 2)}; got shape {R.shape}")
+    return track_from(
+        method, z[:, 0], z[:, 1], z[:, 2:], T, sigma, cfg, R=R[:, 2:], init_R=(R[:, 0], R[:, 1])
+    )
 
 
 def track_from(
@@ -395,6 +455,8 @@ def track_from(
     *,
     init_gap: int = 1,
     first_scan: int = FIRST_SCAN,
+    R: np.ndarray | None = None,
+    init_R: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Tracks:
     """Run one tracker from a two-point initialisation on ``z_a``, ``z_b`` (B, 2), ``init_gap`` scans apart,
     over the following scans z (B, N, 2) (NaN rows: missed scans, predict-only).
@@ -403,23 +465,36 @@ def track_from(
     :func:`~motionsig_cli.models.motion.two_point_init` with the period init_gap·T (the two measured scans
     nearest the start need not be adjacent). ``first_scan`` is the scan number of z[:, 0]: the declared
     onsets are returned in that numbering.
+
+    ``R`` (B, N, 2, 2) gives the covariance of every measurement of z (time-varying R: the trackers use it
+    in place of σ² I) and ``init_R`` the covariances of z_a and z_b (the initial covariance of
+    :func:`two_point_init_cov`); both or neither.
     """
     one_of("method", method, METHODS)
     integer("init_gap", init_gap, 1)
     z = np.asarray(z, float)
     if z.ndim != 3 or z.shape[2] != 2 or z.shape[1] < 1:
         raise ValueError(f"z must be (runs, scans >= 1, 2); got shape {z.shape}")
+    if (R is None) != (init_R is None):
+        raise ValueError("give R and init_R together")
+    R_scan = R
     R = sigma * sigma * np.eye(2)
     T_init = T if init_gap == 1 else init_gap * T
     if method == "imm":
         ms = imm_models(T, g2=cfg.g2, q=cfg.imm_q, Pi=np.asarray(cfg.Pi), mu0=np.asarray(cfg.mu0))
-        x0, P0 = two_point_init(z_a, z_b, T_init, sigma, n=6)
-        tr = imm_filter(z, H_POS6, R, ms, x0, P0)
+        if init_R is None:
+            x0, P0 = two_point_init(z_a, z_b, T_init, sigma, n=6)
+        else:
+            x0, P0 = two_point_init_cov(z_a, z_b, *init_R, T_init, n=6)
+        tr = imm_filter(z, H_POS6, R if R_scan is None else R_scan, ms, x0, P0)
         return Tracks(tr.x, mu=tr.mu)
     F, G, Q = cv_input_model(T, cfg.q0)
-    x0, P0 = two_point_init(z_a, z_b, T_init, sigma, n=4)
+    if init_R is None:
+        x0, P0 = two_point_init(z_a, z_b, T_init, sigma, n=4)
+    else:
+        x0, P0 = two_point_init_cov(z_a, z_b, *init_R, T_init, n=4)
     it = input_tracker(
-        z, InputModel(F, G, Q, H_POS4, R), x0, P0, cfg.glr("none" if method == "cv" else method)
+        z, InputModel(F, G, Q, H_POS4, R), x0, P0, cfg.glr("none" if method == "cv" else method), R=R_scan
     )
     state = np.concatenate([it.x, it.u_cur], axis=-1)
     if method == "cv":
@@ -435,11 +510,12 @@ def run_trackers(
     seed: int,
     methods: Sequence[str],
     cfg: TrackerConfig,
-    source: str = "gaussian",
+    source: Source = "gaussian",
 ) -> dict[str, Tracks]:
-    """All requested trackers on the same runs (measurements from ``source``)."""
-    z = measurements(sc, sigma, runs, seed, source)
-    return {m: track(m, z, sc.T, sigma, cfg) for m in methods}
+    """All requested trackers on the same runs (measurements from ``source``, with their covariances R(k)
+    when the source gives them)."""
+    z, R = measurements_cov(sc, sigma, runs, seed, source)
+    return {m: track(m, z, sc.T, sigma, cfg, R=R) for m in methods}
 
 
 @dataclass(frozen=True)
@@ -502,7 +578,8 @@ class ManeuverJob:
         runs: Monte Carlo runs, in :data:`RUNS_RANGE`.
         seed: root seed (≥ 0); run r draws from ``trial_rng(seed, r)``.
         methods: trackers, among :data:`METHODS`.
-        source: the measurement source, a key of :data:`SOURCES`.
+        source: the measurement source, a key of :data:`SOURCES` or a configured source (e.g.
+            :class:`~motionsig_cli.experiments.ebpsk_tracking.EbpskPositions` with its radar).
         chunk: runs per task (None: from :func:`cost`).
         quiet_fp: run the trackers and the reduction under ``np.errstate(all="ignore")``.
     """
@@ -515,7 +592,7 @@ class ManeuverJob:
     seed: int
     methods: tuple[str, ...]
     cfg: TrackerConfig
-    source: str = "gaussian"
+    source: Source = "gaussian"
     chunk: int | None = None
     quiet_fp: bool = False
 
@@ -540,8 +617,19 @@ class ManeuverJob:
         if self.chunk is not None:
             return self.chunk
         fixed = cost(self.sc.scans, 0, self.methods, 1)
-        per_run = cost(self.sc.scans, 1, self.methods, 1) - fixed
+        per_run = cost(self.sc.scans, 1, self.methods, 1) - fixed + self._source_seconds(1)
         return trials_per_task(per_run, fixed_seconds=fixed, at_most=250)
+
+    def _source_seconds(self, runs: int) -> float:
+        """The source's own cost for ``runs`` runs at one σ (0 for the Gaussian source)."""
+        per = getattr(measurement_source(self.source), "seconds_per_run", None)
+        return 0.0 if per is None else runs * per(self.sc.scans)
+
+    def seconds(self) -> float:
+        """Estimated run time [s]: :func:`cost` plus the source's measurements."""
+        return cost(self.sc.scans, self.runs, self.methods, len(self.sigmas)) + len(self.sigmas) * (
+            self._source_seconds(self.runs)
+        )
 
     def tasks(self) -> list[tuple[int, range]]:
         """(σ index, runs) in σ order, runs in increasing order within a σ."""
@@ -566,7 +654,7 @@ class ManeuverJob:
             "seed": self.seed,
             "methods": list(self.methods),
             "tracker": asdict(self.cfg),
-            "source": self.source,
+            "source": self.source if isinstance(self.source, str) else self.source.identity(),
             "runs_per_task": self.runs_per_task(),
         }
 
@@ -661,7 +749,7 @@ def monte_carlo(
     chunk: int = 250,
     on_chunk: Callable[[int], None] | None = None,
     engine: Engine | None = None,
-    source: str = "gaussian",
+    source: Source = "gaussian",
 ) -> dict[str, MCResult]:
     """Runs 0..n_runs−1 at one σ in chunks of ``chunk`` runs (memory stays bounded) on ``engine`` (default:
     in this process); sums of errors are accumulated in chunk order, so the result does not depend on the
@@ -798,7 +886,7 @@ class ManeuverStudy:
         job = self.job
         if self.view == "events" and not {"glr", "mlr"} & set(job.methods):
             raise ConfigError("view", self.view, "needs glr or mlr among the methods")
-        seconds = cost(job.sc.scans, job.runs, job.methods, len(job.sigmas))
+        seconds = job.seconds()
         if seconds > self.max_seconds:
             raise ConfigError(
                 "runs",
@@ -904,6 +992,21 @@ _VIEW_ROWS: dict[str, Callable[[ManeuverScenario, Results, Sequence[str], int], 
 }
 
 
+def _source_meta(job: ManeuverJob) -> dict[str, Any]:
+    """The measurements' provenance: for the Gaussian source the line it always had; for a front end its
+    parameters."""
+    src = measurement_source(job.source)
+    if src.name == "gaussian":
+        return {"radar": "the EBPSK parameters of Table I of Yao, Teng & Wu, Maneuvering Target Tracking Based on "
+                "EBPSK Modulated JRC System (f_c 10 GHz, 100 MHz IF, f_s 1 GHz, K = 2, N = 7) do not enter the "
+                "trackers"}  # fmt: skip
+    meta = getattr(src, "meta", None)
+    return {
+        "radar": f"measurements from the '{src.name}' front end; the trackers use its covariance R(k) per scan",
+        "front_end": meta(job.sc.truth(), job.sigmas) if meta is not None else src.name,
+    }
+
+
 def report(study: ManeuverStudy, results: Results) -> ManeuverReport:
     """The table of ``study.view``, its provenance, the summary line and the figures' data, from the job's
     result (:meth:`ManeuverJob.reduce`)."""
@@ -947,8 +1050,7 @@ def report(study: ManeuverStudy, results: Results) -> ManeuverReport:
         response_window=study.response,
         first_scan=FIRST_SCAN,
         error_sign="truth - estimate (eq 14); sd with 1/M (eq 15)",
-        radar="the EBPSK parameters of Table I of Yao, Teng & Wu, Maneuvering Target Tracking Based on EBPSK "
-        "Modulated JRC System (f_c 10 GHz, 100 MHz IF, f_s 1 GHz, K = 2, N = 7) do not enter the trackers",
+        **_source_meta(job),
     )
     scan = np.arange(FIRST_SCAN, sc.scans + 1)
     events = tuple(n for n, _ in sc.events())
@@ -992,8 +1094,8 @@ def measurement_table(job: ManeuverJob) -> Table:
         z = measurements(sc, s, range(job.runs), job.seed, job.source)
         for r in range(job.runs):
             for i in range(sc.scans):
-                rows.append((s, r, i + 1, i * sc.T, float(z[r, i, 0]), float(z[r, i, 1]), float(truth[i, 0]),
-                             float(truth[i, 2])))  # fmt: skip
+                rows.append((s, r, i + 1, i * sc.T, _cell(float(z[r, i, 0])), _cell(float(z[r, i, 1])),
+                             float(truth[i, 0]), float(truth[i, 2])))  # fmt: skip
     sigma = job.sigmas[0] if len(job.sigmas) == 1 else list(job.sigmas)
     meta = make_meta("maneuver", view="measurements", sigma=sigma, T=sc.T, preset=sc.preset, runs=job.runs,
                      seed=job.seed, scans=sc.scans)  # fmt: skip

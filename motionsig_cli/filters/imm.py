@@ -19,6 +19,11 @@ likelihood Λ_j = 1 (log Λ_j = 0), so step 6 gives μ_j(k) = c̄_j: the model p
 the Markov chain alone. Runs are independent: each run's missed scans are its own (vectorised with a mask),
 and with every scan measured the recursion is the one above, bit for bit.
 
+**Time-varying measurement covariance.** R may be one (m, m) matrix shared by every run and scan, or one per run
+and scan, (B, N, m, m) — e.g. the covariance of a location step whose accuracy changes along the track (eq (8)
+with R(k), eq (11) with S_j(k) = H P_j(k|k−1) Hᵀ + R(k)). Entries of R at a missed scan are ignored (they may be
+NaN). With a single (m, m) R the recursion is the one above, bit for bit.
+
 Steps 1, 2 and 6 run in the log domain (log-sum-exp), so a model whose likelihood underflows a double
 keeps a finite log-probability and the probabilities never become 0/0. A model with c̄_j = 0 (unreachable,
 e.g. switched off with p_ij = 0 and μ_j = 0) gets the mixing weights μ_{i|j} = μ_i: its estimate stays
@@ -34,7 +39,7 @@ import numpy as np
 from motionsig_cli.filters.kalman import joseph_update
 from motionsig_cli.models.motion import ModelSet
 
-__all__ = ["IMMTrack", "imm_filter", "logsumexp"]
+__all__ = ["IMMTrack", "imm_filter", "logsumexp", "scan_covariances"]
 
 
 def logsumexp(a: np.ndarray, axis: int) -> np.ndarray:
@@ -44,6 +49,28 @@ def logsumexp(a: np.ndarray, axis: int) -> np.ndarray:
     with np.errstate(divide="ignore"):
         out = np.log(np.sum(np.exp(a - m_safe), axis=axis, keepdims=True)) + m_safe
     return np.squeeze(out, axis=axis)
+
+
+def scan_covariances(R: np.ndarray, measured: np.ndarray) -> np.ndarray:
+    """Per-scan measurement covariances (B, N, m, m) checked where measured (finite, symmetric, positive
+    definite; ValueError otherwise) and replaced by I at the missed scans (their update is discarded)."""
+    R = np.asarray(R, float)
+    mask = np.asarray(measured, bool)
+    if R.ndim != 4 or R.shape[:2] != mask.shape or R.shape[2] != R.shape[3]:
+        raise ValueError(f"R must be (runs, scans, m, m) matching the measurements; got {R.shape}")
+    Rm = R[mask]
+    if Rm.size:
+        if not np.all(np.isfinite(Rm)):
+            raise ValueError("R must be finite at every measured scan")
+        if np.any(
+            np.abs(Rm - np.swapaxes(Rm, -1, -2)) > 1e-9 * (np.abs(Rm).max(axis=(-1, -2))[:, None, None])
+        ):
+            raise ValueError("R must be symmetric at every measured scan")
+        if np.any(np.linalg.eigvalsh(Rm)[:, 0] <= 0):
+            raise ValueError("R must be positive definite at every measured scan")
+    if mask.all():
+        return R
+    return np.where(mask[..., None, None], R, np.eye(R.shape[-1]))
 
 
 @dataclass(frozen=True)
@@ -84,7 +111,8 @@ def imm_filter(
     Args:
         z: (B, N, m) measurements of the scans to process (the first is the scan after initialisation); a NaN
             (in any component) makes that run's scan a missed scan, a predict-only step (module docstring).
-        H: (m, n) measurement matrix; R: (m, m) measurement noise covariance.
+        H: (m, n) measurement matrix; R: (m, m) measurement noise covariance, or (B, N, m, m): one per run and
+            scan (symmetric positive definite where measured; ignored, and may be NaN, at a missed scan).
         models: the r models, transition matrix and initial probabilities (μ at the initialisation scan).
         x0: (B, n) or (n,) initial estimate, shared by every model-conditioned filter (§IV).
         P0: (n, n) or (B, n, n) initial covariance.
@@ -99,14 +127,19 @@ def imm_filter(
     B, N, m = z.shape
     H, R = np.asarray(H, float), np.asarray(R, float)
     r, n = models.r, models.n
-    if H.shape != (m, n) or R.shape != (m, m):
-        raise ValueError(f"H must be ({m}, {n}) and R ({m}, {m}); got {H.shape} and {R.shape}")
+    varying = R.ndim == 4
+    if H.shape != (m, n) or R.shape not in ((m, m), (B, N, m, m)):
+        raise ValueError(
+            f"H must be ({m}, {n}) and R ({m}, {m}) or ({B}, {N}, {m}, {m}); got {H.shape} and {R.shape}"
+        )
     measured = ~np.any(np.isnan(z), axis=-1)  # (B, N)
     if np.any(np.isinf(z)):
         raise ValueError("measurements must be finite (NaN: a missed scan)")
     every = bool(measured.all())
     if not every:
         z = np.where(measured[..., None], z, 0.0)  # any finite value: the update is discarded there
+    if varying:
+        R = scan_covariances(R, measured)
     Phi, Qd = models.Phi, models.Qd
     PhiT = np.swapaxes(Phi, 1, 2)
     with np.errstate(divide="ignore"):
@@ -134,7 +167,7 @@ def imm_filter(
         # 4: model-matched prediction and update
         Xp = np.einsum("jnm,bjm->bjn", Phi, X0)  # X̂_j(k|k−1) = Φ_j X̂_0j
         Pp = Phi @ P0j @ PhiT + Qd  # P_j(k|k−1) = Φ_j P_0j Φ_jᵀ + G_j Q_j G_jᵀ
-        up = joseph_update(Xp, Pp, z[:, k, None, :], H, R)
+        up = joseph_update(Xp, Pp, z[:, k, None, :], H, R[:, k, None] if varying else R)
         seen = None if every else measured[:, k]  # (B,) runs measured at scan k (None: all of them)
         if seen is None or seen.all():
             X, P, loglik = up.x, up.P, up.loglik
