@@ -365,9 +365,31 @@ def job_trials(job: MonteCarloJob[Any]) -> int:
     return int(sum(job.task_size(t) for t in job.tasks()))
 
 
-def _ignore_sigint() -> None:
-    """Worker initializer: Ctrl-C is the main process's business."""
+PARENT_POLL_S = 0.5
+"""How often a pool worker checks that the process that started it is still alive [s]."""
+
+
+def _ignore_sigint(parent: int | None = None) -> None:
+    """Worker initializer: Ctrl-C is the main process's business; and the worker dies with its parent.
+
+    Whatever ends the parent (SIGKILL, the OOM killer, a closed terminal) gives it no chance to stop its
+    pool, so each worker watches for itself: a daemon thread polls ``os.getppid()`` every
+    :data:`PARENT_POLL_S` s and, once the worker has been re-parented, exits at once (``os._exit``: a
+    dead parent has nobody to report to). The resource tracker exits on its own when the last process
+    holding its pipe is gone.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if parent is None:
+        return
+    import threading
+
+    def watch() -> None:
+        while True:
+            if os.getppid() != parent:
+                os._exit(1)
+            time.sleep(PARENT_POLL_S)
+
+    threading.Thread(target=watch, name="motionsig-parent-watch", daemon=True).start()
 
 
 @contextlib.contextmanager
@@ -402,7 +424,10 @@ def _run_pool(
 ) -> None:
     # spawn, not fork: the parent may hold threads (progress bar) whose locks a fork would copy
     pool = ProcessPoolExecutor(
-        max_workers=workers, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_sigint
+        max_workers=workers,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_ignore_sigint,
+        initargs=(os.getpid(),),
     )
     ok = False
     try:

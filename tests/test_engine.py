@@ -1,5 +1,6 @@
 """The Monte Carlo engine: task order, chunking, checkpoints, scheduler errors (issue 9)."""
 
+import contextlib
 import functools
 import socket
 import sys
@@ -245,3 +246,42 @@ def test_run_job_runs_any_job_of_the_protocol(tmp_path):
     assert '"command": "squares"' in manifest and '"n": 10' in manifest
     with pytest.raises(EngineError, match="other parameters"):
         run_job(_SquaresJob(11), Engine(1, checkpoint=tmp_path / "ck"))
+
+
+def test_pool_workers_die_with_a_killed_parent(tmp_path):
+    """SIGKILL of a 2-worker run (as the OOM killer or a lost terminal would) gives the parent no chance to stop
+    its pool: the workers notice that they were re-parented and exit within a few seconds; no output is
+    written."""
+    import os
+    import signal
+    import subprocess
+
+    psutil = pytest.importorskip("psutil")
+    out = tmp_path / "out.csv"
+    cmd = [sys.executable, "-m", "motionsig_cli", "detect", "--montecarlo", "--trials", "4000", "--fr-list", "0.01",
+           "--R-list", "1e-1,1e-3", "--workers", "2", "-q", "-o", str(out)]  # fmt: skip
+    parent = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    workers: list = []
+    others: list = []
+    try:
+        proc = psutil.Process(parent.pid)
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and len(workers) < 2:
+            workers = [
+                c for c in proc.children(recursive=True) if "multiprocessing.spawn" in " ".join(c.cmdline())
+            ]
+            time.sleep(0.2)
+        assert len(workers) == 2, "the pool did not start"
+        time.sleep(1.0)  # the workers are past their initializer
+        others = [c for c in proc.children(recursive=True) if c not in workers]  # the resource tracker
+        os.kill(parent.pid, signal.SIGKILL)
+        parent.wait(timeout=10)
+        _, alive = psutil.wait_procs([*workers, *others], timeout=10)
+        assert not alive, [p.cmdline() for p in alive]
+        assert not out.exists()
+    finally:  # a failing run must not leave its processes behind either
+        for p in [*workers, *others]:
+            with contextlib.suppress(Exception):
+                p.kill()
+        with contextlib.suppress(Exception):
+            parent.kill()
