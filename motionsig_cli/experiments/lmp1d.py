@@ -746,6 +746,27 @@ class RecordHorizons:
             raise err
 
 
+def check_record_detector(method: str, filter: str, cfg: LMPConfig, sigma: SigmaPointParams) -> None:
+    """The 1-D detector of one record (and of its null records): ``filter`` kf or ukf, ``method`` bank or
+    fft for ``cfg``; the FFT path runs no sigma-point filters, and the sigma-point bank supports center
+    none and weights paper only, with α, κ that suit its 4- and 5-state filters.
+
+    Raises:
+        ConfigError: naming ``filter`` or ``method``.
+    """
+    one_of("filter", filter, ("kf", "ukf"))
+    check_method(method, cfg)
+    if method == "fft" and filter == "ukf":
+        raise ConfigError("method", "fft", "replaces the filter bank: it runs no sigma-point filters (ukf)")
+    if filter == "ukf":
+        if cfg.center != "none" or cfg.weights != "paper":
+            raise ConfigError(
+                "filter", "ukf", "(the sigma-point bank) supports center none and weights paper only"
+            )
+        sigma.weights(4)  # the H0 filter
+        sigma.weights(5)  # the H1 filters
+
+
 @dataclass(frozen=True, eq=False)
 class RecordDetection(RecordHorizons):
     """Eq (52) on one 1-D record (Fig 3): the argmax per horizon, or every candidate's statistic.
@@ -781,19 +802,7 @@ class RecordDetection(RecordHorizons):
     threshold_meta: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
-        one_of("filter", self.filter, ("kf", "ukf"))
-        check_method(self.method, self.cfg)
-        if self.method == "fft" and self.filter == "ukf":
-            raise ConfigError(
-                "method", "fft", "replaces the filter bank: it runs no sigma-point filters (ukf)"
-            )
-        if self.filter == "ukf":
-            if self.cfg.center != "none" or self.cfg.weights != "paper":
-                raise ConfigError(
-                    "filter", "ukf", "(the sigma-point bank) supports center none and weights paper only"
-                )
-            self.sigma.weights(4)  # the H0 filter
-            self.sigma.weights(5)  # the H1 filters
+        check_record_detector(self.method, self.filter, self.cfg, self.sigma)
         rec, T = self.record, self.record.vehicle.T
         hs = record_horizons(self.horizons, rec.y.shape[0] * T, T)
         object.__setattr__(self, "horizons", tuple(hs))

@@ -42,7 +42,7 @@ from motionsig_cli.experiments.lmp1d import (
     MAX_NULL_TRIALS,
     NULL_OFFSET,
     Method,
-    check_method,
+    check_record_detector,
     simulate_trials,
     threshold_for,
 )
@@ -191,18 +191,7 @@ class RecordNullJob:
             one_of("method", self.method, ("bank",))
         else:
             assert isinstance(self.cfg, LMPConfig)
-            check_method(self.method, self.cfg)
-            if self.method == "fft" and self.filter == "ukf":
-                raise ConfigError(
-                    "method", "fft", "replaces the filter bank: it runs no sigma-point filters (ukf)"
-                )
-            if self.filter == "ukf":
-                if self.cfg.center != "none" or self.cfg.weights != "paper":
-                    raise ConfigError(
-                        "filter", "ukf", "(the sigma-point bank) supports center none and weights paper only"
-                    )
-                self.sigma.weights(4)  # the H0 filter
-                self.sigma.weights(5)  # the H1 filters
+            check_record_detector(self.method, self.filter, self.cfg, self.sigma)
         T = veh.T
         hs = record_horizons(self.horizons, y.shape[0] * T, T)
         object.__setattr__(self, "horizons", tuple(float(h) for h in hs))
