@@ -21,6 +21,13 @@ The notebook page (URL containing ``signatures``) is also saved as a full-page s
 navigation (home -> notebook page) and requires the new page's math to be typeset too, when the
 site enables it (material's ``navigation.instant``, which works only with a matching ``site_url``).
 
+Then every page is opened a second time **from disk** (``file://``), as a reader who opens
+``site/index.html`` without a server would. There a page also fails on a link to another page of the
+site that does not resolve to a file (a link to a directory shows a listing, not the page). The search
+box cannot work from disk (the browser refuses the search worker's requests on ``file://``); the one
+error that this raises is expected there; the search page and the 404 page (which a server sends for
+any missing path, so its links are root-relative) are not checked from disk.
+
 One line per page (OK/FAIL with reasons), then ``browser check: N passed, M failed``; the exit
 status is 1 on any failure, 2 on a usage or setup error.
 """
@@ -38,7 +45,7 @@ import sys
 import threading
 from dataclasses import dataclass, field
 from pathlib import Path
-from urllib.parse import urlsplit
+from urllib.parse import unquote, urlsplit
 
 PAGE_TIMEOUT_MS = 30_000
 HOST = "127.0.0.1"
@@ -163,7 +170,22 @@ def serve(site: Path) -> tuple[http.server.ThreadingHTTPServer, str]:
     return server, f"http://{HOST}:{server.server_address[1]}/"
 
 
-def watch(page, result: PageResult) -> None:
+# On file:// the search worker cannot load (a page opened from disk has an opaque origin): the console
+# shows this once per page. Everything else stays an error.
+FILE_SEARCH_ERRORS = (
+    "Failed to construct 'Worker'",
+    "search_index.json",
+    "worker",
+)
+
+
+def local(url: str) -> bool:
+    """A request that stays on this machine: the test server, or a file of the site (``file://``)."""
+    parts = urlsplit(url)
+    return parts.hostname == HOST or parts.scheme in ("file", "data", "blob")
+
+
+def watch(page, result: PageResult, from_disk: bool = False) -> None:
     """Record failed requests, external requests, HTTP errors and console errors of ``page``."""
     blocked: set[str] = set()
 
@@ -174,13 +196,16 @@ def watch(page, result: PageResult) -> None:
 
     def route(route) -> None:
         url = route.request.url
-        if urlsplit(url).hostname == HOST:
+        if local(url):
             route.continue_()
         else:
             external(url)
             route.abort("blockedbyclient")
 
     def on_request_failed(request) -> None:
+        if from_disk and "search" in request.url:
+            result.notes.append("search needs a server")
+            return
         if request.url not in blocked:
             result.problems.append(f"request failed ({request.failure}): {request.url[:160]}")
 
@@ -192,14 +217,20 @@ def watch(page, result: PageResult) -> None:
         if msg.type == "error":
             if "ERR_BLOCKED_BY_CLIENT" in msg.text and blocked:
                 return  # the console's echo of a request aborted above, already reported
+            if from_disk and any(key in msg.text for key in FILE_SEARCH_ERRORS):
+                result.notes.append("search needs a server")
+                return
             result.problems.append(f"console error: {msg.text[:300]}")
 
     def on_page_error(exc) -> None:
+        if from_disk and any(key in str(exc) for key in FILE_SEARCH_ERRORS):
+            result.notes.append("search needs a server")
+            return
         result.problems.append(f"uncaught exception: {str(exc)[:300]}")
 
     def on_request(request) -> None:
         url = request.url
-        if url.startswith(("http:", "https:", "ws:", "wss:")) and urlsplit(url).hostname != HOST:
+        if url.startswith(("http:", "https:", "ws:", "wss:")) and not local(url):
             external(url)
 
     page.route("**/*", route)
@@ -238,15 +269,41 @@ def check_math(page, result: PageResult, require: bool) -> None:
         result.notes.append(f"{state['containers']} formulas")
 
 
-def check_page(context, base: str, rel: str, site: Path) -> PageResult:
+# Every link of the page to another page or file of the site, as the browser resolved it.
+JS_LINKS = """
+() => Array.from(document.querySelectorAll("a[href]"))
+  .map((a) => a.href)
+  .filter((h) => h.startsWith("file:"))
+"""
+
+
+def check_links_on_disk(page, result: PageResult) -> None:
+    """Each ``file://`` link of the page names an existing file (not a directory: on disk a browser
+    shows a directory as a listing, not as its index.html)."""
+    bad = []
+    for href in dict.fromkeys(page.evaluate(JS_LINKS)):
+        path = Path(unquote(urlsplit(href).path))
+        if not path.is_file():
+            bad.append(href)
+    for href in bad[:5]:
+        result.problems.append(f"link does not resolve to a file from disk: {href[:160]}")
+    if len(bad) > 5:
+        result.problems.append(f"... {len(bad) - 5} more links that do not resolve from disk")
+
+
+def check_page(context, base: str, rel: str, site: Path, from_disk: bool = False) -> PageResult:
     url = base + rel
+    if from_disk and (rel == "" or rel.endswith("/")):
+        url += "index.html"
     result = PageResult(url)
     page = context.new_page()
     page.set_default_timeout(PAGE_TIMEOUT_MS)
-    watch(page, result)
+    watch(page, result, from_disk)
     try:
         response = page.goto(url, wait_until="load", timeout=PAGE_TIMEOUT_MS)
-        if response is None or not response.ok:
+        if from_disk:
+            check_links_on_disk(page, result)
+        elif response is None or not response.ok:
             status = response.status if response is not None else "no response"
             if not any(p.startswith("HTTP ") for p in result.problems):
                 result.problems.append(f"page load: {status}")
@@ -260,7 +317,7 @@ def check_page(context, base: str, rel: str, site: Path) -> PageResult:
             result.problems.append(f"image not loaded: {src}")
         if images["total"]:
             result.notes.append(f"{images['total']} images")
-        if any(key in rel for key in SCREENSHOT_PAGES):
+        if any(key in rel for key in SCREENSHOT_PAGES) and not from_disk:
             shot = site / "_check" / f"{next(k for k in SCREENSHOT_PAGES if k in rel)}.png"
             shot.parent.mkdir(parents=True, exist_ok=True)
             page.screenshot(path=str(shot), full_page=True, timeout=PAGE_TIMEOUT_MS)
@@ -343,6 +400,12 @@ def main(argv: list[str] | None = None) -> int:
                 if targets and instant_navigation(site):
                     results.append(check_instant_navigation(context, base, targets[0]))
                     print_result(results[-1])
+                disk = site.as_uri() + "/"
+                for rel in pages:
+                    if rel.startswith("search") or rel == "404.html":
+                        continue  # served only: the search page, and the 404 page (root-relative links)
+                    results.append(check_page(context, disk, rel, site, from_disk=True))
+                    print_result(results[-1])
                 context.close()
             finally:
                 browser.close()
@@ -361,7 +424,7 @@ def print_result(result: PageResult) -> None:
         for problem in dict.fromkeys(result.problems):
             print(f"     - {problem}")
     else:
-        notes = f"  ({', '.join(result.notes)})" if result.notes else ""
+        notes = f"  ({', '.join(dict.fromkeys(result.notes))})" if result.notes else ""
         print(f"OK   {result.url}{notes}")
     sys.stdout.flush()
 

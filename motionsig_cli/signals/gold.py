@@ -145,10 +145,12 @@ def gold_code(
     """One member of the Gold family of a preferred pair (MATLAB ``comm.GoldSequence`` conventions).
 
     Args:
-        poly1, poly2: A preferred pair.
+        poly1: The first polynomial of a preferred pair.
+        poly2: The second polynomial of the pair.
         index: −2 → u, −1 → v, 0 … 2ⁿ − 2 → u ⊕ Tᵏv.
         shift: Start offset a of the output (applied to the whole code).
-        state1, state2: Initial states of the two registers (MATLAB order, default ``0…01``).
+        state1: Initial state of the first register (MATLAB order, default ``0…01``).
+        state2: Initial state of the second register (likewise).
         verify: Reject a pair that is not preferred (default). MATLAB's ``comm.GoldSequence``
             does not check; ``verify=False`` reproduces it for any two primitive polynomials of
             equal degree, but the result is then not a Gold code.
