@@ -10,7 +10,7 @@ candidates × {cos, sin} H1 filters with 10 states) × 1600 steps (T = 0.05 s, 8
    our bearing handling: ``z_mean_fn`` averages the bearing about the central sigma point and wraps
    it, ``residual_z`` wraps the bearing residual to (−π, π].
 2. Timing: motionsig runs the whole workload (``lmp_detect_radar`` once per ANR pair, records simulated
-   beforehand, not timed), once: one run takes about two minutes here, so best of 3 would add minutes
+   beforehand, not timed), once: one run takes more than a minute here, so best of 3 would add minutes
    and little accuracy. FilterPy runs a slice (6 H1 filters × 300 steps of one record: update, the cost
    bookkeeping, predict; best of 3) and is extrapolated linearly in filter-steps: each of its filters
    costs the same per step whatever the trial, and the 8-state H0 filter (1 in 187) is charged at the
@@ -51,7 +51,7 @@ from motionsig_cli.signals.signature import replica_bank
 TRIALS, PAIRS, N, M_RHO = 50, (1, 2, 3, 4), 1600, 20
 HORIZONS = [200 * j for j in range(1, 9)]  # every 10 s
 REPEATS = 3  # FilterPy: best of 3 (the machine is shared; minima are the least disturbed)
-REPEATS_OURS = 1  # motionsig: one whole-workload run takes ~2 min here (> 60 s), so it runs once
+REPEATS_OURS = 1  # motionsig: one whole-workload run takes over a minute here, so it runs once
 SLICE_FILTERS, SLICE_STEPS = 6, 300
 CHIPS = to_bipolar(corrected_codes()).astype(float)
 TWO_PI = 2.0 * math.pi

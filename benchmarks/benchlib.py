@@ -43,6 +43,7 @@ COLUMNS = [
     "filterpy",
     "dask",
     "distributed",
+    "jax",
 ]
 
 
@@ -84,13 +85,14 @@ def environment() -> dict[str, str]:
         "filterpy": _version("filterpy"),
         "dask": _version("dask"),
         "distributed": _version("distributed"),
+        "jax": _version("jax"),  # the optional bench-jax extra (bench_kf_bank's one-core comparison)
     }
 
 
 def environment_line() -> str:
     env = environment()
     return f"# machine: {env['machine']} cores={env['cores']} " + " ".join(
-        f"{k}={env[k]}" for k in ("python", "numpy", "scipy", "filterpy", "dask", "distributed")
+        f"{k}={env[k]}" for k in ("python", "numpy", "scipy", "filterpy", "dask", "distributed", "jax")
     )
 
 

@@ -18,9 +18,13 @@ P_xy and add 2(n − p) copies of e_0e_0ᵀ to S. Only the first p columns of L 
 the first p steps of a left-looking Cholesky factorisation. For the radar (h reads x and y, state
 [x, ẋ, y, …]) p = 3: three of ten columns, 7 of 21 evaluations of h, the same numbers.
 
-The prediction is linear and exact (x ← F x, P ← F P Fᵀ + Q: the models are linear in the state); it uses the
-structure of the LMP banks, F_k^c = F_0 + Σ_r g_r[c, k] e_{row_r} e_{col_r}ᵀ, so the shared F_0 is
-one matrix product over every filter and trial and the time-varying entries are rank-one terms.
+The prediction is linear and exact (x ← F x, P ← F P Fᵀ + Q: the models are linear in the state; with
+linear f the UT's predicted mean and covariance are these exactly, so no sigma points are drawn for it).
+It uses the structure of the LMP banks, F_k^c = F_0 + Σ_r g_r[c, k] e_{row_r} e_{col_r}ᵀ: the bank keeps
+each covariance packed, its n(n+1)/2 distinct entries grouped by the blocks of F_0's coupling graph (the
+radar: the x chain, the y chain, each amplitude), so F_0 P F_0ᵀ is one small BLAS product per block over
+every filter and record, and the time-varying entries are rank-one row and column updates. The packed
+storage keeps P exactly symmetric and halves the update P ← P − W Wᵀ.
 
 Missing samples: a record whose sample k is NaN (every component) skips the update at k — no term in J
 or in the log-determinants, x and P carried to the prediction unchanged; the mask is per (record,
@@ -41,6 +45,7 @@ import math
 import numbers
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -270,7 +275,7 @@ class SigmaMeasurement:
 def _wrap_rows(d: np.ndarray, angular: np.ndarray) -> np.ndarray:
     """Wrap the angular components (first axis) of d to (−π, π], in place."""
     for a in np.flatnonzero(angular):
-        if np.any(np.abs(d[a]) > np.pi):  # rare: the modulo costs more than the test
+        if d[a].max() > np.pi or d[a].min() < -np.pi:  # rare: the modulo costs more than the test
             d[a] = wrap_angle(d[a])
     return d
 
@@ -298,22 +303,35 @@ def _left_cholesky(A: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
 def _repaired_cholesky(
     A: np.ndarray, p: int, floor: np.ndarray | None = None
 ) -> tuple[np.ndarray, np.ndarray, int]:
-    """:func:`_left_cholesky` that repairs the matrices it cannot factor, and counts them.
+    """:func:`_left_cholesky` that repairs the matrices it cannot factor (:func:`_repair`), and counts them.
 
-    A failed matrix is symmetrised and projected onto the positive semi-definite cone by clipping its
-    eigenvalues (Higham's nearest PSD matrix): at 0 above ``floor`` when one is given (an innovation
-    covariance is the PSD spread of h(χ) plus R, so S is repaired to R + (S − R)₊), else at 1e-12 × its
-    largest |eigenvalue|. Should that still not factor, a diagonal jitter grows ×100 from 1e-12 × the mean
-    diagonal. Returns (L, the possibly repaired A, number of repaired matrices).
+    Returns (L, the possibly repaired A, number of repaired matrices).
     """
     L, piv = _left_cholesky(A, p)
     bad = ~(piv > 0)
     if not bad.any():
         return L, A, 0
-    Ab = np.moveaxis(A[..., bad], -1, 0)  # (k, n, n)
+    fixed, Lb = _repair(np.moveaxis(A[..., bad], -1, 0), p, floor)
+    A = A.copy()
+    A[..., bad] = np.moveaxis(fixed, 0, -1)
+    L[..., bad] = Lb
+    return L, A, int(bad.sum())
+
+
+def _repair(Ab: np.ndarray, p: int, floor: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+    """Repair k symmetric matrices Ab (k, n, n) that a Cholesky factorisation failed on.
+
+    Each is symmetrised and projected onto the positive semi-definite cone by clipping its eigenvalues
+    (Higham's nearest PSD matrix): at 0 above ``floor`` when one is given (an innovation covariance is the
+    PSD spread of h(χ) plus R, so S is repaired to R + (S − R)₊), else at 1e-12 × its largest |eigenvalue|.
+    Should that still not factor, a diagonal jitter grows ×100 from 1e-12 × the mean diagonal.
+
+    Returns:
+        The repaired matrices (k, n, n) and the first p columns of their lower Cholesky factors (n, p, k).
+    """
     if not np.all(np.isfinite(Ab)):
         raise FloatingPointError("a covariance became non-finite in the sigma-point bank")
-    n = A.shape[0]
+    n = Ab.shape[1]
     base = np.zeros((n, n)) if floor is None else np.asarray(floor, float)
     lam, V = np.linalg.eigh(0.5 * (Ab + np.swapaxes(Ab, 1, 2)) - base)
     if floor is None:
@@ -330,10 +348,7 @@ def _repaired_cholesky(
         rel *= 100.0
         if rel > 1.0:
             raise FloatingPointError("a covariance could not be repaired (jitter above its own scale)")
-    A = A.copy()
-    A[..., bad] = np.moveaxis(fixed, 0, -1)
-    L[..., bad] = Lb
-    return L, A, int(bad.sum())
+    return fixed, Lb
 
 
 def _forward(L: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -347,6 +362,288 @@ def _forward(L: np.ndarray, b: np.ndarray) -> np.ndarray:
             acc -= L[i, q] * u[q]
         u[i] = acc / L[i, i]
     return u
+
+
+# ---------------------------------------------------------------------------------------------------
+# Packed covariance storage of the bank: each symmetric n × n matrix as its n(n+1)/2 distinct entries,
+# grouped so that the shared prediction F_0 P F_0ᵀ is one small matrix product per group.
+# ---------------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class _Packed:
+    """Layout of the bank's covariances, derived from the sparsity of F_0.
+
+    The states fall into the components of F_0's coupling graph (states i, j coupled where F_0[i, j] ≠ 0;
+    the 2-D radar: the x chain [x, ẋ, r_x, ṙ_x], the y chain and each amplitude alone). Positions order
+    the states component by component; a covariance is stored as the blocks (g, h), g ≤ h, of entries
+    P[a, b] with a in component g and b in component h (the lower triangle, by positions, where g = h),
+    one after the other: (n(n+1)/2, ...) rows. F_0 maps each block onto itself:
+    (F_0 P F_0ᵀ)[a, b] = Σ F_0[a, i] F_0[b, j] P[i, j] over i in g, j in h, a matrix ``M`` of the block's
+    size (None where it is the identity), so the shared prediction is one BLAS product per block over
+    every filter and record, and the exact symmetry of P is kept by construction.
+
+    Attributes:
+        perm: perm[k] = the state at position k.  pos: its inverse.
+        comps: [start, stop) positions of each component, with F_0 on it (None: identity).
+        blocks: (lo, hi, g, h, M): packed rows lo..hi − 1 hold block (g, h).
+        index: (n, n) packed row of entry (a, b) (state indices; symmetric).
+        entries: (a, b) of each packed row (state indices).
+    """
+
+    n: int
+    perm: np.ndarray
+    pos: np.ndarray
+    comps: tuple[tuple[int, int, np.ndarray | None], ...]
+    blocks: tuple[tuple[int, int, int, int, np.ndarray | None], ...]
+    index: np.ndarray
+    entries: np.ndarray
+
+    @property
+    def size(self) -> int:
+        return self.n * (self.n + 1) // 2
+
+    @cached_property
+    def columns(self) -> np.ndarray:
+        """columns[j]: the packed rows of column j (state order), rows by position, (n, n)."""
+        return self.index[self.perm].T
+
+    @cached_property
+    def rows(self) -> np.ndarray:
+        """rows[i]: the packed rows of row i (state order), columns by position, (n, n)."""
+        return self.index[:, self.perm]
+
+    @cached_property
+    def max_block(self) -> int:
+        return max(hi - lo for lo, hi, *_ in self.blocks)
+
+    @cached_property
+    def segments(self) -> tuple[tuple[int, int, int, int, int], ...]:
+        """The downdate's segments (lo, hi, i, ws, we): packed rows lo..hi − 1 are entries (i, ws..we − 1)
+        (positions) of a diagonal block (i ≥ 0), or an off-diagonal block of rows ws..we − 1 and columns
+        from position −i − 1 (i < 0)."""
+        return tuple(s for b in self.block_segments for s in b)
+
+    @cached_property
+    def block_segments(self) -> tuple[tuple[tuple[int, int, int, int, int], ...], ...]:
+        """:attr:`segments`, block by block."""
+        out = []
+        for lo, hi, gi, gj, _ in self.blocks:
+            s1, e1, _ = self.comps[gi]
+            if gi == gj:
+                out.append(
+                    tuple(
+                        (lo + u * (u + 1) // 2, lo + u * (u + 1) // 2 + u + 1, s1 + u, s1, s1 + u + 1)
+                        for u in range(e1 - s1)
+                    )
+                )
+            else:
+                out.append(((lo, hi, -self.comps[gj][0] - 1, s1, e1),))
+        return tuple(out)
+
+    def pack(self, A: np.ndarray) -> np.ndarray:
+        """Symmetric A (n, n, ...) → packed (n(n+1)/2, ...) (the lower entry of each pair)."""
+        a, b = self.entries.T
+        return A[np.maximum(a, b), np.minimum(a, b)]
+
+    def unpack(self, Ppk: np.ndarray) -> np.ndarray:
+        """Packed (n(n+1)/2, ...) → full symmetric (n, n, ...)."""
+        return Ppk[self.index]
+
+
+def _packed_layout(F0: np.ndarray) -> _Packed:
+    """The :class:`_Packed` layout for the shared transition F_0 (n, n)."""
+    n = F0.shape[0]
+    root = list(range(n))
+
+    def find(a: int) -> int:
+        while root[a] != a:
+            a = root[a]
+        return a
+
+    for i, j in zip(*np.nonzero(F0), strict=True):
+        ri, rj = find(int(i)), find(int(j))
+        root[max(ri, rj)] = min(ri, rj)
+    groups: dict[int, list[int]] = {}
+    for a in range(n):
+        groups.setdefault(find(a), []).append(a)
+    members = sorted(groups.values())
+    perm = np.array([a for g in members for a in g], dtype=np.intp)
+    pos = np.argsort(perm)
+    comps, start = [], 0
+    for g in members:
+        Fg = F0[np.ix_(g, g)]
+        comps.append((start, start + len(g), None if np.array_equal(Fg, np.eye(len(g))) else Fg.copy()))
+        start += len(g)
+    index = np.empty((n, n), dtype=np.intp)
+    entries: list[tuple[int, int]] = []
+    spans = []
+    for gi, (s1, e1, _) in enumerate(comps):
+        for gj in range(gi, len(comps)):
+            s2, e2, _ = comps[gj]
+            lo = len(entries)
+            for u in range(s1, e1):
+                for v in range(s2, e2) if gi != gj else range(s1, u + 1):
+                    index[perm[u], perm[v]] = index[perm[v], perm[u]] = len(entries)
+                    entries.append((int(perm[u]), int(perm[v])))
+            spans.append((lo, len(entries), gi, gj))
+    blocks = []
+    for lo, hi, gi, gj in spans:
+        M = np.zeros((hi - lo, hi - lo))
+        rows_i, rows_j = perm[comps[gi][0] : comps[gi][1]], perm[comps[gj][0] : comps[gj][1]]
+        for r in range(lo, hi):
+            a, b = entries[r]
+            for i in rows_i:
+                for j in rows_j:
+                    M[r - lo, index[i, j] - lo] += F0[a, i] * F0[b, j]
+        blocks.append((lo, hi, gi, gj, None if np.array_equal(M, np.eye(hi - lo)) else M))
+    return _Packed(n, perm, pos, tuple(comps), tuple(blocks), index, np.array(entries, dtype=np.intp))
+
+
+def _lead_cholesky(Ppk: np.ndarray, lay: _Packed, p: int, Lc: np.ndarray, tmp: np.ndarray) -> np.ndarray:
+    """:func:`_left_cholesky` of packed covariances: the first p columns (in state order) of the lower
+    Cholesky factor into Lc (p, n, ...) — column j, rows by position. Returns the smallest pivot of each
+    matrix (...) (≤ 0 marks a failed factorisation)."""
+    min_piv = np.full(Ppk.shape[1:], np.inf)
+    t = tmp[: lay.n]
+    for j in range(p):
+        v = Lc[j]
+        np.take(Ppk, lay.columns[j], axis=0, out=v, mode="clip")  # column j of P, rows by position
+        pj = lay.pos[j]
+        for q in range(j):
+            np.multiply(Lc[q], Lc[q, pj], out=t)
+            v -= t  # (the rows of states above j are not needed: they are zeroed below)
+        d = v[pj].copy()
+        np.minimum(min_piv, d, out=min_piv)
+        v *= 1.0 / np.sqrt(np.where(d > 0, d, np.inf))  # a failed pivot gives a zero column
+        if j:
+            v[lay.pos[:j]] = 0.0  # lower triangular: L[a, j] = 0 for states a < j
+    return min_piv
+
+
+def _repaired_lead_cholesky(
+    Ppk: np.ndarray, lay: _Packed, p: int, Lc: np.ndarray, tmp: np.ndarray
+) -> tuple[np.ndarray, int]:
+    """:func:`_lead_cholesky` that repairs (:func:`_repair`) the covariances it cannot factor, and counts
+    them. Returns (the possibly repaired packed covariances, number repaired); Lc is filled."""
+    piv = _lead_cholesky(Ppk, lay, p, Lc, tmp)
+    bad = ~(piv > 0)
+    if not bad.any():
+        return Ppk, 0
+    fixed, Lb = _repair(lay.unpack(Ppk[..., bad]).transpose(2, 0, 1), p, None)  # state order
+    Ppk = Ppk.copy()
+    Ppk[..., bad] = lay.pack(np.moveaxis(fixed, 0, -1))
+    Lc[..., bad] = np.swapaxes(Lb, 0, 1)[:, lay.perm]
+    return Ppk, int(bad.sum())
+
+
+def _packed_downdate(
+    Ppk: np.ndarray, lay: _Packed, W: np.ndarray, tmp: np.ndarray, block: int | None = None
+) -> None:
+    """Ppk ← Ppk − Σ_a W_a W_aᵀ in place (W (m, n, ...) by position; tmp scratch (≥ max_block, ...)), on
+    every block or on ``block`` only.
+
+    Segment by segment (a row of a diagonal block, or a whole off-diagonal block), each component a in
+    turn, so each segment is read once while it is in cache; P[i, j] − W_a[i] W_a[j] element by element.
+    """
+    m = W.shape[0]
+    segments = lay.segments if block is None else lay.block_segments[block]
+    for lo, hi, i, ws, we in segments:
+        seg = Ppk[lo:hi]
+        if i >= 0:  # row i of a diagonal block: entries (i, ws..we − 1)
+            t = tmp[: hi - lo]
+            for a in range(m):
+                np.multiply(W[a, i], W[a, ws:we], out=t)
+                seg -= t
+        else:  # off-diagonal block (rows ws..we − 1) × (columns of the other component)
+            s2, e2 = -i - 1, -i - 1 + (hi - lo) // (we - ws)
+            blk = seg.reshape(we - ws, e2 - s2, *seg.shape[1:])
+            t = tmp[: hi - lo].reshape(blk.shape)
+            for a in range(m):
+                np.multiply(W[a, ws:we, None], W[a, None, s2:e2], out=t)
+                blk -= t
+
+
+BLAS_ONE_THREAD = 1 << 18  # OpenBLAS runs a product of m·n·k ≤ 2^18 on one thread
+
+
+def _thin_matmul(M: np.ndarray, X: np.ndarray, out: np.ndarray) -> None:
+    """out = M @ X for a small M (r, k) and a wide X (k, N), in column chunks that BLAS runs on one thread
+    each: threads cost these thin, memory-bound products far more than they bring (and on a loaded
+    machine they wait for each other). out may be a view with the columns contiguous."""
+    r, k = M.shape
+    N = X.shape[1]
+    ch = max(256, BLAS_ONE_THREAD // max(1, r * k))
+    if N <= ch:
+        np.matmul(M, X, out=out)
+        return
+    for s in range(0, N, ch):
+        np.matmul(M, X[:, s : s + ch], out=out[:, s : s + ch])
+
+
+def _packed_predict(
+    x: np.ndarray,
+    Ppk: np.ndarray,
+    xn: np.ndarray,
+    lay: _Packed,
+    trans: StructuredTransition,
+    k: int,
+    q_rows: np.ndarray,
+    q_vals: np.ndarray,
+    tmp: np.ndarray,
+    W: np.ndarray | None = None,
+) -> None:
+    """xn ← F_k x, Ppk ← F_k P F_kᵀ + Q **in place** in the packed layout (x, xn by position, (n, C, B);
+    tmp scratch (≥ max(2n, max_block), C, B)). With W, P ← P − Σ_a W_a W_aᵀ first
+    (:func:`_packed_downdate`), block by block, each just before its product, while it is in cache.
+
+    With F_k = F_0 + G_k, G_k = Σ_r g_r e_{i_r} e_{j_r}ᵀ (eq 44's time-varying entries)::
+
+        F_k P F_kᵀ = F_0 P F_0ᵀ + Σ_r g_r (e_{i_r} u_rᵀ + u_r e_{i_r}ᵀ) + Σ_{r,s} g_r g_s P[j_r, j_s] e_{i_r} e_{i_s}ᵀ
+
+    with u_r = F_0 P[:, j_r]: one matrix product per block (:class:`_Packed`) and a few row updates.
+    """
+    n, CB = lay.n, x[0].size
+    ents = trans.entries
+    m = 0 if W is None else W.shape[0]
+    cols = []  # P[:, j_r] after the downdate, by position (read before the blocks are overwritten)
+    for _, j in ents:
+        col = np.take(Ppk, lay.columns[j], axis=0, mode="clip")
+        for a in range(m):
+            col -= W[a] * W[a, lay.pos[j]]
+        cols.append(col)
+    for s, e, Fg in lay.comps:
+        if Fg is None:
+            xn[s:e] = x[s:e]
+        else:
+            _thin_matmul(Fg, x[s:e].reshape(e - s, CB), xn[s:e].reshape(e - s, CB))
+    for bi, (lo, hi, _, _, M) in enumerate(lay.blocks):
+        if W is not None:
+            _packed_downdate(Ppk, lay, W, tmp, bi)
+        if M is not None:
+            blk = Ppk[lo:hi].reshape(hi - lo, CB)
+            out = tmp[: hi - lo].reshape(hi - lo, CB)
+            _thin_matmul(M, blk, out)
+            blk[...] = out
+    if ents:
+        u = tmp[:n]
+        gk = [trans.g[:, k, r][:, None] for r in range(len(ents))]  # (C, 1): broadcasts over the records
+        for r, (i, j) in enumerate(ents):
+            xn[lay.pos[i]] += gk[r] * x[lay.pos[j]]  # G_k x
+            for s, e, Fg in lay.comps:  # u_r = F_0 P[:, j]
+                if Fg is None:
+                    u[s:e] = cols[r][s:e]
+                else:
+                    _thin_matmul(Fg, cols[r][s:e].reshape(e - s, CB), u[s:e].reshape(e - s, CB))
+            u *= gk[r]
+            u[lay.pos[i]] *= 2.0  # the diagonal entry (i, i) gets both terms
+            Ppk[lay.rows[i]] += u  # g_r (e_i u_rᵀ + u_r e_iᵀ)
+        for r, (ir, _) in enumerate(ents):
+            for s, (is_, js) in enumerate(ents):
+                if ir >= is_:  # each stored entry (i_r, i_s) once
+                    Ppk[lay.index[ir, is_]] += (gk[r] * gk[s]) * cols[r][lay.pos[js]]
+    for row, qv in zip(q_rows, q_vals, strict=True):
+        Ppk[row] += qv  # + Q
 
 
 @dataclass(frozen=True)
@@ -385,11 +682,12 @@ def ukf_bank_costs(
     """Run C unscented filters on B records at once and read their innovation costs at the horizons.
 
     Every filter starts from the predicted prior (x0, P0) at k = 0, updates with y_0, then predicts
-    with F_0 to k = 1, and so on (the convention of :mod:`motionsig_cli.filters.kalman`).
+    with F_0 to k = 1, and so on (the convention of :mod:`motionsig_cli.filters.kalman`). The covariances
+    are kept packed (:class:`_Packed`); the prediction is :func:`_packed_predict`.
 
     Args:
         trans: The bank's transitions (C filters, N ≥ number of samples).
-        Q: Process noise (n, n).
+        Q: Process noise (n, n), symmetric.
         meas: Measurement model (m components).
         x0: Prior mean (n,).  P0: Prior covariance (n, n).
         y: Records (B, N) for m = 1 or (B, N, m); a NaN sample (every component) is missing: predict-only.
@@ -416,9 +714,17 @@ def ukf_bank_costs(
     ang = np.asarray(meas.angular, bool)
     Rm = np.asarray(meas.R, float)[:, :, None, None]
     Q = np.asarray(Q, float)
+    lay = _packed_layout(np.asarray(trans.F0, float))
+    Qpk = lay.pack(Q)
+    q_rows = np.flatnonzero(Qpk)
+    q_vals = Qpk[q_rows]
     yk_all = np.ascontiguousarray(np.moveaxis(y, 0, -1))[:, :, None, :]  # (N, m, 1, B)
-    x = np.broadcast_to(np.asarray(x0, float)[:, None, None], (n, C, B)).copy()
-    P = np.broadcast_to(np.asarray(P0, float)[:, :, None, None], (n, n, C, B)).copy()
+    x = np.broadcast_to(np.asarray(x0, float)[lay.perm, None, None], (n, C, B)).copy()  # by position
+    Ppk = np.broadcast_to(lay.pack(np.asarray(P0, float))[:, None, None], (lay.size, C, B)).copy()
+    xn = np.empty_like(x)
+    tmp = np.empty((max(2 * n, lay.max_block), C, B))  # scratch
+    Lc = np.empty((p, n, C, B))  # the first p columns of chol(P), rows by position
+    W = np.empty((m, n, C, B))
     J = np.zeros((C, B))
     LD = np.zeros((C, B))
     J_out = np.empty((C, B, hz.size))
@@ -430,75 +736,77 @@ def ukf_bank_costs(
     tick = step_reporter(progress, N)
     some_missing = missing.any(axis=0)  # (N,)
     none_present = ~present.any(axis=0)
-    eye_n = np.eye(n)[:, :, None, None]
+    eye_pk = lay.pack(np.eye(n))[:, None, None]
+    lead = lay.pos[:p]  # positions of the states h reads
+    X = np.empty((p, 2 * p + 1, C, B))  # the sigma points on the lead components
     for k in range(N):
         pk: np.ndarray | None = None  # the records measured at k, where some are not
-        if none_present[k]:  # predict-only for every record
-            if k + 1 in read_at:
-                J_out[:, :, read_at[k + 1]] = J[..., None]
-                LD_out[:, :, read_at[k + 1]] = LD[..., None]
-            if k + 1 < N:
-                x, P = trans.predict(x, P, k, Q)
-            tick(k)
-            continue
-        if some_missing[k]:
+        if some_missing[k] and not none_present[k]:
             pk = present[:, k]
-        # --- sigma points along the first p columns of chol(P) ------------------------------------
-        if pk is None:
-            L, P, nb = _repaired_cholesky(P, p)  # (n, p, C, B)
-        else:  # the missing records' P stays out of the factorisation (and the repair count)
-            L, P_fact, nb = _repaired_cholesky(np.where(pk, P, eye_n), p)
-            P = np.where(pk, P_fact, P)
-        rep_P += nb
-        xl = x[:p, None]  # (p, 1, C, B)
-        step = c * L[:p]  # step[:, j] = c L_j on the lead components, (p, p, C, B)
-        Y0 = meas.h(x[:p])  # (m, C, B)
-        Yp = meas.h(xl + step)  # (m, p, C, B)
-        Ym = meas.h(xl - step)
-        d = _wrap_rows(Yp - Y0[:, None], ang) + _wrap_rows(Ym - Y0[:, None], ang)
-        y_hat = _wrap_rows(Y0 + wj * d.sum(1), ang)  # Σ W^m_i h(χ_i), angles about χ_0
-        e0 = _wrap_rows(Y0 - y_hat, ang)
-        ep = _wrap_rows(Yp - y_hat[:, None], ang)
-        em = _wrap_rows(Ym - y_hat[:, None], ang)
-        S = np.empty((m, m, C, B))
-        for a in range(m):
-            for b in range(a + 1):
-                S[a, b] = w_e0 * e0[a] * e0[b] + wj * ((ep[a] * ep[b]).sum(0) + (em[a] * em[b]).sum(0))
-                S[b, a] = S[a, b]
-        S += Rm  # S = Σ W^c_i e_i e_iᵀ + R
-        if pk is not None:
-            S = np.where(pk, S, Rm)  # a missing record's S is never used: keep it out of the repairs
-        de = (wj * c) * (ep - em)  # (m, p, C, B)
-        Pxy = L[:, None, 0] * de[None, :, 0]  # Σ W^c_i (χ_i − x) e_iᵀ = W c Σ_j L_j (e_{+j} − e_{−j})ᵀ
-        for j in range(1, p):
-            Pxy += L[:, None, j] * de[None, :, j]  # (n, m, C, B)
-        # --- innovation, likelihood and update ----------------------------------------------------
-        Ls, S, nbs = _repaired_cholesky(S, m, floor=Rm[:, :, 0, 0])  # S = L_S L_Sᵀ, (m, m, C, B)
-        rep_S += nbs
-        nu = _wrap_rows(yk_all[k] - y_hat, ang)  # ν_k, eq (47), bearing wrapped
-        if pk is not None:
-            nu = np.where(pk, nu, 0.0)  # no innovation where the sample is missing
-        u = _forward(Ls, nu)  # L_S⁻¹ ν
-        J += 0.5 * (u * u).sum(0)  # ½ νᵀ S⁻¹ ν, eq (52)
-        ld = np.log(np.diagonal(Ls, axis1=0, axis2=1)).sum(-1) + half_log2pi  # ½ log det 2πS
-        LD += ld if pk is None else np.where(pk, ld, 0.0)
-        W = _forward(Ls[:, :, None], np.swapaxes(Pxy, 0, 1))  # rows of P_xy L_S⁻ᵀ, (m, n, C, B)
-        if pk is not None:
-            W = np.where(pk, W, 0.0)  # no gain: x and P carry over
-        for a in range(m):
-            Wa = W[a]
-            x += Wa * u[a]  # x + K ν with K = P_xy S⁻¹ = W L_S⁻¹
-            for i in range(n):
-                P[i] -= Wa[i] * Wa  # P − K S Kᵀ = P − W Wᵀ, row by row (symmetric to the last bit)
+        if not none_present[k]:
+            # --- sigma points along the first p columns of chol(P) --------------------------------
+            if pk is None:
+                Ppk, nb = _repaired_lead_cholesky(Ppk, lay, p, Lc, tmp)  # Lc (p, n, C, B)
+            else:  # the missing records' P stays out of the factorisation (and the repair count)
+                P_fact, nb = _repaired_lead_cholesky(np.where(pk, Ppk, eye_pk), lay, p, Lc, tmp)
+                Ppk = np.where(pk, P_fact, Ppk)
+            rep_P += nb
+            xl = x[lead][:, None]  # (p, 1, C, B)
+            step = c * np.swapaxes(Lc[:, lead], 0, 1)  # step[:, j] = c L_j on the lead components
+            X[:, :1] = xl
+            np.add(xl, step, out=X[:, 1 : p + 1])
+            np.subtract(xl, step, out=X[:, p + 1 :])
+            Y = meas.h(X)  # (m, 2p + 1, C, B): h(χ_0), h(χ_{+j}), h(χ_{−j})
+            D = _wrap_rows(Y[:, 1:] - Y[:, :1], ang)
+            y_hat = _wrap_rows(Y[:, 0] + wj * D.sum(1), ang)  # Σ W^m_i h(χ_i), angles about χ_0
+            E = _wrap_rows(Y - y_hat[:, None], ang)  # e_i = h(χ_i) − ŷ
+            S = np.empty((m, m, C, B))
+            for a in range(m):
+                for b in range(a + 1):
+                    Eab = E[a] * E[b]
+                    S[a, b] = w_e0 * Eab[0] + wj * Eab[1:].sum(0)
+                    S[b, a] = S[a, b]
+            S += Rm  # S = Σ W^c_i e_i e_iᵀ + R
+            if pk is not None:
+                S = np.where(pk, S, Rm)  # a missing record's S is never used: keep it out of the repairs
+            # --- innovation, likelihood and update ------------------------------------------------
+            Ls, S, nbs = _repaired_cholesky(S, m, floor=Rm[:, :, 0, 0])  # S = L_S L_Sᵀ, (m, m, C, B)
+            rep_S += nbs
+            nu = _wrap_rows(yk_all[k] - y_hat, ang)  # ν_k, eq (47), bearing wrapped
+            if pk is not None:
+                nu = np.where(pk, nu, 0.0)  # no innovation where the sample is missing
+            u = _forward(Ls, nu)  # L_S⁻¹ ν
+            J += 0.5 * (u * u).sum(0)  # ½ νᵀ S⁻¹ ν, eq (52)
+            ld = np.log(np.diagonal(Ls, axis1=0, axis2=1)).sum(-1) + half_log2pi  # ½ log det 2πS
+            LD += ld if pk is None else np.where(pk, ld, 0.0)
+            # P_xy = Σ W^c_i (χ_i − x) e_iᵀ = W c Σ_j L_j (e_{+j} − e_{−j})ᵀ = L_{:p} Dᵀ, so the gain's
+            # square root W = P_xy L_S⁻ᵀ = L_{:p} (L_S⁻¹ D)ᵀ: G = L_S⁻¹ D is m × p, W[a] = Σ_j G[a, j] L_j
+            G = _forward(Ls[:, :, None], (wj * c) * (E[:, 1 : p + 1] - E[:, p + 1 :]))  # (m, p, C, B)
+            if pk is not None:
+                G = np.where(pk, G, 0.0)  # no gain: x and P carry over
+            for a in range(m):
+                Wa = W[a]
+                np.multiply(Lc[0], G[a, 0], out=Wa)
+                for j in range(1, p):
+                    np.multiply(Lc[j], G[a, j], out=tmp[:n])
+                    Wa += tmp[:n]
+                np.multiply(Wa, u[a], out=tmp[:n])
+                x += tmp[:n]  # x + K ν with K = P_xy S⁻¹ = W L_S⁻¹
+            if k + 1 == N:
+                _packed_downdate(Ppk, lay, W, tmp)  # P − K S Kᵀ = P − W Wᵀ
         if k + 1 in read_at:
             J_out[:, :, read_at[k + 1]] = J[..., None]
             LD_out[:, :, read_at[k + 1]] = LD[..., None]
-        if k + 1 < N:
-            x, P = trans.predict(x, P, k, Q)
+        if k + 1 < N:  # (P − W Wᵀ first where k was measured), then the prediction
+            _packed_predict(x, Ppk, xn, lay, trans, k, q_rows, q_vals, tmp, None if none_present[k] else W)
+            x, xn = xn, x
         tick(k)
     if not (np.all(np.isfinite(J_out)) and np.all(np.isfinite(LD_out))):
         raise FloatingPointError("the sigma-point bank produced a non-finite cost")
-    return BankCosts(J_out, LD_out, rep_P, rep_S, np.moveaxis(x, 0, -1), np.moveaxis(P, (0, 1), (-2, -1)))
+    P_full = lay.unpack(Ppk)
+    return BankCosts(
+        J_out, LD_out, rep_P, rep_S, np.moveaxis(x[lay.pos], 0, -1), np.moveaxis(P_full, (0, 1), (-2, -1))
+    )
 
 
 def linear_measurement(H: np.ndarray, R: np.ndarray) -> SigmaMeasurement:
