@@ -11,9 +11,11 @@ next to a manifest naming the command and its parameters. A rerun with the same 
 the finished tasks and runs only the others, so an interrupted sweep resumes to the result of an
 uninterrupted one. A directory made by another command or parameter set is refused.
 
-A local pool starts only when the work left after the first task (timed in this process) exceeds
-:data:`POOL_MIN_SECONDS`: a pool costs about a second to start, so small runs stay in-process. Where
-a task runs never changes what it computes.
+A local run of N workers is this process and N − 1 spawned ones: this process starts computing at once,
+and the pool is spawned beside it only once it has computed for :data:`POOL_MIN_SECONDS` with tasks left,
+so small runs never pay for a pool and a large one loses no time to its start-up. The job (the task
+function) is sent to each worker once, when it starts; tasks go out one at a time, so no task waits
+behind a busy worker while another is idle. Where a task runs never changes what it computes.
 
 Workers ignore SIGINT: Ctrl-C reaches the main process only, which cancels the pending tasks,
 stops the workers and re-raises :class:`KeyboardInterrupt` (the command layer turns it into one
@@ -23,6 +25,7 @@ line and exit code 130; no output file is written before all tasks are done).
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import hashlib
 import json
 import logging
@@ -30,9 +33,11 @@ import math
 import multiprocessing
 import os
 import pickle
+import queue
 import signal
 import socket
 import tempfile
+import threading
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -45,7 +50,9 @@ from motionsig_cli.config import ConfigError, integer
 R = TypeVar("R")
 
 MIN_TASK_SECONDS = 0.1  # a task shorter than this costs more in scheduling than it computes
-POOL_MIN_SECONDS = 3.0  # remaining serial work below which a process pool (≈ 1.3 s to start) does not pay
+POOL_MIN_SECONDS = (
+    0.3  # this process computes alone this long before a pool (~0.5 s of a core a worker) starts
+)
 MANIFEST = "manifest.json"
 CHECKPOINT_VERSION = 1
 # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: glibc then returns freed memory at once,
@@ -144,13 +151,111 @@ def _seconds_from_env(variable: str, default: float, *, zero: bool) -> float:
 
 
 def pool_min_seconds() -> float:
-    """:data:`POOL_MIN_SECONDS`, or ``$MOTIONSIG_POOL_MIN_SECONDS`` (tests set 0 to force the pool)."""
+    """:data:`POOL_MIN_SECONDS`, or ``$MOTIONSIG_POOL_MIN_SECONDS`` (tests set 0: every task in the pool, none
+    in this process)."""
     return _seconds_from_env("MOTIONSIG_POOL_MIN_SECONDS", POOL_MIN_SECONDS, zero=True)
 
 
 def min_task_seconds() -> float:
     """:data:`MIN_TASK_SECONDS`, or ``$MOTIONSIG_MIN_TASK_SECONDS`` (tests set it tiny to get many tasks)."""
     return _seconds_from_env("MOTIONSIG_MIN_TASK_SECONDS", MIN_TASK_SECONDS, zero=False)
+
+
+# ------------------------------------------------------------------------------- run-time limits
+@dataclass(frozen=True)
+class Budget:
+    """How long an interactive run may take (set by the command layer for the command running now).
+
+    Attributes:
+        max_minutes: ``--max-minutes``: the limit of the estimated wall time; None: each command's own.
+        checkpoint: A checkpoint is kept (``--checkpoint``): no time limit (an interrupted run resumes).
+        workers: The workers the run will have, or a function that finds out (asked only when an
+            estimate exceeds a limit on one core: a remote scheduler is asked how many workers it has).
+    """
+
+    max_minutes: float | None = None
+    checkpoint: bool = False
+    workers: int | Callable[[], int] = 1
+
+    def n_workers(self) -> int:
+        return max(1, int(self.workers() if callable(self.workers) else self.workers))
+
+
+_BUDGET: contextvars.ContextVar[Budget | None] = contextvars.ContextVar("motionsig_budget", default=None)
+
+
+@contextlib.contextmanager
+def budget(value: Budget) -> Iterator[None]:
+    """Run-time checks inside the block (:func:`check_run_time`) use ``value``."""
+    token = _BUDGET.set(value)
+    try:
+        yield
+    finally:
+        _BUDGET.reset(token)
+
+
+def available_workers(engine: Engine) -> int:
+    """The workers a run on ``engine`` actually has: a local pool ``min(workers, cores)``, a LocalCluster
+    its ``workers``, a remote scheduler the workers it reports now."""
+    if engine.scheduler is None:
+        return max(1, min(engine.workers, default_workers()))
+    if engine.scheduler == "local":
+        return engine.workers
+    with dask_client(engine) as client:
+        return max(1, len(client.scheduler_info().get("workers", {})))
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def run_time_limit(limit_s: float) -> float:
+    """The interactive limit [s]: ``--max-minutes`` if the command was given it, else ``limit_s``."""
+    b = _BUDGET.get() or Budget()
+    return limit_s if b.max_minutes is None else 60.0 * b.max_minutes
+
+
+def check_run_time(
+    field: str,
+    value: Any,
+    seconds: float,
+    limit_s: float,
+    *,
+    what: str = "",
+    parallel: bool = True,
+    also: str = "",
+) -> None:
+    """Refuse, before any work, a run whose estimated wall time exceeds the interactive limit.
+
+    The one rule of every command: ``seconds`` (the estimate on one core) is divided by the workers
+    the run has (:class:`Budget`; ``parallel=False``: a computation in this process, one worker);
+    the limit is ``--max-minutes`` if given, else ``limit_s`` (the command's own); with a checkpoint
+    (a Monte Carlo only) there is no time limit. The :class:`ConfigError` names ``field`` with
+    ``value`` and states the estimate, the workers, the limit and the ways out (``also``: the
+    command's own, before them).
+    """
+    b = _BUDGET.get() or Budget()
+    limit = run_time_limit(limit_s)
+    if seconds <= limit or (parallel and b.checkpoint):
+        return
+    n = b.n_workers() if parallel else 1
+    wall = seconds / n
+    if wall <= limit:
+        return
+    on = f"{_duration(seconds)} on one core" + (f", {_duration(wall)} on {n} workers" if n > 1 else "")
+    ways = (
+        "raise the limit (--max-minutes), add workers (--workers, --scheduler) or keep a checkpoint "
+        "(--checkpoint DIR: no time limit, and an interrupted run resumes)"
+        if parallel
+        else "raise the limit (--max-minutes)"
+    )
+    raise ConfigError(
+        field, value, f"{what}would take an estimated {on}; the limit is {_duration(limit)}: {also}{ways}"
+    )
 
 
 # --------------------------------------------------------------------------------------- checkpoint
@@ -292,13 +397,6 @@ def run_tasks(
         if pending:  # a fully restored checkpoint needs no cluster
             _run_dask(fn, tasks, pending, engine, finish)
         return results
-    if engine.workers > 1 and len(pending) > 1 and pool_min_seconds() > 0:
-        # time the first task here: a small run finishes in this process before a pool could start
-        t0 = time.perf_counter()
-        first = pending.pop(0)
-        finish(first, fn(tasks[first]))
-        if (time.perf_counter() - t0) * len(pending) < pool_min_seconds():
-            engine = Engine(1)
     if engine.workers == 1 or len(pending) <= 1:
         for i in pending:
             finish(i, fn(tasks[i]))
@@ -415,6 +513,55 @@ def _children_ignore_sigint() -> Iterator[None]:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
+BLAS_THREADS = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+"""Thread counts a pool worker starts with (1 each, unless set by the user): N workers on N cores, each with
+a BLAS thread pool of N, would fight for the cores (Dask's nanny does the same for its workers)."""
+
+_WORKER_FN: list[Callable[[Any], Any]] = []
+
+
+def _worker_init(parent: int | None, fn: Callable[[Any], Any]) -> None:
+    """Pool worker initializer: :func:`_ignore_sigint`, and keep the task function (the job, with its arrays),
+    which is pickled once per worker here instead of once per task."""
+    _ignore_sigint(parent)
+    _WORKER_FN[:] = [fn]
+
+
+def _call(task: Any) -> Any:
+    """A task in a pool worker: the function :func:`_worker_init` kept, on ``task``."""
+    return _WORKER_FN[0](task)
+
+
+@contextlib.contextmanager
+def _blas_single_thread() -> Iterator[None]:
+    """:data:`BLAS_THREADS` = 1 in the environment the workers spawned inside the block inherit (this
+    process's own BLAS read its settings when it was loaded: it is not affected)."""
+    old = {k: os.environ.get(k) for k in BLAS_THREADS}
+    os.environ.update({k: "1" for k, v in old.items() if v is None})
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+
+
+class _Shared:
+    """The pending task indices, taken one at a time by this process and by the pool's feeder thread."""
+
+    def __init__(self, pending: Sequence[int]) -> None:
+        self.queue = list(reversed(pending))
+        self.lock = threading.Lock()
+
+    def take(self) -> int | None:
+        with self.lock:
+            return self.queue.pop() if self.queue else None
+
+    def left(self) -> int:
+        with self.lock:
+            return len(self.queue)
+
+
 def _run_pool(
     fn: Callable[[Any], Any],
     tasks: Sequence[Any],
@@ -422,45 +569,115 @@ def _run_pool(
     workers: int,
     finish: Callable[[int, Any], None],
 ) -> None:
-    # spawn, not fork: the parent may hold threads (progress bar) whose locks a fork would copy
-    pool = ProcessPoolExecutor(
-        max_workers=workers,
-        mp_context=multiprocessing.get_context("spawn"),
-        initializer=_ignore_sigint,
-        initargs=(os.getpid(),),
-    )
+    """The pending tasks on ``workers`` processes: this one and ``workers − 1`` spawned ones (all of them
+    spawned when :func:`pool_min_seconds` is 0, the tests' setting).
+
+    This process computes tasks from the start; a feeder thread waits :func:`pool_min_seconds`, then
+    (if tasks are left) spawns the pool and keeps one task in flight per pool worker, taking the next
+    pending task each time one finishes. So a run shorter than that never pays for a pool, the pool's
+    start-up (≈ 0.5 s of a core per worker) overlaps with work here, and no task waits in a queue behind
+    a busy worker while another is idle. Results from the pool are handed to ``finish`` here, between
+    this process's own tasks. Which process runs a task never changes what it computes.
+    """
+    delay = pool_min_seconds()
+    here = delay > 0  # this process computes too
+    n_pool = workers - 1 if here else workers
+    shared = _Shared(pending)
+    done: queue.SimpleQueue[tuple[int, Future[Any]] | None] = queue.SimpleQueue()
+    stop = threading.Event()
+    holder: list[ProcessPoolExecutor] = []
+    made = threading.Lock()
+    errors: list[BaseException] = []
+
+    def feed() -> None:
+        inflight: dict[Future[Any], int] = {}
+        try:
+            if stop.wait(delay) or shared.left() == 0:
+                return
+            with made:
+                if stop.is_set():
+                    return
+                # spawn, not fork: the parent holds threads (progress bar, this one) whose locks a fork copies
+                pool = ProcessPoolExecutor(
+                    max_workers=n_pool,
+                    mp_context=multiprocessing.get_context("spawn"),
+                    initializer=_worker_init,
+                    initargs=(os.getpid(), fn),
+                )
+                holder.append(pool)
+                with _children_ignore_sigint(), _blas_single_thread():  # processes spawn on these submits
+                    while len(inflight) < n_pool and (i := shared.take()) is not None:
+                        inflight[pool.submit(_call, tasks[i])] = i
+            while inflight:
+                finished, _ = wait(inflight, timeout=0.2, return_when=FIRST_COMPLETED)
+                for fut in sorted(finished, key=inflight.__getitem__):
+                    done.put((inflight.pop(fut), fut))
+                    if fut.exception() is None and not stop.is_set() and (i := shared.take()) is not None:
+                        inflight[pool.submit(_call, tasks[i])] = i
+                if stop.is_set() and not finished:
+                    return
+        except BaseException as exc:  # reported in the main thread
+            errors.append(exc)
+        finally:
+            done.put(None)
+
+    feeder = threading.Thread(target=feed, name="motionsig-pool-feeder", daemon=True)
     ok = False
+    fed = False
+
+    def collect(block: bool) -> bool:
+        """Hand finished pool results to ``finish``; True once the feeder has ended."""
+        nonlocal fed
+        while not fed:
+            try:
+                item = done.get(block=block)
+            except queue.Empty:
+                return fed
+            if item is None:
+                fed = True
+                if errors:
+                    raise errors[0]
+                return True
+            i, fut = item
+            finish(i, fut.result())
+        return True
+
     try:
-        futures: dict[Future[Any], int] = {}
-        queue = iter(pending)
-        with _children_ignore_sigint():  # the pool spawns its processes on these first submits
-            for i in queue:  # keep at most 2 tasks per worker in flight (bounded memory, early checkpoints)
-                futures[pool.submit(fn, tasks[i])] = i
-                if len(futures) >= 2 * workers:
-                    break
-        while futures:
-            finished, _ = wait(futures, return_when=FIRST_COMPLETED)
-            for fut in sorted(finished, key=futures.__getitem__):
-                i = futures.pop(fut)
-                finish(i, fut.result())
-                nxt = next(queue, None)
-                if nxt is not None:
-                    futures[pool.submit(fn, tasks[nxt])] = nxt
+        with _children_ignore_sigint():  # the feeder thread and the pool it spawns start with SIGINT blocked
+            feeder.start()
+        while here and (i := shared.take()) is not None:
+            finish(i, fn(tasks[i]))
+            collect(block=False)
+        while not collect(block=True):
+            pass
+        if shared.left():  # the feeder ended early (a worker failed): the rest runs here
+            while (i := shared.take()) is not None:
+                finish(i, fn(tasks[i]))
         ok = True
     finally:
-        if ok:
-            pool.shutdown(wait=True)
-        else:  # interrupted or failed: do not wait for running tasks
-            procs = list(getattr(pool, "_processes", {}).values())
-            pool.shutdown(wait=False, cancel_futures=True)
-            for p in procs:
-                with contextlib.suppress(Exception):
-                    p.terminate()
-            for p in procs:
-                with contextlib.suppress(Exception):
-                    p.join(timeout=5)
-            with contextlib.suppress(Exception):  # let the manager thread see the dead pool and exit now
-                pool.shutdown(wait=True, cancel_futures=True)
+        stop.set()
+        with made:
+            pool = holder[0] if holder else None
+        if pool is not None:
+            if ok:
+                pool.shutdown(wait=True)
+            else:  # interrupted or failed: do not wait for running tasks
+                _kill_pool(pool)
+        feeder.join(timeout=10)
+
+
+def _kill_pool(pool: ProcessPoolExecutor) -> None:
+    """Stop a pool at once: cancel its queued tasks and terminate its processes."""
+    procs = list(getattr(pool, "_processes", {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.terminate()
+    for p in procs:
+        with contextlib.suppress(Exception):
+            p.join(timeout=5)
+    with contextlib.suppress(Exception):  # let the manager thread see the dead pool and exit now
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def split_address(address: str) -> tuple[str, int]:
@@ -500,7 +717,7 @@ def dask_client(engine: Engine) -> Iterator[Any]:
                     processes=True,
                     host="127.0.0.1",
                     dashboard_address=":0",  # a free port: 8787 may be taken
-                    silence_logs=logging.CRITICAL,  # task errors reach the user as one line, not as worker logs
+                    silence_logs=logging.CRITICAL + 1,  # task errors reach the user as one line, not as logs
                 )
             with Client(cluster) as client:
                 yield client
@@ -543,6 +760,31 @@ def _probe_scheduler(address: str, host: str, port: int, timeout: float) -> None
         ) from None
 
 
+def _apply(fn: Callable[[Any], Any], task: Any) -> Any:
+    """A task on a Dask worker: ``fn`` arrives once per worker (scattered), the task with each call."""
+    return fn(task)
+
+
+@dataclass(frozen=True, slots=True)
+class _Outcome:
+    """A task's result or the exception it raised."""
+
+    result: Any = None
+    error: BaseException | None = None
+
+    @classmethod
+    def of(cls, get: Callable[[], Any]) -> _Outcome:
+        try:
+            return cls(get())
+        except Exception as exc:
+            return cls(error=exc)
+
+    def value(self) -> Any:
+        if self.error is not None:
+            raise self.error
+        return self.result
+
+
 def _run_dask(
     fn: Callable[[Any], Any],
     tasks: Sequence[Any],
@@ -550,15 +792,73 @@ def _run_dask(
     engine: Engine,
     finish: Callable[[int, Any], None],
 ) -> None:
-    with dask_client(engine) as client:
-        from distributed import as_completed
+    """The pending tasks on the Dask cluster of ``engine``. A feeder thread connects (or starts the
+    LocalCluster), sends ``fn`` to every worker once and submits the tasks; results are handed to
+    ``finish`` here. While a LocalCluster starts (≈ 1 s with its workers' imports), this process
+    computes tasks itself (a remote cluster's client only waits)."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        raise EngineError("scheduler", f"needs Dask, which is not installed: {DASK_EXTRA}") from None
+    shared = _Shared(pending)
+    done: queue.SimpleQueue[tuple[int, _Outcome] | None] = queue.SimpleQueue()
+    ready = threading.Event()
+    stop = threading.Event()
+    errors: list[BaseException] = []
 
-        futures = [client.submit(fn, tasks[i], pure=False) for i in pending]
-        index = {f.key: i for f, i in zip(futures, pending, strict=True)}
+    def feed() -> None:
         try:
-            for fut in as_completed(futures):
-                finish(index[fut.key], fut.result())
-        except BaseException:
-            with contextlib.suppress(Exception):
-                client.cancel(futures)
-            raise
+            with dask_client(engine) as client:
+                from distributed import wait as dask_wait
+
+                ready.set()
+                if stop.is_set():
+                    return
+                fn_f = client.scatter(fn, broadcast=True, hash=False)
+                # at most 2 tasks per worker in flight: bounded memory, early checkpoints, a prompt Ctrl-C
+                n_workers = max(1, len(client.scheduler_info().get("workers", {})))
+                futures: dict[Any, int] = {}
+                left: set[Any] = set()
+
+                def top_up() -> None:
+                    while (
+                        len(left) < 2 * n_workers and not stop.is_set() and (i := shared.take()) is not None
+                    ):
+                        fut = client.submit(_apply, fn_f, tasks[i], pure=False)
+                        futures[fut] = i
+                        left.add(fut)
+
+                top_up()
+                while left:
+                    if stop.is_set():  # interrupted, or a task failed
+                        with contextlib.suppress(Exception):
+                            client.cancel(list(left))
+                        return
+                    try:
+                        finished, _ = dask_wait(list(left), timeout=0.2, return_when="FIRST_COMPLETED")
+                    except TimeoutError:  # nothing finished yet
+                        continue
+                    for fut in finished:  # fetched here: the futures end with the client
+                        left.discard(fut)
+                        done.put((futures.pop(fut), _Outcome.of(fut.result)))
+                    top_up()
+        except BaseException as exc:  # reported in the main thread
+            errors.append(exc)
+        finally:
+            ready.set()
+            done.put(None)
+
+    feeder = threading.Thread(target=feed, name="motionsig-dask-feeder", daemon=True)
+    try:
+        with _children_ignore_sigint():  # the cluster's threads and processes start with SIGINT blocked
+            feeder.start()
+        while engine.scheduler == "local" and not ready.is_set() and (i := shared.take()) is not None:
+            finish(i, fn(tasks[i]))
+        while (item := done.get()) is not None:
+            i, outcome = item
+            finish(i, outcome.value())
+        if errors:
+            raise errors[0]
+    finally:
+        stop.set()
+        feeder.join(timeout=30)

@@ -249,7 +249,7 @@ def test_run_job_runs_any_job_of_the_protocol(tmp_path):
 
 
 def test_pool_workers_die_with_a_killed_parent(tmp_path):
-    """SIGKILL of a 2-worker run (as the OOM killer or a lost terminal would) gives the parent no chance to stop
+    """SIGKILL of a 3-worker run (as the OOM killer or a lost terminal would) gives the parent no chance to stop
     its pool: the workers notice that they were re-parented and exit within a few seconds; no output is
     written."""
     import os
@@ -259,7 +259,8 @@ def test_pool_workers_die_with_a_killed_parent(tmp_path):
     psutil = pytest.importorskip("psutil")
     out = tmp_path / "out.csv"
     cmd = [sys.executable, "-m", "motionsig_cli", "detect", "--montecarlo", "--trials", "4000", "--fr-list", "0.01",
-           "--R-list", "1e-1,1e-3", "--workers", "2", "-q", "-o", str(out)]  # fmt: skip
+           "--R-list", "1e-1,1e-3", "--workers", "3", "-q", "-o", str(out)]  # fmt: skip
+    # 3 workers: this process and 2 spawned ones
     parent = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     workers: list = []
     others: list = []

@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from rich.console import Console
     from rich.progress import Progress
 
-    from motionsig_cli.engine import Engine, MonteCarloJob
+    from motionsig_cli.engine import Budget, Engine, MonteCarloJob
 
 DEFAULT_SEED = 2008  # motionsig_cli.rng.DEFAULT_SEED (a test checks they agree; rng imports numpy)
 
@@ -239,6 +239,23 @@ CheckpointOpt = Annotated[
 ]
 
 
+def _max_minutes(value: float | None) -> float | None:
+    if value is not None and not (value > 0 and math.isfinite(value)):
+        raise typer.BadParameter(f"{value} is not a number of minutes > 0")
+    return value
+
+
+MaxMinutesOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--max-minutes",
+        callback=_max_minutes,
+        help="Refuse a run whose estimated wall time on the workers it has exceeds this many minutes "
+        "(default: the command's own limit, 4 to 60 min); no limit with --checkpoint.",
+    ),
+]
+
+
 def make_engine(workers: int | None, scheduler: str | None, checkpoint: Path | None) -> Engine:
     """The engine of ``--workers/--scheduler/--checkpoint`` (a bad value is a one-line usage error)."""
     from motionsig_cli.engine import Engine, EngineError, default_workers
@@ -347,15 +364,34 @@ class Output:
 
 @dataclass(frozen=True)
 class Parallel:
-    """Where a Monte Carlo runs: ``--workers``, ``--scheduler``, ``--checkpoint``."""
+    """Where a Monte Carlo runs and how long it may take: ``--workers``, ``--scheduler``, ``--checkpoint``,
+    ``--max-minutes``."""
 
     workers: int | None = None
     scheduler: str | None = None
     checkpoint: Path | None = None
+    max_minutes: float | None = None
 
     def engine(self) -> Engine:
         """The engine (a bad value is a one-line usage error naming the option)."""
         return make_engine(self.workers, self.scheduler, self.checkpoint)
+
+    def budget(self) -> Budget:
+        """The run-time limit of the command (:func:`motionsig_cli.engine.check_run_time`): the workers
+        are counted only when an estimate exceeds the limit on one core."""
+        from motionsig_cli.engine import Budget, available_workers
+
+        def workers() -> int:
+            engine = self.engine()
+            try:
+                return available_workers(engine)
+            except Exception as exc:  # EngineError (no scheduler there), or Dask's own
+                field = getattr(exc, "field", "scheduler")
+                raise typer.BadParameter(
+                    getattr(exc, "detail", str(exc)), param_hint=option_name(field)
+                ) from None
+
+        return Budget(self.max_minutes, self.checkpoint is not None, workers)
 
 
 def run_job(job: MonteCarloJob[T], engine: Engine, label: str, quiet: bool) -> T:
@@ -379,6 +415,7 @@ _PARALLEL_PARAMS = {
     "workers": (WorkersOpt, None),
     "scheduler": (SchedulerOpt, None),
     "checkpoint": (CheckpointOpt, None),
+    "max_minutes": (MaxMinutesOpt, None),
 }
 
 # Field names of the core's configurations whose option is not ``--`` + the name with ``-`` for ``_``.
@@ -450,8 +487,16 @@ def command(
                 extra["parallel"] = Parallel(
                     **{k: kwargs.pop(k) for k in list(kwargs) if k in _PARALLEL_PARAMS}
                 )
+            limits = (
+                extra["parallel"].budget() if parallel else None
+            )  # run-time checks of the core use the workers, --max-minutes and --checkpoint
             try:
-                return fn(**kwargs, **extra)
+                if limits is None:
+                    return fn(**kwargs, **extra)
+                from motionsig_cli.engine import budget
+
+                with budget(limits):
+                    return fn(**kwargs, **extra)
             except ConfigError as exc:
                 raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field, options)) from None
 

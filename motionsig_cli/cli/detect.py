@@ -13,6 +13,7 @@ or a Monte Carlo job), and writes its table and figure. Every range is checked b
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
@@ -27,7 +28,7 @@ from motionsig_cli.cli.common import (
     command,
     progress_bar,  # by name: a test replaces detect.progress_bar
 )
-from motionsig_cli.cli.simulate import CODES_HELP, DbConvention
+from motionsig_cli.cli.simulate import CODES_HELP, DbConvention, FdOpt, FeedbackOpt
 
 if TYPE_CHECKING:
     from motionsig_cli.engine import Engine
@@ -45,19 +46,29 @@ RECORD_OPTIONS = {
     "--columns": "columns", "--units": "units", "--T": "T", "--mrho": "m_rho", "--K": "K", "--pole-wn": "wn",
     "--pole-zeta": "zeta", "--R": "R", "--anr-db": "anr_db", "--fc": "f_c", "--a-sig": "a_sig",
     "--codes": "codes", "--R-range": "R_range", "--R-bearing": "R_bearing", "--anr-pair": "anr_pair",
-    "--start": "start", "--a-r": "a_r", "--f-r": "f_r", "--sigma-a": "sigma_a",
+    "--start": "start", "--a-r": "a_r", "--f-r": "f_r", "--sigma-a": "sigma_a", "--f-d": "f_d",
+    "--feedback": "feedback",
 }  # fmt: skip
-"""The options that describe a record (refused with --montecarlo and --calibrate) → their field."""
+"""The options that describe a record's model → their field."""
+MODEL_OPTIONS = (
+    "--T", "--mrho", "--K", "--pole-wn", "--pole-zeta", "--fc", "--a-sig", "--a-r", "--sigma-a", "--f-d",
+    "--feedback",
+)  # fmt: skip
+"""Those of :data:`RECORD_OPTIONS` that the 1d --montecarlo and --calibrate take too (the vehicle they
+simulate and the filters assume); the others are refused there."""
+RECORD_ONLY = ("--f-d",)
+"""Model options that describe the simulated truth only: refused on a record."""
 
 
 TauGrid = choices("TauGrid", "Code-phase search grid.", "chips", "samples")
 Weights = choices("Weights", "cos/sin gain weighting.", "paper", "exact")
-Center = choices("Center", "H0 centring of the statistic.", "none", "h0-noise")
+Center = choices("Center", "H0 centring of the statistic.", "none", "h0-noise", "standardised")
 Zdot = choices("Zdot", "Replica derivative in the a-column of eq 44.", "analytic", "finite-difference")
 FilterKind = choices("FilterKind", "Filter bank.", "auto", "kf", "ukf")
-Method = choices("Method", "How the 1-D statistic is computed.", "bank", "fft")
+Method = choices("Method", "How the statistic is computed.", "bank", "fft", "linearised")
 ExampleKind = choices("ExampleKind", "Example of the paper for --montecarlo.", one_d="1d", two_d="2d")
-Ar = choices("Ar", "Reference random-walk model.", "cv", "identity")
+Ar = choices("Ar", "The nominal reference in the filters.", "cv", "identity", "known")
+QModel = choices("QModel", "How the filters' Q matrices are read.", "per-step", "continuous")
 
 
 SourceArg = Annotated[
@@ -85,24 +96,36 @@ UnitsOpt = Annotated[
     ),
 ]
 _REC = "default the record's metadata, else"
+_MC = "--montecarlo/--calibrate: the simulated vehicle's and the filters'"
 TOpt = Annotated[
     float | None,
-    typer.Option("--T", help=f"Record: sample interval [s]; {_REC} estimated from the time column."),
+    typer.Option(
+        "--T",
+        help=f"Sample interval [s]. A record: {_REC} estimated from the time column; {_MC}, default 0.05 "
+        "(assumed). The records' length is horizon / T samples.",
+    ),
 ]
 MrhoOpt = Annotated[
-    int | None, typer.Option("--mrho", help=f"Record: samples per chip; {_REC} 20 (assumed).")
+    int | None,
+    typer.Option(
+        "--mrho", help=f"Samples per chip (a record: {_REC} 20; --montecarlo/--calibrate: 20; assumed)."
+    ),
 ]
 KOpt = Annotated[
     str | None,
-    typer.Option("--K", help=f"Record: feedback gain k1,k2 the filters assume; {_REC} pole placement."),
+    typer.Option(
+        "--K",
+        help="Feedback gain k1,k2 the filters assume (--montecarlo/--calibrate: the simulated vehicle's too); "
+        f"a record: {_REC} pole placement; default pole placement at T.",
+    ),
 ]
 WnOpt = Annotated[
     float | None,
-    typer.Option("--pole-wn", help="Record: pole placement for K, natural frequency [rad/s] (default 4 pi)."),
+    typer.Option("--pole-wn", help="Pole placement for K at T, natural frequency [rad/s] (default 4 pi)."),
 ]
 ZetaOpt = Annotated[
     float | None,
-    typer.Option("--pole-zeta", help="Record: pole placement for K, damping ratio (default 0.7)."),
+    typer.Option("--pole-zeta", help="Pole placement for K at T, damping ratio (default 0.7)."),
 ]
 ROpt = Annotated[
     float | None,
@@ -120,11 +143,20 @@ DbConventionOpt = Annotated[
     typer.Option("--db-convention", help="How --anr-db is read: log10 (true decibels) or paper-ln (10*ln)."),
 ]
 FcOpt = Annotated[
-    float | None, typer.Option("--fc", help=f"Record: the signature's carrier frequency f_c [Hz]; {_REC} 1.")
+    float | None,
+    typer.Option(
+        "--fc",
+        help=f"The signature's carrier frequency f_c [Hz], the default carrier grid; a record: {_REC} 1; "
+        "--montecarlo/--calibrate: 1.",
+    ),
 ]
 ASigOpt = Annotated[
     float | None,
-    typer.Option("--a-sig", help=f"Record: signature amplitude (for --anr-db, --anr-pair); {_REC} 0.5."),
+    typer.Option(
+        "--a-sig",
+        help=f"Signature amplitude (a record: for --anr-db, --anr-pair; {_REC} 0.5; --montecarlo/"
+        "--calibrate: the simulated signature's, 0.5).",
+    ),
 ]
 CodesOpt = Annotated[
     str | None,
@@ -148,17 +180,30 @@ AnrPairOpt = Annotated[
         "--anr-pair", help="2d record: both noise variances from Fig 7's (angle, range) ANR pair 1-4."
     ),
 ]
-_TRUTH = "Record, for the null records of --pfa (the filters do not assume it): the true vehicle's"
+_TRUTH = (
+    "The true vehicle's (--montecarlo/--calibrate: the simulated one's; a record: for the null records of "
+    "--pfa, and for --Ar known, which the filters assume it for)"
+)
 ARefOpt = Annotated[
-    float | None, typer.Option("--a-r", help=f"{_TRUTH} nominal reference amplitude; {_REC} 10.")
+    float | None,
+    typer.Option("--a-r", help=f"{_TRUTH} nominal reference amplitude; a record: {_REC} 10; default 10."),
 ]
 FrOpt = Annotated[
-    float | None, typer.Option("--f-r", help=f"{_TRUTH} nominal reference frequency [Hz]; {_REC} 0.01.")
+    float | None,
+    typer.Option(
+        "--f-r",
+        help="A record: the true vehicle's nominal reference frequency [Hz] (for the null records of --pfa, "
+        f"and for --Ar known, which the filters assume it for); {_REC} 0.01. --montecarlo/--calibrate: "
+        "--fr-list.",
+    ),
 ]
 SigmaAOpt = Annotated[
     float | None,
-    typer.Option("--sigma-a", help=f"{_TRUTH} white-acceleration noise [m/s^2]; {_REC} 0.01 (assumed)."),
-]
+    typer.Option(
+        "--sigma-a", help=f"{_TRUTH} white-acceleration noise [m/s^2]; a record: {_REC} 0.01; default 0.01 "
+        "(assumed).",
+    ),
+]  # fmt: skip
 StartOpt = Annotated[
     str | None,
     typer.Option(
@@ -171,12 +216,22 @@ CrOpt = Annotated[
 ]
 Q0Opt = Annotated[
     str | None,
-    typer.Option("--Q0", help="Per-step H0 Q: 1d [x, xdot, r, rdot] (eq 56); 2d 8 values (eq 61)."),
+    typer.Option(
+        "--Q0",
+        help="H0 Q diagonal: 1d [x, xdot, r, rdot] (eq 56; per step, or densities with --q-model "
+        "continuous; --Ar known uses the first two); 2d 8 values per step (eq 61).",
+    ),
 ]
 QaOpt = Annotated[
     float | None,
+    typer.Option("--Qa", help="1d: Q of the amplitude state (eq 57: 10^0; --method fft: 0, which it needs)."),
+]
+QModelOpt = Annotated[
+    QModel,
     typer.Option(
-        "--Qa", help="1d: per-step Q of the amplitude state (eq 57: 10^0; --method fft: 0, which it needs)."
+        "--q-model",
+        help="1d: per-step (--Q0, --Qa are covariances of one step, as printed) or continuous (densities "
+        "per second, discretised over T by Van Loan's method for the filters' F; --Qa becomes Qa*T).",
     ),
 ]
 MethodOpt = Annotated[
@@ -185,7 +240,10 @@ MethodOpt = Annotated[
         "--method",
         help="1d: bank (2C+1 Kalman filters, eq 52) or fft (one steady-state filter and FFT "
         "cross-correlations: exact identity for Qa = 0, and a steady-state approximation whose relative "
-        "error falls like 1/horizon, ~5 % of Lambda at 10 s and 0.7 % at 80 s with the defaults).",
+        "error falls like 1/horizon, ~5 % of Lambda at 10 s and 0.7 % at 80 s with the defaults). 2d: bank "
+        "(2C+1 sigma-point filters) or linearised (one H0 and one base filter per record and a projection of "
+        "the filtered replicas: exact for a linear measurement with constant amplitudes, an approximation on "
+        "the radar; the default of 2d --calibrate).",
     ),
 ]
 Q1Opt = Annotated[str | None, typer.Option("--Q1", help="2d: per-step H1 Q, 10 values (eq 62).")]
@@ -218,7 +276,10 @@ P0Opt = Annotated[
 ArOpt = Annotated[
     Ar,
     typer.Option(
-        "--Ar", help="Reference random walk: cv or identity (assumed: cv; the paper does not state it)."
+        "--Ar",
+        help="1d: the nominal reference in the filters: a random walk, cv or identity (assumed: cv; the paper "
+        "does not state it), or known: the vehicle's own commanded reference (a_r, f_r) as a known input "
+        "(a cooperative setting; a record must state a_r and f_r, or give --a-r, --f-r).",
     ),
 ]
 TauGridOpt = Annotated[
@@ -227,6 +288,14 @@ TauGridOpt = Annotated[
 ]
 FcGridOpt = Annotated[
     str | None, typer.Option("--fc-grid", help="Candidate carrier frequencies [Hz]; default the known f_c.")
+]
+FdGridOpt = Annotated[
+    str | None,
+    typer.Option(
+        "--fd-grid",
+        help="Candidate carrier offsets f_d [Hz] around f_c (eq 3), a list or lo:hi:n (n points), instead of "
+        "--fc-grid; the output's fc_hat is the estimated carrier f_c + f_d.",
+    ),
 ]
 LogdetOpt = Annotated[
     bool,
@@ -244,7 +313,7 @@ CenterOpt = Annotated[
     typer.Option(
         "--center",
         help="none: the paper's eq 52; h0-noise (ours): subtract E[Lambda] under white noise (reduces the H0 "
-        "bias).",
+        "bias); standardised (ours, 2d --method linearised): the z-score of each candidate's statistic.",
     ),
 ]
 HorizonsOpt = Annotated[
@@ -279,7 +348,9 @@ CalibrateOpt = Annotated[
         "--calibrate",
         help="1d: the null distribution of max Lambda (no signature), the threshold for --pfa and "
         "P_D at it vs horizon and ANR; --plot draws ROC curves. Use --method fft: the bank costs "
-        "~0.05 s per trial, and the default 20/pfa null trials per cell add up.",
+        "~0.05 s per trial, and the default 20/pfa null trials per cell add up. 2d (--example 2d): the same "
+        "for Fig 7's ANR pairs, with the linearised path unless --method bank is given (the bank costs ~30 s "
+        "per 50 trials and pair).",
     ),
 ]
 PfaOpt = Annotated[
@@ -303,6 +374,7 @@ def detect(
     c_r: CrOpt = 100.0,
     Q0: Q0Opt = None,
     Qa: QaOpt = None,
+    q_model: QModelOpt = QModel.per_step,
     method: MethodOpt = Method.bank,
     Q1: Q1Opt = None,
     filter_: FilterOpt = FilterKind.auto,
@@ -315,6 +387,7 @@ def detect(
     Ar_: ArOpt = Ar.cv,
     tau_grid: TauGridOpt = TauGrid.chips,
     fc_grid: FcGridOpt = None,
+    fd_grid: FdGridOpt = None,
     include_logdet: LogdetOpt = False,
     weights: WeightsOpt = Weights.paper,
     zdot: ZdotOpt = Zdot.analytic,
@@ -350,6 +423,8 @@ def detect(
     a_r: ARefOpt = None,
     f_r: FrOpt = None,
     sigma_a: SigmaAOpt = None,
+    f_d: FdOpt = None,
+    feedback: FeedbackOpt = None,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     *,
     output: Output,
@@ -371,6 +446,7 @@ def detect(
       motionsig detect export.csv --columns time=timestamp,y=pos --units y=km --R 1e-3 --pfa 0.01
       motionsig simulate --codes gold:45,75:5 | motionsig detect
       motionsig detect --montecarlo --trials 50 --fr-list 0.01 --plot fig4.png -o fig4.csv
+      motionsig detect --montecarlo --method fft --fr-list 1.0 --Ar known --T 0.1 --mrho 10
       motionsig simulate --example 2d | motionsig detect
       motionsig detect --montecarlo --example 2d --trials 50 --plot fig7.png
     """
@@ -382,13 +458,27 @@ def detect(
     record = dict(
         columns=columns, units=units, T=T, m_rho=mrho, K=K, wn=pole_wn, zeta=pole_zeta, R=R, anr_db=anr_db,
         f_c=fc, a_sig=a_sig, codes=codes, R_range=R_range, R_bearing=R_bearing, anr_pair=anr_pair, start=start,
-        a_r=a_r, f_r=f_r, sigma_a=sigma_a,
+        a_r=a_r, f_r=f_r, sigma_a=sigma_a, f_d=f_d, feedback=None if feedback is None else feedback.value,
     )  # fmt: skip
     record_opts = [opt for opt, key in RECORD_OPTIONS.items() if record[key] is not None]
     rec = None
     if montecarlo or calibrate_:
-        _refuse_record_options(record_opts + (["--threshold"] if threshold is not None else []), calibrate_)
+        not_mc = [opt for opt in record_opts if opt not in MODEL_OPTIONS]
+        _refuse_record_options(not_mc + (["--threshold"] if threshold is not None else []), calibrate_)
+        if example is ExampleKind.two_d and record_opts:
+            raise typer.BadParameter(
+                "applies to a record or the 1d Monte Carlo (--montecarlo --example 2d simulates Fig 7's "
+                "vehicle)",
+                param_hint=record_opts[0],
+            )
     else:
+        for opt in record_opts:
+            if opt in RECORD_ONLY:
+                raise typer.BadParameter(
+                    "describes a simulated truth (simulate, --montecarlo, --calibrate); on a record the "
+                    "filters search the carrier: --fd-grid or --fc-grid",
+                    param_hint=opt,
+                )
         rec = _read_record(source, example, record, db_convention.value)
         if pfa is not None and threshold is not None:
             raise typer.BadParameter(
@@ -400,18 +490,23 @@ def detect(
             raise typer.BadParameter("applies with --pfa (or --calibrate)", param_hint="--null-trials")
     two_d = example is ExampleKind.two_d or (rec is not None and rec.y.ndim == 2)
     _refuse_other_example(
-        two_d, {"--Qa": Qa is not None, "--method": method is not Method.bank, "--calibrate": calibrate_,
+        two_d, {"--Qa": Qa is not None, "--method": method is Method.fft,
                 "--Ar": Ar_ is not Ar.cv, "--weights": weights is not Weights.paper,
-                "--center": center is not Center.none, "--R-list": R_list != R_LIST_DEFAULT,
-                "--anr-pairs": anr_pairs != ANR_PAIRS_DEFAULT, "--Q1": Q1 is not None},
+                "--R-list": R_list != R_LIST_DEFAULT,
+                "--anr-pairs": anr_pairs != ANR_PAIRS_DEFAULT, "--Q1": Q1 is not None,
+                "--q-model": q_model is not QModel.per_step},
     )  # fmt: skip
+    if method is Method.linearised and not two_d:
+        raise typer.BadParameter("applies to the 2d example only (1d: bank or fft)", param_hint="--method")
     if method is Method.fft and filter_ is FilterKind.ukf:
         raise typer.BadParameter(
             "the FFT path replaces the filter bank: drop --filter ukf", param_hint="--method"
         )
     hs = _floats("--horizons", horizons, "horizon")
     grid = dict(c_r=c_r, P0=P0, tau_grid=tau_grid.value, include_logdet=include_logdet, zdot=zdot.value)
-    grid |= _given(Q0=_floats("--Q0", Q0, "variance"), fc_grid=_floats("--fc-grid", fc_grid, "frequency"))
+    f_known = rec.f_c if rec is not None else 1.0 if fc is None else fc
+    carriers = _carriers(fc_grid, fd_grid, f_known, fc is not None and rec is None)
+    grid |= _given(Q0=_floats("--Q0", Q0, "variance"), fc_grid=carriers)
     calibration = None if pfa is None or rec is None else (pfa, null_trials, seed)
     if two_d:
         from motionsig_cli.cli.detect_radar import detect_radar
@@ -419,19 +514,22 @@ def detect(
         radar = dict(grid, sigma=sigma, **_given(Q1=_floats("--Q1", Q1, "variance")))
         return detect_radar(output, engine, rec, montecarlo, filter_, radar, hs, threshold, candidates,
                             _floats("--fr-list", fr_list or "0.01", "frequency"), anr_pairs, trials, seed,
-                            not no_signature, calibration)  # fmt: skip
+                            not no_signature, calibration, method=method.value, center=center.value,
+                            calibrate=calibrate_, pfa=pfa, null_trials=null_trials)  # fmt: skip
     lmp = dict(grid, Q_a=Qa if Qa is not None else 0.0 if method is Method.fft else 1.0, A_r=Ar_.value,
-               weights=weights.value, center=center.value)  # fmt: skip
+               weights=weights.value, center=center.value, q_model=q_model.value)  # fmt: skip
     mc = (_floats("--R-list", R_list, "variance"), hs, trials, seed, method.value)
+    if montecarlo or calibrate_:
+        model = _mc_model(record, f_known)
     if calibrate_:
         return _calibrate(output, engine, lmp, _floats("--fr-list", fr_list or "0.01", "frequency"), *mc,
-                          null_trials, 0.01 if pfa is None else pfa)  # fmt: skip
+                          null_trials, 0.01 if pfa is None else pfa, model)  # fmt: skip
     if montecarlo:
         if pfa is not None or null_trials is not None:
             hint = "--pfa" if pfa is not None else "--null-trials"
             raise typer.BadParameter("applies to a record or --calibrate, not --montecarlo", param_hint=hint)
         frs = _floats("--fr-list", fr_list or "0.01,0.1,1.0", "frequency")
-        return _montecarlo(output, engine, lmp, filter_, frs, *mc, not no_signature)
+        return _montecarlo(output, engine, lmp, filter_, frs, *mc, not no_signature, model)
     kind = "ukf" if filter_ is FilterKind.ukf else "kf"
     _record(output, engine, rec, lmp, method.value, kind, sigma, hs, threshold, candidates, calibration)
 
@@ -439,6 +537,55 @@ def detect(
 def _floats(option: str, text: str | None, what: str) -> tuple[float, ...] | None:
     """A comma-separated option as numbers (None when not given); bad text is a usage error."""
     return None if text is None else tuple(common.checked(option, common.float_list, text, what=what))
+
+
+def _carriers(
+    fc_grid: str | None, fd_grid: str | None, f_c: float, fc_given: bool
+) -> tuple[float, ...] | None:
+    """The candidate carriers: --fc-grid, or f_c + each offset of --fd-grid (a list or lo:hi:n), or the
+    Monte Carlo's --fc alone; None: the configuration's default (the known f_c)."""
+    if fd_grid is None:
+        grid = _floats("--fc-grid", fc_grid, "frequency")
+        return (f_c,) if grid is None and fc_given else grid
+    if fc_grid is not None:
+        raise typer.BadParameter(
+            "is an offset grid around f_c: give --fc-grid or --fd-grid", param_hint="--fd-grid"
+        )
+    from motionsig_cli.detection.lmp import carrier_offsets
+
+    text = fd_grid.strip()
+    if text.count(":") == 2:
+        lo, hi, n = text.split(":")
+        offsets = common.checked("--fd-grid", carrier_offsets, _number("--fd-grid", lo),
+                                 _number("--fd-grid", hi), _number("--fd-grid", n))  # fmt: skip
+    else:
+        offsets = _floats("--fd-grid", text, "offset") or ()
+    return tuple(f_c + d for d in offsets)
+
+
+def _number(option: str, text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise typer.BadParameter(
+            f"expected lo:hi:n or a list of numbers; got {text!r}", param_hint=option
+        ) from None
+
+
+def _mc_model(record: dict[str, Any], f_c: float) -> dict[str, Any]:
+    """The Monte Carlo's vehicle (truth and filters), samples per chip and carrier from the model options
+    (``record``: by field; None: simulate's defaults)."""
+    from motionsig_cli.models.vehicle import Vehicle1D, pole_placement_gain
+
+    T = 0.05 if record["T"] is None else record["T"]
+    if record["K"] is not None:
+        gains = _floats("--K", record["K"], "gain")
+    else:
+        wn = 4 * math.pi if record["wn"] is None else record["wn"]
+        gains = pole_placement_gain(T, wn, 0.7 if record["zeta"] is None else record["zeta"])
+    loop = {k: record[k] for k in ("a_sig", "a_r", "sigma_a", "f_d", "feedback") if record[k] is not None}
+    return dict(vehicle=Vehicle1D(T=T, K=gains, **loop), m_rho=20 if record["m_rho"] is None else record["m_rho"],
+                f_c=f_c)  # fmt: skip
 
 
 def _given(**values: Any) -> dict[str, Any]:
@@ -473,7 +620,7 @@ def _refuse_record_options(given: list[str], calibrate: bool) -> None:
 
 def _refuse_other_example(two_d: bool, given: dict[str, bool]) -> None:
     """An option of the other example (given: option → whether it was given) is a usage error."""
-    only_1d = ("--Qa", "--method", "--calibrate", "--Ar", "--weights", "--center", "--R-list")
+    only_1d = ("--Qa", "--method", "--calibrate", "--Ar", "--weights", "--center", "--R-list", "--q-model")
     for option, was_given in given.items():
         if was_given and (option in only_1d) == two_d:
             raise typer.BadParameter(
@@ -505,7 +652,7 @@ def _record(
 def _montecarlo(
     output: Output, engine: Engine, lmp: dict[str, Any], filter_: FilterKind, frs: tuple[float, ...] | None,
     Rs: tuple[float, ...] | None, hs: tuple[float, ...] | None, trials: int, seed: int, method: str,
-    signature: bool,
+    signature: bool, model: dict[str, Any],
 ) -> None:  # fmt: skip
     """Figs 4–6: % correct (i, τ) vs horizon and ANR."""
     from motionsig_cli.detection.lmp import LMPConfig
@@ -517,7 +664,7 @@ def _montecarlo(
             "cost); use it on single records",
             param_hint="--filter",
         )
-    job = LmpJob(LMPConfig(**lmp), frs, Rs, hs, trials, seed, signature, method)
+    job = LmpJob(LMPConfig(**lmp), frs, Rs, hs, trials, seed, signature, method, **model)
     mc = common.run_job(job, engine, "Monte Carlo trials", output.quiet)
     if output.plot is not None:
         from motionsig_cli.plotting import montecarlo_figure
@@ -530,13 +677,13 @@ def _montecarlo(
 def _calibrate(
     output: Output, engine: Engine, lmp: dict[str, Any], frs: tuple[float, ...] | None,
     Rs: tuple[float, ...] | None, hs: tuple[float, ...] | None, trials: int, seed: int, method: str,
-    null_trials: int | None, pfa: float,
+    null_trials: int | None, pfa: float, model: dict[str, Any],
 ) -> None:  # fmt: skip
     """The threshold of max Λ for a false-alarm probability, and P_D at it (ROC curves with --plot)."""
     from motionsig_cli.detection.lmp import LMPConfig
     from motionsig_cli.experiments.lmp1d import CalibrationJob
 
-    job = CalibrationJob(LMPConfig(**lmp), frs, Rs, hs, trials, null_trials, pfa, seed, method)
+    job = CalibrationJob(LMPConfig(**lmp), frs, Rs, hs, trials, null_trials, pfa, seed, method, **model)
     if job.warning:
         output.note(job.warning)
     cal = common.run_job(job, engine, "Calibration trials (null + signature)", output.quiet)

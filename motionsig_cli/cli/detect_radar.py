@@ -25,40 +25,72 @@ def detect_radar(
     output: Output, engine: Engine, rec: VehicleRecord | None, montecarlo: bool, filter_: FilterKind,
     radar: dict[str, Any], hs: tuple[float, ...] | None, threshold: float | None, candidates: bool,
     frs: tuple[float, ...] | None, anr_pairs: str, trials: int, seed: int, signature: bool,
-    calibration: tuple[float, int | None, int] | None = None,
+    calibration: tuple[float, int | None, int] | None = None, *, method: str = "bank", center: str = "none",
+    calibrate: bool = False, pfa: float | None = None, null_trials: int | None = None,
 ) -> None:  # fmt: skip
-    """The 2-D example: the Fig 7 Monte Carlo (``montecarlo``) or eq (52) on the radar record ``rec``.
+    """The 2-D example: the Fig 7 Monte Carlo (``montecarlo``), its threshold calibration (``calibrate``) or
+    eq (52) on the radar record ``rec``.
 
     ``radar``: the :class:`~motionsig_cli.detection.lmp.RadarLMPConfig` fields the options set (without
     --fc-grid the grid is the known f_c: 1 Hz for the Monte Carlo, the record's for a record).
     ``calibration``: (pfa, null trials, seed) of a threshold calibrated on null records (--pfa), or None.
+    ``method``: ``bank`` or ``linearised`` (``fft`` is refused before); ``center``: none, h0-noise or
+    standardised (the linearised path only). --calibrate runs the linearised path unless --method bank was
+    given on the command line.
     """
     if filter_.value == "kf":
         raise typer.BadParameter(
             "the radar example is nonlinear (range, bearing): use --filter ukf", param_hint="--filter"
         )
-    if montecarlo:
-        pairs = tuple(checked("--anr-pairs", int_list, anr_pairs, what="pair"))
-        _montecarlo(output, engine, radar, frs, pairs, hs, trials, seed, signature)
+    if method == "linearised" and filter_.value == "ukf":
+        raise typer.BadParameter(
+            "the linearised path replaces the bank: drop --filter ukf", param_hint="--method"
+        )
+    if center != "none" and not (method == "linearised" or (calibrate and not _given("method"))):
+        raise typer.BadParameter("applies to the radar with --method linearised", param_hint="--center")
+    pairs = tuple(checked("--anr-pairs", int_list, anr_pairs, what="pair"))
+    if calibrate:
+        how = method if _given("method") else "linearised"
+        _calibrate(output, engine, radar, frs, pairs, hs, trials, seed, how, center, null_trials, pfa or 0.01)
+    elif montecarlo:
+        _montecarlo(output, engine, radar, frs, pairs, hs, trials, seed, signature, method, center)
     else:
         assert rec is not None
-        _record(output, engine, rec, radar, hs, threshold, candidates, calibration)
+        if calibration is not None and method != "bank":
+            raise typer.BadParameter(
+                "on a radar record calibrates with the bank: use --method bank with --pfa", param_hint="--pfa"
+            )
+        _record(output, engine, rec, radar, hs, threshold, candidates, calibration, method, center)
+
+
+def _given(name: str) -> bool:
+    """Whether the command line gave the option of parameter ``name`` (not its default)."""
+    import click
+
+    ctx = click.get_current_context(silent=True)
+    if ctx is None:
+        return False
+    source = ctx.get_parameter_source(name)
+    return source is not None and source.name not in ("DEFAULT", "DEFAULT_MAP")
 
 
 def _record(
     output: Output, engine: Engine, rec: VehicleRecord, radar: dict[str, Any], hs: tuple[float, ...] | None,
     threshold: float | None, candidates: bool, calibration: tuple[float, int | None, int] | None,
+    method: str = "bank", center: str = "none",
 ) -> None:  # fmt: skip
-    """Eq (52) with the sigma-point bank on one radar record, with a progress bar of its time steps."""
+    """Eq (52) with the sigma-point bank (or the linearised path) on one radar record, with a progress bar of
+    its time steps."""
     from motionsig_cli.cli.records import emit_record, with_null_threshold
     from motionsig_cli.detection.lmp import RadarLMPConfig
     from motionsig_cli.experiments.lmp2d import RadarRecordDetection
 
     cfg = RadarLMPConfig(**{"fc_grid": (rec.f_c,), **radar})
-    run = RadarRecordDetection(rec, cfg, hs, threshold, candidates)
+    run = RadarRecordDetection(rec, cfg, hs, threshold, candidates, method=method, center=center)
     if calibration is not None:
         run = with_null_threshold(run, "bank", "ukf", cfg.sigma, *calibration, engine, output)
-    with progress_bar("Sigma-point filter bank (time steps)", run.steps, output.quiet) as advance:
+    what = "Sigma-point filter bank" if method == "bank" else "Linearised projection"
+    with progress_bar(f"{what} (time steps)", run.steps, output.quiet) as advance:
         result = run.detect(progress=advance)
     emit_record(output, result, run.title)
 
@@ -66,13 +98,17 @@ def _record(
 def _montecarlo(
     output: Output, engine: Engine, radar: dict[str, Any], frs: tuple[float, ...] | None,
     pairs: tuple[int, ...], hs: tuple[float, ...] | None, trials: int, seed: int, signature: bool,
+    method: str = "bank", center: str = "none",
 ) -> None:  # fmt: skip
     """Fig 7: % correct (i, τ) vs horizon for Fig 7's (angle, range) ANR pairs."""
     from motionsig_cli.detection.lmp import RadarLMPConfig
     from motionsig_cli.experiments.lmp2d import RadarLmpJob
 
     cfg = RadarLMPConfig(**radar)
-    job = RadarLmpJob(cfg, frs, pairs, None, hs, trials, seed, signature)
+    if method == "bank":  # the job as before (its identity and outputs unchanged)
+        job = RadarLmpJob(cfg, frs, pairs, None, hs, trials, seed, signature)
+    else:
+        job = RadarLmpJob(cfg, frs, pairs, None, hs, trials, seed, signature, method=method, center=center)
     mc = run_job(job, engine, "Monte Carlo trials (2-D radar)", output.quiet)
     if output.plot is not None:
         from motionsig_cli.plotting import montecarlo_figure
@@ -80,3 +116,27 @@ def _montecarlo(
         output.figure(montecarlo_figure(*mc.figure_data()))
     output.emit(mc.table())
     output.note(mc.summary())
+
+
+def _calibrate(
+    output: Output, engine: Engine, radar: dict[str, Any], frs: tuple[float, ...] | None,
+    pairs: tuple[int, ...], hs: tuple[float, ...] | None, trials: int, seed: int, method: str, center: str,
+    null_trials: int | None, pfa: float,
+) -> None:  # fmt: skip
+    """The threshold of max Λ for a false-alarm probability per Fig 7 pair and horizon, and P_D at it (ROC
+    curves with --plot)."""
+    from motionsig_cli.detection.lmp import RadarLMPConfig
+    from motionsig_cli.experiments.lmp2d import RadarCalibrationJob
+
+    job = RadarCalibrationJob(
+        RadarLMPConfig(**radar), frs or (0.01,), pairs, hs, trials, null_trials, pfa, seed, method, center
+    )
+    if job.warning:
+        output.note(job.warning)
+    cal = run_job(job, engine, "Calibration trials (2-D radar, null + signature)", output.quiet)
+    if output.plot is not None:
+        from motionsig_cli.plotting import calibration_roc_figure
+
+        output.figure(calibration_roc_figure(*cal.figure_data()))
+    output.emit(cal.table())
+    output.note(cal.summary())

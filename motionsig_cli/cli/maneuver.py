@@ -106,7 +106,10 @@ TOpt = Annotated[
     ),
 ]
 ScansOpt = Annotated[int, _opt("--scans", "Scans per run, 3 to 100000 (paper: 450).")]
-RunsOpt = Annotated[int, _opt("--runs", "Monte Carlo runs, 1 to 1e6 (paper: 500).")]
+RunsOpt = Annotated[
+    int,
+    _opt("--runs", "Monte Carlo runs, 1 to 1e6 (paper: 500); a run over the time limit: see --max-minutes."),
+]
 G2Opt = Annotated[G2, _opt("--G2", "G2 = G3: paper-fixed (T²/4, T/2, 1) or standard (T²/2, T, 1).")]
 TransitionOpt = Annotated[
     str | None, _opt("--transition", "IMM transition matrix, rows separated by ';' (default: the paper's).")

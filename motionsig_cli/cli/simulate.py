@@ -23,6 +23,12 @@ Example = choices("Example", "Which example of the mode-signature paper.", one_d
 SigAxes = choices(
     "SigAxes", "Axes of the 2-D vehicle whose reference carries the signature.", "both", "x", "y"
 )
+Feedback = choices(
+    "Feedback",
+    "What the vehicle's controller feeds back (eq 5).",
+    "true",
+    "estimate",
+)
 DbConvention = choices(
     "DbConvention",
     "How an ANR (signature-amplitude-to-noise ratio) given in dB is read.",
@@ -53,6 +59,22 @@ FROpt = Annotated[
     float, typer.Option("--f-r", help="Nominal reference frequency [Hz] (the paper: 0.01, 0.1, 1).")
 ]
 FcOpt = Annotated[float, typer.Option("--fc", help="Carrier frequency f_c [Hz].")]
+FdOpt = Annotated[
+    float | None,
+    typer.Option(
+        "--f-d",
+        help="Carrier offset f_d [Hz] of the received signature (eq 3: cos(2 pi (f_c + f_d) t + theta)); "
+        "default 0, as in the paper. The detector does not assume it: search it with --fc-grid or --fd-grid.",
+    ),
+]
+FeedbackOpt = Annotated[
+    Feedback | None,
+    typer.Option(
+        "--feedback",
+        help="1d: the controller on the true state (true, eq 44; the default) or on the vehicle's own "
+        "estimate (estimate, eq 5: a Kalman filter of its own position sensor, noise R, assumed).",
+    ),
+]
 TOpt = Annotated[
     float, typer.Option("--T", help="Sample interval [s] (assumed; the paper does not state it).")
 ]
@@ -133,6 +155,8 @@ def simulate(
     a_r: AROpt = 10.0,
     f_r: FROpt = 0.01,
     fc: FcOpt = 1.0,
+    f_d: FdOpt = None,
+    feedback: FeedbackOpt = None,
     T: TOpt = 0.05,
     mrho: MrhoOpt = 20,
     K: KOpt = None,
@@ -167,11 +191,16 @@ def simulate(
       motionsig simulate --anr-db 21 --f-r 0.1 -o run.csv
       motionsig simulate --anr-db 48.3 --db-convention paper-ln | motionsig detect
       motionsig simulate --example 2d --anr-pair 3 --plot traj.png | motionsig detect
+      motionsig simulate --f-d 0.02 | motionsig detect --fd-grid -0.04:0.04:0.01
+      motionsig simulate --feedback estimate --R 1e-3
     """
     output.check()
     two_d = example is Example.two_d
     if two_d:
-        _only_for("--example 1d; use --R-range/--R-bearing or --anr-pair", {"--R": R, "--anr-db": anr_db})
+        _only_for(
+            "--example 1d; use --R-range/--R-bearing or --anr-pair",
+            {"--R": R, "--anr-db": anr_db, "--f-d": f_d, "--feedback": feedback},
+        )
     else:
         planar = None if start == DEFAULT_START and sig_axes is SigAxes.both else start
         only_2d = {"--R-range": R_range, "--R-bearing": R_bearing, "--anr-pair": anr_pair}
@@ -188,7 +217,8 @@ def simulate(
         xy = _numbers("--start", start, "coordinate")
         vehicle = Vehicle2D(**loop, R_range=R_range, R_bearing=R_bearing, start=xy, sig_axes=sig_axes.value)
     else:
-        vehicle = Vehicle1D(**loop, R=measurement_variance(R, anr_db, db_convention.value, a_sig))
+        extra = dict(f_d=0.0 if f_d is None else f_d, feedback="true" if feedback is None else feedback.value)
+        vehicle = Vehicle1D(**loop, R=measurement_variance(R, anr_db, db_convention.value, a_sig), **extra)
     theta_value = None if theta.strip().lower() == "random" else common.checked("--theta", float, theta)
     cfg = RecordConfig(
         vehicle, mode=mode, tau=tau, tau_chips=tau_chips, theta=theta_value, f_c=fc, m_rho=mrho,

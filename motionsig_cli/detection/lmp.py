@@ -16,6 +16,13 @@ no signature is present. Centring makes the code-phase choice uniform and shrink
 several-fold at unchanged detection power; it does not make the mode choice uniform (the
 candidates' statistics are correlated differently, so their maxima are not exchangeable).
 
+The filters' model (:func:`filter_model`): ``A_r`` ``"cv"`` or ``"identity"`` keeps the nominal reference
+as a random-walk state [x, ẋ, r, ṙ(, a)] (eq 44); ``"known"`` drops r, ṙ ([x, ẋ(, a)]) and subtracts the
+known reference's deterministic response from y before the bank
+(:func:`~motionsig_cli.models.vehicle.reference_response`; exact, the model being linear). ``q_model``
+``"per-step"`` reads Q0 and Q_a as per-step covariances (eqs 56–57); ``"continuous"`` as continuous-time
+densities discretised over T by Van Loan's method (:func:`discretised_noise`).
+
 ``include_logdet`` adds ½ Σ log det(2πS) to every J (the full negative log-likelihood);
 ``weights="exact"`` multiplies the two gains J_{H0} − J_cos and J_{H0} − J_sin by c_cos and c_sin
 (eqs 38, 40), with c = Σ_k z_k² / (c_r R) over the horizon, instead of dropping them as eq (42) does.
@@ -39,6 +46,7 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
+import scipy.linalg
 
 from motionsig_cli.config import ConfigError, in_range, one_of, positive
 from motionsig_cli.filters.kalman import MissingSamples as MissingSamples  # re-exported for the callers
@@ -59,7 +67,16 @@ from motionsig_cli.filters.unscented import (
     linear_measurement,
     ukf_bank_costs,
 )
-from motionsig_cli.models.vehicle import Q0_DIAG, QA_DEFAULT, Vehicle1D, amplitude_column, transition_h0
+from motionsig_cli.models.vehicle import (
+    Q0_DIAG,
+    QA_DEFAULT,
+    REFERENCE_MODELS,
+    Vehicle1D,
+    amplitude_column,
+    nominal_reference,
+    reference_response,
+    transition_h0,
+)
 from motionsig_cli.models.vehicle2d import (
     AMPLITUDE_ENTRIES_2D,
     Q0_2D,
@@ -73,6 +90,7 @@ from motionsig_cli.signals.signature import replica_bank
 
 TAU_GRIDS = ("chips", "samples")
 ZDOTS = ("analytic", "finite-difference")
+Q_MODELS = ("per-step", "continuous")
 
 
 def check_variances(field_name: str, values: tuple[float, ...], n: int, what: str) -> None:
@@ -126,8 +144,11 @@ class LMPConfig:
         Q0: Per-step process noise of [x, ẋ, r, ṙ] (eq 56), finite and >= 0.
         Q_a: Per-step process noise of the amplitude state (eq 57, "10⁰" read as 1), finite and >= 0.
         P0: Prior covariance scale, identity × P0 (assumed: P0 = 1; the paper does not state it).
-        A_r: Reference random walk: ``"cv"`` (constant velocity) or ``"identity"`` (assumed: cv; the
-            paper does not state it).
+        A_r: The nominal reference in the filters: a random walk, ``"cv"`` (constant velocity) or
+            ``"identity"`` (assumed: cv; the paper does not state it), or ``"known"``: the vehicle's own
+            commanded reference, known in a cooperative setting, enters as a deterministic input and the
+            filters drop r, ṙ (Q0's r, ṙ entries are then unused). The detector is given the reference
+            (a_r, f_r of the vehicle it assumes, or the reference itself: :func:`lmp_detect`).
         tau_grid: ``"chips"`` (n_ρ chip-aligned phases) or ``"samples"`` (all n_ρ m_ρ phases).
         fc_grid: Candidate carrier frequencies [Hz], each finite and >= 0 (the paper: f_c known, one
             value).
@@ -135,6 +156,9 @@ class LMPConfig:
         weights: ``"paper"`` (eq 42) or ``"exact"`` (eqs 38/40 weights c_cos, c_sin).
         zdot: Replica derivative, ``"analytic"`` or ``"finite-difference"``.
         center: ``"none"`` (eq 52) or ``"h0-noise"`` (our extension: E[Λ] under white noise subtracted).
+        q_model: How Q0 and Q_a are read: ``"per-step"`` (the default: covariances of one step, eqs 56–57)
+            or ``"continuous"`` (continuous-time densities, [unit²/s], discretised over T by Van Loan's
+            method for the model's F: :func:`discretised_noise`).
     """
 
     c_r: float = 100.0
@@ -148,16 +172,159 @@ class LMPConfig:
     weights: Literal["paper", "exact"] = "paper"
     zdot: Literal["analytic", "finite-difference"] = "analytic"
     center: Literal["none", "h0-noise"] = "none"
+    q_model: Literal["per-step", "continuous"] = "per-step"
 
     def __post_init__(self) -> None:
         positive("c_r", self.c_r)
         check_variances("Q0", self.Q0, 4, "[x, xdot, r, rdot] (eq 56)")
         check_variance("Q_a", self.Q_a)
         positive("P0", self.P0)
-        one_of("A_r", self.A_r, ("cv", "identity"))
+        one_of("A_r", self.A_r, REFERENCE_MODELS)
+        one_of("q_model", self.q_model, Q_MODELS)
         check_grid(self.tau_grid, self.fc_grid, self.include_logdet, self.zdot)
         one_of("weights", self.weights, ("paper", "exact"))
         one_of("center", self.center, ("none", "h0-noise"))
+
+
+def continuous_generator(F: np.ndarray, T: float) -> np.ndarray:
+    """The real matrix A with e^{AT} = F (the principal logarithm, A = log(F)/T): the continuous-time model
+    whose exact discretisation over T is the filters' F.
+
+    For the default gain (pole placement at e^{sT}) the plant block's eigenvalues are the designed
+    continuous poles s; the reference blocks (cv: [[0, 1], [0, 0]]; identity: 0) are exact.
+
+    Raises:
+        ConfigError: naming ``q_model``: F has an eigenvalue on the closed negative real axis (no real
+            logarithm: T·K too large for a continuous-time reading).
+    """
+    eig = np.linalg.eigvals(F)
+    if np.any((np.abs(eig.imag) <= 1e-12 * np.abs(eig)) & (eig.real <= 0)):
+        raise ConfigError(
+            "q_model", "continuous", "needs a transition F without eigenvalues <= 0 on the real axis (no real "
+            f"continuous-time generator at T = {T:g} s with this gain): use per-step",
+        )  # fmt: skip
+    L = scipy.linalg.logm(F)
+    if np.iscomplexobj(L):
+        if np.max(np.abs(L.imag)) > 1e-9 * max(1.0, float(np.max(np.abs(L.real)))):
+            raise ConfigError("q_model", "continuous", "found no real continuous-time generator of F")
+        L = L.real
+    return np.asarray(L, dtype=float) / T
+
+
+def van_loan(A: np.ndarray, Qc: np.ndarray, T: float) -> tuple[np.ndarray, np.ndarray]:
+    """(Φ, Q_d) = (e^{AT}, ∫₀ᵀ e^{As} Q_c e^{Aᵀs} ds) by Van Loan's method (C. F. Van Loan, Computing
+    integrals involving the matrix exponential, IEEE Trans. Autom. Control 23(3), 1978):
+    expm([[−A, Q_c], [0, Aᵀ]] T) = [[·, Φ⁻¹Q_d], [0, Φᵀ]], so Φ = (lower-right)ᵀ and Q_d = Φ (upper-right).
+    Q_d is returned symmetrised."""
+    n = A.shape[0]
+    M = np.zeros((2 * n, 2 * n))
+    M[:n, :n] = -A
+    M[:n, n:] = Qc
+    M[n:, n:] = A.T
+    E = scipy.linalg.expm(M * T)
+    Phi = E[n:, n:].T
+    Qd = Phi @ E[:n, n:]
+    return Phi, 0.5 * (Qd + Qd.T)
+
+
+def discretised_noise(F: np.ndarray, q: Sequence[float], T: float) -> np.ndarray:
+    """Per-step process noise of densities ``q`` (diagonal Q_c) for the transition F over T: Van Loan with
+    the generator A = log(F)/T (:func:`continuous_generator`), so e^{AT} = F exactly and
+    Q_d = ∫₀ᵀ e^{As} Q_c e^{Aᵀs} ds. For small T, Q_d = Q_c T + O(T²)."""
+    _, Qd = van_loan(continuous_generator(F, T), np.diag(np.asarray(q, dtype=float)), T)
+    return Qd
+
+
+@dataclass(frozen=True)
+class FilterModel:
+    """The 1-D filters' linear model (eq 44) for a vehicle and :class:`LMPConfig`: the H0 transition and
+    process noise (n = 4 states [x, ẋ, r, ṙ], or 2 [x, ẋ] with ``A_r="known"``) and the amplitude's
+    per-step variance; the H1 filters append the amplitude state (its time-varying a-column in the ẋ row).
+
+    With ``q_model="continuous"`` the H0 noise is Van Loan's discretisation for F0 (exact for F0); the
+    amplitude state's density Q_a becomes Q_a T (its own transition is 1). The a-column of eq 44 (a
+    different one for every candidate and step) is left out of the noise integral, so one Q serves every
+    H1 filter: an approximation of relative order T·|k1 z + k2 ż| in the amplitude-velocity terms.
+    """
+
+    F0: np.ndarray
+    Q0: np.ndarray
+    Q_a: float
+
+    @property
+    def n(self) -> int:
+        """H0 states."""
+        return int(self.F0.shape[0])
+
+    @property
+    def Q1(self) -> np.ndarray:
+        """H1 process noise, blockdiag(Q0, Q_a)."""
+        n = self.n
+        Q1 = np.zeros((n + 1, n + 1))
+        Q1[:n, :n] = self.Q0
+        Q1[n, n] = self.Q_a
+        return Q1
+
+    def H(self, h1: bool = False) -> np.ndarray:
+        """The position measurement row, (1, n) or (1, n + 1)."""
+        H = np.zeros((1, self.n + int(h1)))
+        H[0, 0] = 1.0
+        return H
+
+
+def filter_model(vehicle: Vehicle1D, cfg: LMPConfig) -> FilterModel:
+    """The filters' F0, Q0 and Q_a for ``vehicle`` (T, K) and ``cfg`` (A_r, Q0, Q_a, q_model).
+
+    Raises:
+        ConfigError: naming ``q_model`` (see :func:`continuous_generator`).
+    """
+    F0 = transition_h0(vehicle, cfg.A_r)
+    n = F0.shape[0]
+    q0 = cfg.Q0[:n]  # "known": the reference's entries are unused
+    if cfg.q_model == "continuous":
+        return FilterModel(F0, discretised_noise(F0, q0, vehicle.T), cfg.Q_a * vehicle.T)
+    if n == len(cfg.Q0):
+        return FilterModel(F0, np.diag(cfg.Q0), cfg.Q_a)
+    return FilterModel(F0, np.diag(q0), cfg.Q_a)
+
+
+def known_input_removed(
+    y: np.ndarray, vehicle: Vehicle1D, cfg: LMPConfig, reference: np.ndarray | None
+) -> np.ndarray:
+    """y − H m_k, the records (B, N) without the known reference's response (``A_r="known"``; y itself
+    otherwise, when ``reference`` must be None).
+
+    ``reference``: [r_k, ṙ_k] at the samples t_k = kT, (N, 2) or per record (B, N, 2); None: the nominal
+    reference of ``vehicle`` (its a_r and f_r, :func:`~motionsig_cli.models.vehicle.nominal_reference`),
+    the reference of the vehicle the filters assume.
+    """
+    if cfg.A_r != "known":
+        if reference is not None:
+            raise ValueError("a known reference applies with A_r='known' only")
+        return y
+    B, N = y.shape
+    ref = nominal_reference(vehicle, np.arange(N) * vehicle.T) if reference is None else reference
+    ref = np.asarray(ref, dtype=float)
+    if ref.shape not in ((N, 2), (B, N, 2)):
+        raise ValueError(f"the known reference must be ({N}, 2) or ({B}, {N}, 2): [r, rdot] per sample")
+    return y - reference_response(vehicle, ref)
+
+
+MAX_CARRIERS = 10_000
+
+
+def carrier_offsets(lo: float, hi: float, n: float) -> tuple[float, ...]:
+    """``n`` carrier offsets f_d [Hz] evenly spaced from ``lo`` to ``hi`` (one: ``lo``), the grid that
+    searches an unknown offset of eq (3) around the known f_c (``fc_grid`` = f_c + each).
+
+    Raises:
+        ValueError: lo or hi not finite, hi < lo, or n not an integer in 1 … :data:`MAX_CARRIERS`.
+    """
+    if not (math.isfinite(lo) and math.isfinite(hi)) or hi < lo:
+        raise ValueError(f"needs finite lo <= hi; got {lo:g}:{hi:g}")
+    if n != int(n) or not 1 <= n <= MAX_CARRIERS:
+        raise ValueError(f"needs a number of points n in 1..{MAX_CARRIERS}; got {n:g}")
+    return tuple(float(v) for v in np.linspace(lo, hi, int(n)))
 
 
 @dataclass(frozen=True)
@@ -246,13 +413,15 @@ def lmp_detect(
     sigma: SigmaPointParams | None = None,
     progress: Progress = None,
     block: int | None = None,
+    reference: np.ndarray | None = None,
 ) -> LMPResult:
     """Evaluate eq (52) for every candidate on B measurement records at once.
 
     Args:
         y: Position measurements, (B, N) (or (N,)); NaN marks a missing sample (predict-only).
         chips: Bipolar codes of the modes, (M, n_ρ).
-        vehicle: The model (T, K, R) the filters assume; R_KF = c_r · vehicle.R.
+        vehicle: The model (T, K, R) the filters assume; R_KF = c_r · vehicle.R; with ``A_r="known"`` also
+            its nominal reference (a_r, f_r) unless ``reference`` is given.
         m_rho: Samples per chip.
         cfg: Detector settings.
         horizons: Horizons in samples.
@@ -264,51 +433,57 @@ def lmp_detect(
             :func:`progress_steps` (the H0 filter, one of 2C + 1, is not counted).
         block: ``"kf"``: evaluate the innovations in consecutive blocks of this many records (see
             :func:`~motionsig_cli.filters.kalman.innovation_costs`); None: all at once.
+        reference: ``A_r="known"`` only: the known nominal reference [r_k, ṙ_k], (N, 2) or per record
+            (B, N, 2) (:func:`known_input_removed`); None: the vehicle's.
     """
     if filter == "ukf":
         return _lmp_detect_ukf_1d(
-            y, chips, vehicle, m_rho, cfg, horizons, sigma or SigmaPointParams(), progress
+            y, chips, vehicle, m_rho, cfg, horizons, sigma or SigmaPointParams(), progress, reference
         )
     y = np.atleast_2d(np.asarray(y, dtype=float))
     hz = checked_horizons(y, horizons)
     groups = missing_patterns(missing_steps(y))
     B, N = y.shape
+    y = known_input_removed(y, vehicle, cfg, reference)
     cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
     C = len(cands)
     R_kf = np.array([[cfg.c_r * vehicle.R]])
-    # H0: one filter, 4 states
-    F0 = transition_h0(vehicle, cfg.A_r)
-    H0m = np.array([[1.0, 0.0, 0.0, 0.0]])
-    Q0 = np.diag(cfg.Q0)
-    # H1: 2C filters (cos block then sin block), 5 states, time-varying a-column (eq 44)
+    # H0: one filter, n states (4, or 2 with a known reference)
+    model = filter_model(vehicle, cfg)
+    n = model.n
+    F0 = model.F0
+    H0m = model.H()
+    Q0 = model.Q0
+    # H1: 2C filters (cos block then sin block), n + 1 states, time-varying a-column (eq 44)
     z_cos, z_sin, zd_cos, zd_sin = replica_bank(
         chips, cands.mode, cands.tau, cands.f_c, vehicle.T, m_rho, N, cfg.zdot
     )
     gcol = np.concatenate(
         [amplitude_column(vehicle, z_cos, zd_cos), amplitude_column(vehicle, z_sin, zd_sin)]
     )  # (2C, N)
-    F1 = np.zeros((2 * C, 5, 5))
-    F1[:, :4, :4] = F0
-    F1[:, 4, 4] = 1.0
+    F1 = np.zeros((2 * C, n + 1, n + 1))
+    F1[:, :n, :n] = F0
+    F1[:, n, n] = 1.0
 
     def F1_at(k: int) -> np.ndarray:
-        F1[:, 1, 4] = gcol[:, k]  # T (k1 z_k + k2 ż_k)
+        F1[:, 1, n] = gcol[:, k]  # T (k1 z_k + k2 ż_k)
         return F1
 
-    H1m = np.array([[1.0, 0.0, 0.0, 0.0, 0.0]])
-    Q1 = np.diag([*cfg.Q0, cfg.Q_a])
+    H1m = model.H(h1=True)
+    Q1 = model.Q1
     tell = shared_progress(progress, len(groups))
 
     def bank(skip: np.ndarray | None, yg: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """J0 (b, H), J_cos and J_sin (C, b, H) of records yg (b, N) that miss the samples ``skip``."""
-        g0 = riccati(lambda k: F0, H0m, Q0, R_kf, cfg.P0 * np.eye(4), N, 1, skip=skip)
+        g0 = riccati(lambda k: F0, H0m, Q0, R_kf, cfg.P0 * np.eye(n), N, 1, skip=skip)
         J0 = innovation_costs(
-            lambda k: F0, H0m, g0, np.zeros(4), yg, hz, include_logdet=cfg.include_logdet, block=block
+            lambda k: F0, H0m, g0, np.zeros(n), yg, hz, include_logdet=cfg.include_logdet, block=block
         )[0]
-        g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(5), N, 2 * C, progress=tell, skip=skip)
+        g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(n + 1), N, 2 * C, progress=tell, skip=skip)
         J1 = innovation_costs(
-            F1_at, H1m, g1, np.zeros(5), yg, hz, include_logdet=cfg.include_logdet, progress=tell, block=block
-        )
+            F1_at, H1m, g1, np.zeros(n + 1), yg, hz, include_logdet=cfg.include_logdet, progress=tell,
+            block=block,
+        )  # fmt: skip
         J_cos, J_sin = J1[:C], J1[C:]
         if cfg.center == "h0-noise":  # centre every J on its expectation under white noise of variance R
             R_true = np.array([[vehicle.R]])
@@ -346,7 +521,7 @@ def lmp_detect(
 
 def _lmp_detect_ukf_1d(
     y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int],
-    sigma: SigmaPointParams, progress: Progress = None,
+    sigma: SigmaPointParams, progress: Progress = None, reference: np.ndarray | None = None,
 ) -> LMPResult:  # fmt: skip
     """The 1-D bank of :func:`lmp_detect` run by the sigma-point filters (exact for this linear model)."""
     if cfg.center != "none" or cfg.weights != "paper":
@@ -354,15 +529,17 @@ def _lmp_detect_ukf_1d(
     y = np.atleast_2d(np.asarray(y, dtype=float))
     N = y.shape[1]
     hz = np.asarray(horizons, dtype=int)
+    y = known_input_removed(y, vehicle, cfg, reference)
     cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
     R_kf = np.array([[cfg.c_r * vehicle.R]])
-    F0 = transition_h0(vehicle, cfg.A_r)
+    model = filter_model(vehicle, cfg)
+    n, F0 = model.n, model.F0
     c0 = ukf_bank_costs(
         StructuredTransition.constant(F0, N),
-        np.diag(cfg.Q0),
-        linear_measurement(np.array([[1.0, 0.0, 0.0, 0.0]]), R_kf),
-        np.zeros(4),
-        cfg.P0 * np.eye(4),
+        model.Q0,
+        linear_measurement(model.H(), R_kf),
+        np.zeros(n),
+        cfg.P0 * np.eye(n),
         y,
         hz,
         sigma,
@@ -373,15 +550,15 @@ def _lmp_detect_ukf_1d(
     gcol = np.concatenate(
         [amplitude_column(vehicle, z_cos, zd_cos), amplitude_column(vehicle, z_sin, zd_sin)]
     )
-    F1 = np.zeros((5, 5))
-    F1[:4, :4] = F0
-    F1[4, 4] = 1.0
+    F1 = np.zeros((n + 1, n + 1))
+    F1[:n, :n] = F0
+    F1[n, n] = 1.0
     c1 = ukf_bank_costs(
-        StructuredTransition(F1, ((1, 4),), gcol[:, :, None]),
-        np.diag([*cfg.Q0, cfg.Q_a]),
-        linear_measurement(np.array([[1.0, 0.0, 0.0, 0.0, 0.0]]), R_kf),
-        np.zeros(5),
-        cfg.P0 * np.eye(5),
+        StructuredTransition(F1, ((1, n),), gcol[:, :, None]),
+        model.Q1,
+        linear_measurement(model.H(h1=True), R_kf),
+        np.zeros(n + 1),
+        cfg.P0 * np.eye(n + 1),
         y,
         hz,
         sigma,

@@ -31,6 +31,12 @@ Q_a > 0 the amplitude wanders and (★) no longer holds: the bank is then the re
 ``lmp_detect_projection`` evaluates (★) exactly with the time-varying filters (no FFT), the oracle
 that isolates the steady-state approximation.
 
+The filters' model is :func:`~motionsig_cli.detection.lmp.filter_model`'s: the reference as a random-walk
+state (A_r cv or identity, 4 H0 states) or as a known input (A_r known, 2 H0 states [x, ẋ]: the known
+reference's response is subtracted from y first, exactly as the bank does), Q per step or a continuous
+density (q_model). Both need Q_a = 0; the FFT path does not apply to a wandering amplitude (Q_a > 0), to
+the sigma-point bank, to weights "exact" or to the centring.
+
 Missing samples: the FFT form needs every sample (the steady-state filter and the periodic convolution
 assume an unbroken record), so both paths here refuse a NaN measurement with
 :class:`~motionsig_cli.filters.kalman.MissingSamples` (its ``index`` names the first one); the filter bank
@@ -46,9 +52,17 @@ import numpy as np
 import scipy.linalg
 
 from motionsig_cli.config import ConfigError
-from motionsig_cli.detection.lmp import Candidates, LMPConfig, LMPResult, candidate_grid, checked_horizons
+from motionsig_cli.detection.lmp import (
+    Candidates,
+    LMPConfig,
+    LMPResult,
+    candidate_grid,
+    checked_horizons,
+    filter_model,
+    known_input_removed,
+)
 from motionsig_cli.filters.kalman import MissingSamples, riccati
-from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column, transition_h0
+from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column
 from motionsig_cli.signals.signature import replica_bank
 
 __all__ = [
@@ -64,7 +78,7 @@ __all__ = [
 ]
 
 FFT_CANNOT_SKIP = "the FFT path cannot skip a missing sample: use the filter bank (method bank)"
-H_POS = np.array([[1.0, 0.0, 0.0, 0.0]])
+H_POS = np.array([[1.0, 0.0, 0.0, 0.0]])  # the 4-state model's position row (2 states: its first two)
 E_VEL = np.array([0.0, 1.0, 0.0, 0.0])  # the a-column enters the ẋ row (eq 44)
 MAX_TAIL = 1_000_000  # impulse-response samples kept at most
 
@@ -83,30 +97,33 @@ def check_fft_config(cfg: LMPConfig) -> None:
 
 
 def steady_state(vehicle: Vehicle1D, cfg: LMPConfig) -> tuple[np.ndarray, float, np.ndarray]:
-    """(K̄, S̄, Ā): steady-state update gain (4,), innovation variance and Ā = F0(I − K̄H) of the H0 filter.
+    """(K̄, S̄, Ā): steady-state update gain (n,), innovation variance and Ā = F0(I − K̄H) of the H0 filter
+    (n = 4 states, or 2 with a known reference).
 
     The predicted covariance solves the discrete algebraic Riccati equation of eqs (45)–(47)."""
-    F0 = transition_h0(vehicle, cfg.A_r)
-    Q0 = np.diag(cfg.Q0)
+    model = filter_model(vehicle, cfg)
+    F0, H, n = model.F0, model.H(), model.n
     R = cfg.c_r * vehicle.R
-    P = scipy.linalg.solve_discrete_are(F0.T, H_POS.T, Q0, np.array([[R]]))  # P = F P Fᵀ − … + Q
+    P = scipy.linalg.solve_discrete_are(F0.T, H.T, model.Q0, np.array([[R]]))  # P = F P Fᵀ − … + Q
     P = 0.5 * (P + P.T)
     S = float(P[0, 0] + R)  # S̄ = H P̄ Hᵀ + R, eq (47)
     K = P[:, 0] / S  # K̄ = P̄ Hᵀ S̄⁻¹
-    A = F0 @ (np.eye(4) - np.outer(K, H_POS[0]))
+    A = F0 @ (np.eye(n) - np.outer(K, H[0]))
     return K, S, A
 
 
 def whitened_innovations(y: np.ndarray, vehicle: Vehicle1D, cfg: LMPConfig) -> tuple[np.ndarray, float]:
-    """e_k = ν_k/√S̄ of the steady-state H0 filter on records y (B, N), and S̄."""
+    """e_k = ν_k/√S̄ of the steady-state H0 filter on records y (B, N), and S̄ (with ``A_r="known"``, y is
+    the record less the known reference's response: :func:`lmp_detect_fft` subtracts it)."""
     K, S, _ = steady_state(vehicle, cfg)
-    F0 = transition_h0(vehicle, cfg.A_r)
+    model = filter_model(vehicle, cfg)
+    F0, n = model.F0, model.n
     y = np.atleast_2d(np.asarray(y, dtype=float))
     B, N = y.shape
-    x = np.zeros((4, B))
+    x = np.zeros((n, B))
     e = np.empty((B, N))
     FK = F0 @ K
-    A = F0 - np.outer(FK, H_POS[0])  # x_{k+1|k} = Ā x_{k|k−1} + F0 K̄ y_k
+    A = F0 - np.outer(FK, H_POS[0, :n])  # x_{k+1|k} = Ā x_{k|k−1} + F0 K̄ y_k
     for k in range(N):
         nu = y[:, k] - x[0]  # ν_k = y_k − H x_{k|k−1}
         e[:, k] = nu
@@ -122,7 +139,7 @@ def regressor_impulse(vehicle: Vehicle1D, cfg: LMPConfig, tol: float = 1e-13) ->
         raise ValueError("the steady-state H0 filter is not stable; the FFT path does not apply")
     n = int(min(MAX_TAIL, max(64, np.ceil(np.log(tol) / np.log(rho)) + 64)))
     h = np.zeros(n)
-    d = E_VEL.copy()
+    d = E_VEL[: A.shape[0]].copy()
     for m in range(1, n):
         h[m] = d[0]
         d = A @ d
@@ -157,27 +174,33 @@ def periodic_replicas(
     return np.fft.ifft(np.fft.fft(h_w)[None, :] * np.fft.fft(gamma * p, axis=1), axis=1)
 
 
-def _checked_inputs(y: np.ndarray, horizons: Sequence[int], cfg: LMPConfig) -> tuple[np.ndarray, np.ndarray]:
+def _checked_inputs(
+    y: np.ndarray, horizons: Sequence[int], cfg: LMPConfig, vehicle: Vehicle1D, reference: np.ndarray | None
+) -> tuple[np.ndarray, np.ndarray]:
     """Records (B, N) and horizons of the FFT and projection paths, checked as :func:`lmp_detect` does, and
-    no missing sample (:class:`MissingSamples` names the first)."""
+    no missing sample (:class:`MissingSamples` names the first); with ``A_r="known"`` the known reference's
+    response subtracted (:func:`~motionsig_cli.detection.lmp.known_input_removed`)."""
     check_fft_config(cfg)
     y = np.atleast_2d(np.asarray(y, dtype=float))
     nan = np.isnan(y)
     if nan.any():
         b, k = np.argwhere(nan)[0]
         raise MissingSamples(FFT_CANNOT_SKIP, int(k), int(b))
-    return y, checked_horizons(y, horizons)
+    hz = checked_horizons(y, horizons)
+    return known_input_removed(y, vehicle, cfg, reference), hz
 
 
 def lmp_detect_fft(
-    y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int]
-) -> LMPResult:
+    y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int],
+    reference: np.ndarray | None = None,
+) -> LMPResult:  # fmt: skip
     """Eq (52) for every candidate from one steady-state H0 filter and FFT cross-correlations.
 
-    Same inputs and result layout as :func:`motionsig_cli.detection.lmp.lmp_detect`; J_cos and
-    J_sin are J_{H0} − ½ b²/(1/P0 + A) of (★).
+    Same inputs (``reference``: the known reference of ``A_r="known"``, as for
+    :func:`motionsig_cli.detection.lmp.lmp_detect`) and result layout as
+    :func:`~motionsig_cli.detection.lmp.lmp_detect`; J_cos and J_sin are J_{H0} − ½ b²/(1/P0 + A) of (★).
     """
-    y, hz = _checked_inputs(y, horizons, cfg)
+    y, hz = _checked_inputs(y, horizons, cfg, vehicle, reference)
     B, N = y.shape
     chips = np.asarray(chips, dtype=float)
     M, n_rho = chips.shape
@@ -229,26 +252,28 @@ def lmp_detect_fft(
 
 
 def lmp_detect_projection(
-    y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int]
-) -> LMPResult:
+    y: np.ndarray, chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, horizons: Sequence[int],
+    reference: np.ndarray | None = None,
+) -> LMPResult:  # fmt: skip
     """Eq (52) through (★) with the exact time-varying H0 filter (the bank's gains, no steady state).
 
     Equal to the filter bank with Q_a = 0 up to rounding: the check of (★) and the oracle that
     separates the FFT path's steady-state approximation from the identity itself.
     """
-    y, hz = _checked_inputs(y, horizons, cfg)
+    y, hz = _checked_inputs(y, horizons, cfg, vehicle, reference)
     B, N = y.shape
     chips = np.asarray(chips, dtype=float)
     cands: Candidates = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
     C = len(cands)
-    F0 = transition_h0(vehicle, cfg.A_r)
+    model = filter_model(vehicle, cfg)
+    F0, n = model.F0, model.n
     g0 = riccati(
-        lambda k: F0, H_POS, np.diag(cfg.Q0), np.array([[cfg.c_r * vehicle.R]]), cfg.P0 * np.eye(4), N, 1
+        lambda k: F0, model.H(), model.Q0, np.array([[cfg.c_r * vehicle.R]]), cfg.P0 * np.eye(n), N, 1
     )
-    K = g0.K[0, :, :, 0]  # (N, 4)
+    K = g0.K[0, :, :, 0]  # (N, n)
     s = np.sqrt(g0.S_inv[0, :, 0, 0])  # 1/√S_k
     # whitened H0 innovations (time-varying filter), (B, N)
-    x = np.zeros((4, B))
+    x = np.zeros((n, B))
     e = np.empty((B, N))
     for k in range(N):
         nu = y[:, k] - x[0]
@@ -258,7 +283,7 @@ def lmp_detect_projection(
     z_cos, z_sin, zd_cos, zd_sin = replica_bank(chips, cands.mode, cands.tau, cands.f_c, vehicle.T, m_rho, N)
     g = np.concatenate([amplitude_column(vehicle, z_cos, zd_cos), amplitude_column(vehicle, z_sin, zd_sin)])
     psi = np.empty((2 * C, N))
-    dlt = np.zeros((4, 2 * C))
+    dlt = np.zeros((n, 2 * C))
     for k in range(N):
         phi = dlt[0].copy()
         psi[:, k] = phi * s[k]

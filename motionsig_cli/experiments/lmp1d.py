@@ -4,7 +4,8 @@ draw (i, τ, θ), simulate, detect) with its threshold calibration.
 
 Random streams (so a trial's numbers depend on (seed, trial) only, never on batching):
 ``trial_rng(seed, t, 0)`` draws i, τ, θ; ``(seed, t, 1)`` the process noise; ``(seed, t, 2)`` the
-measurement noise. ``motionsig simulate --seed s`` with the defaults is trial 0 of
+measurement noise; ``(seed, t, 3)`` the vehicle's own position sensor (drawn only with
+``feedback="estimate"``). ``motionsig simulate --seed s`` with the defaults is trial 0 of
 ``motionsig detect --montecarlo --seed s`` at the same settings.
 
 The Monte Carlo runs are :class:`~motionsig_cli.engine.MonteCarloJob` classes (:class:`LmpJob`,
@@ -24,14 +25,27 @@ from typing import Any, ClassVar, Generic, Literal, TypeVar
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, integer, one_of
-from motionsig_cli.detection.lmp import LMPConfig, LMPResult, candidate_grid, lmp_detect, progress_steps
+from motionsig_cli.detection.lmp import (
+    LMPConfig,
+    LMPResult,
+    candidate_grid,
+    filter_model,
+    lmp_detect,
+    progress_steps,
+)
 from motionsig_cli.detection.lmp_fft import check_fft_config, lmp_detect_fft
 from motionsig_cli.engine import tasks_of, trials_per_task
 from motionsig_cli.experiments.lmp_record import RecordResult, record_result, sigma_meta
 from motionsig_cli.experiments.record_reading import VehicleRecord, record_horizons
 from motionsig_cli.filters.kalman import Progress
 from motionsig_cli.filters.unscented import SigmaPointParams
-from motionsig_cli.models.vehicle import Vehicle1D, simulate_1d
+from motionsig_cli.models.vehicle import (
+    DEFAULT_R,
+    ONBOARD_ESTIMATOR,
+    Vehicle1D,
+    nominal_reference,
+    simulate_1d,
+)
 from motionsig_cli.rng import DEFAULT_SEED, trial_rng
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
@@ -98,7 +112,8 @@ def signature_batch(
     n: int,
     zdot: ZdotMethod = "analytic",
 ) -> tuple[np.ndarray, np.ndarray]:
-    """z = cos θ z_cos − sin θ z_sin and ż for a batch of (i, τ, θ) (eqs 2–3, f_d = 0)."""
+    """z = cos θ z_cos − sin θ z_sin and ż for a batch of (i, τ, θ) (eqs 2–3; ``f_c`` is the carrier as
+    received, f_c + f_d of eq 3)."""
     fcs = np.full(len(modes), f_c)
     zc, zs, dc, ds = replica_bank(chips, np.asarray(modes), np.asarray(taus), fcs, T, m_rho, n, zdot)
     c, s = np.cos(thetas)[:, None], np.sin(thetas)[:, None]
@@ -140,12 +155,27 @@ def simulate_trials(
     *,
     signature: bool = True,
 ) -> tuple[np.ndarray, list[TrialDraw]]:
-    """Measurements (B, N) of the given trials and their draws."""
+    """Measurements (B, N) of the given trials and their draws.
+
+    The signature's carrier is f_c + ``vehicle.f_d`` (eq 3); with ``vehicle.feedback == "estimate"`` the
+    vehicle's own sensor draws from ``trial_rng(seed, t, 3)``.
+    """
     draws, z, zd = trial_signatures(
-        chips, m_rho, f_c, vehicle.T, n_samples, seed, trials, signature=signature
+        chips, m_rho, f_c + vehicle.f_d, vehicle.T, n_samples, seed, trials, signature=signature
     )
-    sim = simulate_1d(vehicle, z, zd, np.stack([d.w for d in draws]), np.stack([d.v for d in draws]))
+    v_own = own_sensor_noise(vehicle, seed, trials, n_samples)
+    sim = simulate_1d(vehicle, z, zd, np.stack([d.w for d in draws]), np.stack([d.v for d in draws]), v_own)
     return sim["y"], draws
+
+
+def own_sensor_noise(
+    vehicle: Vehicle1D, seed: int, trials: Sequence[int], n_samples: int
+) -> np.ndarray | None:
+    """The standard-normal noise (B, N) of the vehicle's own position sensor (``feedback="estimate"``):
+    trial t draws from ``trial_rng(seed, t, 3)``; None with true-state feedback (nothing drawn)."""
+    if vehicle.feedback != "estimate":
+        return None
+    return np.stack([trial_rng(seed, t, 3).standard_normal(n_samples) for t in trials])
 
 
 class CorrectRates:
@@ -173,7 +203,9 @@ class CorrectRates:
 
 @dataclass(frozen=True)
 class MCCell(CorrectRates):
-    """Monte Carlo result of one (f_r, R, horizon) cell."""
+    """Monte Carlo result of one (f_r, R, horizon) cell; with a carrier search (more than one candidate
+    carrier, or f_d ≠ 0) also the trials whose estimated carrier is the grid's nearest to the true one and
+    the root-mean-square error of the estimated carrier [Hz]."""
 
     f_r: float
     R: float
@@ -181,6 +213,13 @@ class MCCell(CorrectRates):
     trials: int
     correct: int
     mode_correct: int
+    fc_correct: int | None = None
+    fc_rmse: float | None = None
+
+    @property
+    def pct_fc(self) -> float:
+        assert self.fc_correct is not None
+        return 100.0 * self.fc_correct / self.trials
 
 
 # ------------------------------------------------------------------------------- checks of the jobs
@@ -217,6 +256,18 @@ def check_method(method: str, cfg: LMPConfig) -> None:
         check_fft_config(cfg)
 
 
+def check_model(vehicle: Vehicle1D, cfg: LMPConfig, f_c: float) -> None:
+    """The vehicle and the detector fit together: the received carrier f_c + f_d >= 0, and the filters'
+    model exists (a continuous-time Q needs a real generator of F)."""
+    if not isinstance(vehicle, Vehicle1D):
+        raise ConfigError("vehicle", type(vehicle).__name__, "is not a Vehicle1D")
+    if f_c + vehicle.f_d < 0:
+        raise ConfigError(
+            "f_d", vehicle.f_d, f"makes the received carrier f_c + f_d = {f_c + vehicle.f_d:g} Hz negative"
+        )
+    filter_model(vehicle, cfg)
+
+
 def _tuple(value: Any) -> Any:
     """Lists become tuples (a job is frozen and travels to the workers)."""
     return tuple(value) if isinstance(value, list) else value
@@ -230,6 +281,7 @@ class TrialOutcomes:
     ok: np.ndarray  # (i, τ) both right
     ok_mode: np.ndarray  # mode right
     lam_max: np.ndarray  # λ* = max_c Λ(c), eq (29)
+    fc_hat: np.ndarray | None = None  # the argmax's carrier [Hz] (with a carrier search, else None)
 
 
 @dataclass(frozen=True, eq=False)
@@ -251,7 +303,10 @@ class LmpJob:
         seed: Root seed (>= 0).
         signature: False: records without a signature (the argmax under H0).
         method: ``"bank"`` (2C + 1 Kalman filters) or ``"fft"`` (:mod:`motionsig_cli.detection.lmp_fft`).
-        vehicle: The model (its R and f_r are set per cell).
+        vehicle: The model (its R and f_r are set per cell): the truth's T, K, a_sig, a_r, σ_a, carrier
+            offset f_d and feedback, and the filters' T, K (and, with ``A_r="known"``, the reference of each
+            cell: the filters know the vehicle's commanded a_r, f_r). With f_d ≠ 0 or several carriers in
+            ``cfg.fc_grid`` the table adds the carrier estimate's scores.
         codes: The Table I codes the records carry (``chips`` default to them).
         chips: Bipolar chips (M, n_ρ); None: those of ``codes``.
         m_rho: Samples per chip (>= 1).  f_c: Carrier frequency [Hz] (finite, >= 0).
@@ -299,6 +354,7 @@ class LmpJob:
         check_method(self.method, self.cfg)
         integer("m_rho", self.m_rho, 1)
         in_range("f_c", self.f_c, 0.0, unit="Hz")
+        check_model(self.vehicle, self.cfg, self.f_c)
         if self.chunk is not None:
             integer("chunk", self.chunk, 1)
 
@@ -314,12 +370,28 @@ class LmpJob:
     def n_candidates(self) -> int:
         return len(candidate_grid(self.chips.shape[0], self.chips.shape[1], self.m_rho, self.cfg))
 
-    def detect(self, y: np.ndarray, R: float) -> LMPResult:
-        """The configured detector (bank or FFT path) on records y (B, N) at measurement variance R."""
+    @property
+    def carrier_search(self) -> bool:
+        """Whether the table scores the carrier estimate: several candidate carriers, or f_d ≠ 0."""
+        return len(self.cfg.fc_grid) > 1 or self.vehicle.f_d != 0
+
+    def detect(self, y: np.ndarray, R: float, reference: np.ndarray | None = None) -> LMPResult:
+        """The configured detector (bank or FFT path) on records y (B, N) at measurement variance R
+        (``reference``: the known reference per record, (B, N, 2), with ``A_r="known"``)."""
         veh = replace(self.vehicle, R=R)
+        hz = self.horizon_samples
         if self.method == "fft":
-            return lmp_detect_fft(y, self.chips, veh, self.m_rho, self.cfg, self.horizon_samples)
-        return lmp_detect(y, self.chips, veh, self.m_rho, self.cfg, self.horizon_samples)
+            return lmp_detect_fft(y, self.chips, veh, self.m_rho, self.cfg, hz, reference=reference)
+        return lmp_detect(y, self.chips, veh, self.m_rho, self.cfg, hz, reference=reference)
+
+    def references(self, n_records: int) -> np.ndarray | None:
+        """``A_r="known"``: the nominal reference of every record of a task (f_r-major, ``n_records`` per
+        f_r), (F·n_records, N, 2), the vehicle's a_r at each cell's f_r; else None."""
+        if self.cfg.A_r != "known":
+            return None
+        t = np.arange(self.n_samples) * self.vehicle.T
+        refs = [nominal_reference(replace(self.vehicle, f_r=fr), t) for fr in self.fr_list]
+        return np.concatenate([np.broadcast_to(r, (n_records, *r.shape)) for r in refs])
 
     def cost(self) -> tuple[float, float]:
         """Cost model [s] of a task at one R: (fixed, per trial over all f_r), measured on a 2-core machine.
@@ -358,41 +430,81 @@ class LmpJob:
             )  # fmt: skip
             ys.append(y)
             truths.extend(draws)
-        res = self.detect(np.concatenate(ys), R)
+        res = self.detect(np.concatenate(ys), R, self.references(len(ids)))
         best, lam = res.best()  # (F·B, H), records ordered f_r-major
         c = res.candidates
         ok_mode = c.mode[best] == np.array([d.mode for d in truths])[:, None]
         ok = ok_mode & (c.tau[best] == np.array([d.tau for d in truths])[:, None])
         shape = (len(self.fr_list), len(ids), len(self.horizons_s))
-        return TrialOutcomes(ok.reshape(shape), ok_mode.reshape(shape), lam.reshape(shape))
+        fc_hat = c.f_c[best].reshape(shape) if self.carrier_search else None
+        return TrialOutcomes(ok.reshape(shape), ok_mode.reshape(shape), lam.reshape(shape), fc_hat)
 
     def reduce(self, tasks: Sequence[tuple[float, range]], results: Sequence[TrialOutcomes]) -> LmpMonteCarlo:
         """Sum the tasks' outcomes (in task order) into the (f_r, R, horizon) cells."""
         cells: list[MCCell] = []
+        f_true = self.f_c + self.vehicle.f_d
+        grid = np.asarray(self.cfg.fc_grid, float)
+        nearest = grid[np.argmin(np.abs(grid - f_true))]  # the grid's carrier nearest the true one
         for R in self.R_list:
             mine = [res for (r, _), res in zip(tasks, results, strict=True) if r == R]
             ok = np.concatenate([m.ok for m in mine], axis=1).sum(axis=1)  # (F, H)
             okm = np.concatenate([m.ok_mode for m in mine], axis=1).sum(axis=1)
+            fc_ok = fc_rmse = None
+            if self.carrier_search:
+                fc = np.concatenate(
+                    [m.fc_hat for m in mine if m.fc_hat is not None], axis=1
+                )  # (F, trials, H)
+                fc_ok = (fc == nearest).sum(axis=1)
+                fc_rmse = np.sqrt(np.mean((fc - f_true) ** 2, axis=1))
             for f, fr in enumerate(self.fr_list):
                 for j, hs in enumerate(self.horizons_s):
-                    cells.append(MCCell(fr, R, float(hs), self.trials, int(ok[f, j]), int(okm[f, j])))
+                    extra = () if fc_ok is None else (int(fc_ok[f, j]), float(fc_rmse[f, j]))  # type: ignore[index]
+                    cells.append(MCCell(fr, R, float(hs), self.trials, int(ok[f, j]), int(okm[f, j]), *extra))
         return LmpMonteCarlo(self, cells)
 
     def identity(self) -> dict[str, Any]:
         return dict(
             method=self.method, cfg=repr(self.cfg), fr_list=list(self.fr_list), R_list=list(self.R_list),
             horizons_s=list(self.horizons_s), trials=self.trials, seed=self.seed, signature=self.signature,
+            **self._model_identity(),
         )  # fmt: skip
+
+    def _model_identity(self) -> dict[str, Any]:
+        """The vehicle, codes, m_rho and f_c where they are not the defaults (a checkpoint written before
+        they could be set keeps its identity)."""
+        if self.vehicle == Vehicle1D() and self.m_rho == 20 and self.f_c == 1.0 and self.codes == "corrected":
+            return {}
+        return dict(vehicle=repr(self.vehicle), m_rho=self.m_rho, f_c=self.f_c, codes=self.codes)
+
+
+QA_KNOWN_NOTE = "Q0's r, rdot entries are unused: the filters' state is [x, xdot(, a)]"
 
 
 def detector_meta(cfg: LMPConfig, *, full: bool = True) -> dict[str, Any]:
-    """The detector settings as metadata (``full``: with weights, centring and the replica derivative)."""
+    """The detector settings as metadata (``full``: with weights, centring and the replica derivative);
+    ``q_model`` where it is not per-step, and a note on Q0 with a known reference."""
     meta: dict[str, Any] = dict(
         c_r=cfg.c_r, Q0=list(cfg.Q0), Q_a=cfg.Q_a, P0=cfg.P0, A_r=cfg.A_r, tau_grid=cfg.tau_grid,
         fc_grid=list(cfg.fc_grid), include_logdet=cfg.include_logdet,
     )  # fmt: skip
+    if cfg.q_model != "per-step":
+        meta.update(q_model=cfg.q_model, q_units="continuous-time densities per second, discretised over T "
+                    "(Van Loan, the generator log(F)/T of the filters' F)")  # fmt: skip
+    if cfg.A_r == "known":
+        meta.update(reference_model="the vehicle's nominal reference as a known input (cooperative)",
+                    Q0_note=QA_KNOWN_NOTE)  # fmt: skip
     if full:
         meta.update(weights=cfg.weights, center=cfg.center, zdot=cfg.zdot)
+    return meta
+
+
+def vehicle_meta(vehicle: Vehicle1D) -> dict[str, Any]:
+    """The truth's carrier offset and feedback where they are not the defaults (f_d = 0, true state)."""
+    meta: dict[str, Any] = {}
+    if vehicle.f_d != 0:
+        meta["f_d"] = vehicle.f_d
+    if vehicle.feedback != "true":
+        meta.update(feedback=vehicle.feedback, onboard_estimator=ONBOARD_ESTIMATOR)
     return meta
 
 
@@ -444,24 +556,33 @@ class LmpMonteCarlo(CorrectCurves["LmpJob", "MCCell"]):
     def table(self) -> Table:
         job, veh = self.job, self.job.vehicle
         rows = []
+        search = job.carrier_search
         for c in self.cells:
             lin, l10, lnl = anr_db(c.R, veh.a_sig)
             rows.append(
                 (c.f_r, c.R, lin, l10, lnl, SEED_ANR_LABELS.get(c.R, ""), c.horizon_s, c.pct, c.se_pct,
-                 c.pct_mode, c.correct, c.trials)
+                 c.pct_mode, c.correct, c.trials) + ((c.pct_fc, c.fc_rmse) if search else ())
             )  # fmt: skip
         n_cand = job.n_candidates
+        carrier = (
+            dict(f_true=job.f_c + veh.f_d, fc_correct="fc_hat is the fc_grid value nearest f_c + f_d")
+            if search
+            else {}
+        )
+        streams = "trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)) for (i,tau,theta) | process | measurement noise"
+        if veh.feedback == "estimate":
+            streams += " | 3: the vehicle's own position sensor"
         meta = make_meta(
             "detect --montecarlo", method=job.method, trials=job.trials, fr_list=list(job.fr_list),
             R_list=list(job.R_list), horizons_s=list(job.horizons_s), seed=job.seed, signature=job.signature,
             **detector_meta(job.cfg), T=veh.T, m_rho=job.m_rho, f_c=job.f_c, K=list(veh.K), a_sig=veh.a_sig,
-            a_r=veh.a_r, sigma_a=veh.sigma_a, codes=job.codes, n_candidates=n_cand, chance_pct=100.0 / n_cand,
-            correct=CORRECT,
-            trial_streams="trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)) for (i,tau,theta) | process | "
-            "measurement noise",
+            a_r=veh.a_r, sigma_a=veh.sigma_a, **vehicle_meta(veh), **carrier, codes=job.codes,
+            n_candidates=n_cand, chance_pct=100.0 / n_cand, correct=CORRECT, trial_streams=streams,
         )  # fmt: skip
         columns = ("f_r", "R", "anr_linear", "anr_db_log10", "anr_db_paper_ln", "seed_anr_label", "horizon_s",
                    "pct_correct", "se_pct", "pct_mode_correct", "correct", "trials")  # fmt: skip
+        if search:
+            columns += ("pct_fc_correct", "fc_rmse")
         return Table(columns, rows, meta)
 
     def series(self) -> list[tuple[str, Callable[[Any], bool]]]:
@@ -632,7 +753,7 @@ class CalibrationJob:
         return dict(
             method=self.method, cfg=repr(self.cfg), fr_list=list(self.fr_list), R_list=list(self.R_list),
             horizons_s=list(self.horizons_s), trials=self.trials, null_trials=self.null_trials, pfa=self.pfa,
-            seed=self.seed,
+            seed=self.seed, **self.arm(True)._model_identity(),
         )  # fmt: skip
 
 
@@ -656,10 +777,18 @@ class Calibration:
                  c.false_alarms / c.null_trials, c.null_trials, c.pd, c.pd_se, c.detections_correct / c.trials,
                  c.trials)
             )  # fmt: skip
+        veh = job.vehicle
+        model: dict[str, Any] = {}
+        if replace(veh, R=DEFAULT_R) != Vehicle1D():  # the truth's settings, where one is not the default
+            model = dict(K=list(veh.K), a_sig=veh.a_sig, a_r=veh.a_r, sigma_a=veh.sigma_a, f_d=veh.f_d,
+                         feedback=veh.feedback)  # fmt: skip
+            if veh.feedback == "estimate":
+                model["onboard_estimator"] = ONBOARD_ESTIMATOR
         meta = make_meta(
             "detect --calibrate", method=job.method, pfa=job.pfa, trials=job.trials, null_trials=job.null_trials,
             fr_list=list(job.fr_list), R_list=list(job.R_list), horizons_s=list(job.horizons_s), seed=job.seed,
-            **detector_meta(job.cfg, full=False), T=job.vehicle.T, m_rho=job.m_rho, f_c=job.f_c, codes=job.codes,
+            **detector_meta(job.cfg, full=False), T=job.vehicle.T, m_rho=job.m_rho, f_c=job.f_c, **model,
+            codes=job.codes,
             statistic="max over candidates of Lambda (eq 29); declare present when it exceeds the threshold",
             threshold_rule="order statistic of the null maxima leaving at most floor(pfa * null_trials) above it",
             trial_streams="signature trial t: SeedSequence(seed, spawn_key=(t, 0|1|2)); "
@@ -749,7 +878,8 @@ class RecordHorizons:
 def check_record_detector(method: str, filter: str, cfg: LMPConfig, sigma: SigmaPointParams) -> None:
     """The 1-D detector of one record (and of its null records): ``filter`` kf or ukf, ``method`` bank or
     fft for ``cfg``; the FFT path runs no sigma-point filters, and the sigma-point bank supports center
-    none and weights paper only, with α, κ that suit its 4- and 5-state filters.
+    none and weights paper only, with α, κ that suit its 4- and 5-state filters (2 and 3 with a known
+    reference).
 
     Raises:
         ConfigError: naming ``filter`` or ``method``.
@@ -763,8 +893,9 @@ def check_record_detector(method: str, filter: str, cfg: LMPConfig, sigma: Sigma
             raise ConfigError(
                 "filter", "ukf", "(the sigma-point bank) supports center none and weights paper only"
             )
-        sigma.weights(4)  # the H0 filter
-        sigma.weights(5)  # the H1 filters
+        n = 2 if cfg.A_r == "known" else 4
+        sigma.weights(n)  # the H0 filter
+        sigma.weights(n + 1)  # the H1 filters
 
 
 @dataclass(frozen=True, eq=False)
@@ -803,6 +934,8 @@ class RecordDetection(RecordHorizons):
 
     def __post_init__(self) -> None:
         check_record_detector(self.method, self.filter, self.cfg, self.sigma)
+        check_model(self.record.vehicle, self.cfg, self.record.f_c)
+        check_known_reference(self.record, self.cfg)
         rec, T = self.record, self.record.vehicle.T
         hs = record_horizons(self.horizons, rec.y.shape[0] * T, T)
         object.__setattr__(self, "horizons", tuple(hs))
@@ -866,7 +999,7 @@ class RecordDetection(RecordHorizons):
                     self.missing_checked(f"the filter bank cannot skip a missing sample ({exc})")
                 raise
         params = dict(
-            source=rec.source, **detector_meta(cfg), horizons_s=list(self.horizons),
+            source=rec.source, **detector_meta(cfg), **known_reference_meta(rec, cfg), horizons_s=list(self.horizons),
             threshold=list(self.threshold) if isinstance(self.threshold, tuple) else self.threshold,
             filter=self.filter, method=self.method,
             **(sigma_meta(self.sigma, res.repairs) if self.filter == "ukf" else {}),
@@ -877,6 +1010,32 @@ class RecordDetection(RecordHorizons):
             res, list(self.horizons), hz, rec.truth, params, rec.chips.shape, rec.m_rho,
             candidates=self.candidates, threshold=self.threshold, notes=record_notes(rec, self.n_used),
         )  # fmt: skip
+
+
+def check_known_reference(rec: VehicleRecord, cfg: LMPConfig) -> None:
+    """``A_r="known"`` on a record: the reference (a_r, f_r) must come from the record's metadata or the
+    options, never from a default (the filters would subtract a reference nobody stated).
+
+    Raises:
+        ConfigError: naming ``A_r``.
+    """
+    if cfg.A_r != "known":
+        return
+    sources = rec.provenance.get("model_sources", {})
+    defaulted = [n for n in ("a_r", "f_r") if str(sources.get(n, "record")).startswith("default")]
+    if defaulted:
+        raise ConfigError(
+            "A_r", "known", f"needs the vehicle's own reference, and the record does not state {' or '.join(defaulted)}: "
+            "give --a-r and --f-r (the commanded reference a_r sin(2 pi f_r t), t from the first sample)",
+        )  # fmt: skip
+
+
+def known_reference_meta(rec: VehicleRecord, cfg: LMPConfig) -> dict[str, Any]:
+    """The known reference the filters subtracted (``A_r="known"``), for the metadata."""
+    if cfg.A_r != "known":
+        return {}
+    v = rec.vehicle
+    return {"known_reference": {"a_r": v.a_r, "f_r": v.f_r, "form": "a_r sin(2 pi f_r k T), k from 0"}}
 
 
 def record_notes(rec: VehicleRecord, n_used: int) -> tuple[str, ...]:

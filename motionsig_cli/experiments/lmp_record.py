@@ -152,9 +152,10 @@ def record_result(
         table = Table(tuple(cols), rows, make_meta("detect", **params))
     c = int(best[0, -1])
     present_last = thresholds is not None and _present(float(lam_max[0, -1]), thresholds[-1], per_horizon)
+    carrier = f", carrier {cands.f_c[c]:g} Hz" if np.unique(cands.f_c).size > 1 else ""  # a carrier search
     summary = (
         f"horizon {hs[-1]:g} s: mode {cands.mode[c] + 1}, tau {cands.tau[c]} samples "
-        f"({cands.tau[c] / m_rho:g} chips), statistic {lam_max[0, -1]:.4g}, margin {margin[0, -1]:.3g}"
+        f"({cands.tau[c] / m_rho:g} chips){carrier}, statistic {lam_max[0, -1]:.4g}, margin {margin[0, -1]:.3g}"
         + ("" if truth is None else f"; truth mode {truth[0] + 1}, tau {truth[1]}")
         + (f"; {sum(res.repairs)} covariance repairs" if sum(res.repairs) else "")
         + "".join(f"; {n}" for n in notes)

@@ -48,7 +48,7 @@ from motionsig_cli.detection.glr import (
     InputModel,
     input_tracker,
 )
-from motionsig_cli.engine import Engine, run_job, tasks_of, trials_per_task
+from motionsig_cli.engine import Engine, check_run_time, run_job, tasks_of, trials_per_task
 from motionsig_cli.experiments.ebpsk_tracking import EbpskPositions
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.models.motion import (
@@ -886,14 +886,8 @@ class ManeuverStudy:
         job = self.job
         if self.view == "events" and not {"glr", "mlr"} & set(job.methods):
             raise ConfigError("view", self.view, "needs glr or mlr among the methods")
-        seconds = job.seconds()
-        if seconds > self.max_seconds:
-            raise ConfigError(
-                "runs",
-                job.runs,
-                f"runs need an estimated {seconds:.0f} s ({job.sc.scans} scans x {len(job.sigmas)} σ x "
-                f"{len(job.methods)} methods); the limit is {self.max_seconds:.0f} s",
-            )
+        what = f"runs ({job.sc.scans} scans x {len(job.sigmas)} σ x {len(job.methods)} methods) "
+        check_run_time("runs", job.runs, job.seconds(), self.max_seconds, what=what)
 
 
 @dataclass(frozen=True)

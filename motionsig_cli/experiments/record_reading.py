@@ -166,8 +166,11 @@ class ModelOptions:
     (--anr-db, read with ``db_convention``), ``f_c`` (--fc), ``a_sig`` (--a-sig), ``codes`` (--codes);
     2-D: ``R_range``, ``R_bearing`` (--R-range, --R-bearing) or ``anr_pair`` (--anr-pair), ``start``
     (--start). ``a_r``, ``f_r``, ``sigma_a`` (--a-r, --f-r, --sigma-a) describe the true vehicle, which
-    the filters do not assume but the null records of a calibrated threshold simulate. Each value is
-    checked where it is used (a :class:`ConfigError` naming the field)."""
+    the filters do not assume but the null records of a calibrated threshold simulate (so does
+    ``feedback``, --feedback); ``f_d`` (--f-d) is the record's carrier offset (the truth's carrier
+    f_c + f_d; the filters search it with their carrier grid). ``f_d`` and ``feedback`` come from the
+    option, else the metadata, else 0 and ``"true"`` (not listed among the defaults of the output). Each
+    value is checked where it is used (a :class:`ConfigError` naming the field)."""
 
     T: float | None = None
     m_rho: int | None = None
@@ -187,13 +190,15 @@ class ModelOptions:
     a_r: float | None = None
     f_r: float | None = None
     sigma_a: float | None = None
+    f_d: float | None = None
+    feedback: str | None = None
 
     def given(self, *names: str) -> list[str]:
         """Those of ``names`` that were given."""
         return [n for n in names if getattr(self, n) is not None]
 
 
-ONLY_1D = ("R", "anr_db")
+ONLY_1D = ("R", "anr_db", "f_d", "feedback")
 ONLY_2D = ("R_range", "R_bearing", "anr_pair", "start")
 
 
@@ -665,6 +670,7 @@ class _Model:
             fields[name] = self.check(name, raw, lambda v, n=name: in_range(n, _number(v), 0.0))
         if self.layout == "1d":
             fields["R"] = self._variance(a_sig)
+            fields.update(self._truth_loop())
         else:
             fields["R_range"], fields["R_bearing"] = self._radar_noise(a_sig)
             raw = self.pick("start", o.start, first_xy)
@@ -681,6 +687,27 @@ class _Model:
                 raise InputError(f"{self.src}: bad metadata: {exc}") from None
             raise
         return vehicle, codes, m_rho, f_c
+
+    def _truth_loop(self) -> dict[str, Any]:
+        """1-D: the carrier offset f_d and the feedback (simulate writes ``feedback: "true state"`` or
+        ``"estimate"``), from the option or the metadata; absent from both: the defaults, unrecorded (an
+        older record, or a user's export, reads as before)."""
+        o, out = self.opts, {}
+        if o.f_d is not None or "f_d" in self.meta:
+            raw = self.pick("f_d", o.f_d, 0.0)
+            out["f_d"] = self.check("f_d", raw, lambda v: in_range("f_d", _number(v)))
+        if o.feedback is not None or "feedback" in self.meta:
+            raw = self.pick("feedback", o.feedback, "true")
+            names = {"true state": "true", "true": "true", "estimate": "estimate"}
+            out["feedback"] = self.check(
+                "feedback", raw, lambda v: names[one_of("feedback", str(v), tuple(names))]
+            )
+        for name, default in (("f_d", 0.0), ("feedback", "true")):  # a default from the record: unlisted
+            if name in out and out[name] == default and getattr(o, name) is None:
+                del self.sources[name]
+            elif name in out:
+                self.values[name] = out[name]
+        return out
 
     def _gain(self, T: float) -> tuple[float, float]:
         o = self.opts

@@ -42,7 +42,7 @@ from motionsig_cli.detection.track_existence import (
     check_methods,
     run_methods,
 )
-from motionsig_cli.engine import tasks_of, trials_per_task
+from motionsig_cli.engine import check_run_time, tasks_of, trials_per_task
 from motionsig_cli.models.radar import MeasurementModel, cv_model, wrap_angle
 from motionsig_cli.rng import DEFAULT_SEED, trial_rng
 from motionsig_cli.tables import Table, make_meta
@@ -599,15 +599,17 @@ class SlrtStudy:
         cases = self.cases
         self.job()
         wald_thresholds(self.alpha, self.beta)
-        seconds, nbytes = cost(cases[0][1], self.runs, len(cases), len(self.methods))
-        if seconds > MAX_SECONDS or nbytes > MAX_BYTES:
-            sc = self.scenario
+        seconds = cost(cases[0][1], self.runs, len(cases), len(self.methods))[0]
+        job, sc = self.job(), self.scenario
+        per_task = max(job.task_size(t) for t in job.tasks())
+        per_worker = cost(cases[0][1], per_task)[1]  # a worker holds one task's measurements at a time
+        if per_worker > MAX_BYTES:
             raise ConfigError(
-                "runs",
-                self.runs,
-                f"is too many runs for {len(cases)} case(s) x {sc.scans} scans x {sc.n_sensors} sensors: an "
-                f"estimated {seconds:.0f} s and {nbytes / 1e9:.2g} GB; the limits are {MAX_SECONDS:.0f} s and 2 GB",
-            )
+                "runs", self.runs, f"needs an estimated {per_worker / 1e9:.2g} GB of measurements per worker "
+                f"(one task's runs of {sc.scans} scans x {sc.n_sensors} sensors); the limit is 2 GB per worker",
+            )  # fmt: skip
+        what = f"is too many runs for {len(cases)} case(s) x {sc.scans} scans x {sc.n_sensors} sensors: it "
+        check_run_time("runs", self.runs, seconds, MAX_SECONDS, what=what)
 
     @cached_property
     def cases(self) -> list[tuple[str, SlrtScenario]]:

@@ -69,6 +69,7 @@ from motionsig_cli.detection.track_existence import (
     check_methods,
     run_methods,
 )
+from motionsig_cli.engine import run_time_limit
 from motionsig_cli.errors import InputError
 from motionsig_cli.experiments import slrt as exp
 from motionsig_cli.models.radar import MeasurementModel, cv_model
@@ -843,11 +844,12 @@ def score(record: SlrtRecord, cfg: SlrtRecordConfig) -> RecordResult:
     stand_in = replace(
         exp.SlrtScenario(), n_sensors=S, scans=max(scored, 1), clutter_rate=min(mean_m, 1000.0)
     )
-    seconds = exp.cost(stand_in, R)[0]
-    if seconds > exp.MAX_SECONDS:
+    seconds, limit = exp.cost(stand_in, R)[0], run_time_limit(exp.MAX_SECONDS)
+    if seconds > limit:
         raise InputError(
             f"{det.record.source}: {scored} scans x {S} sensors x {R} track(s) would take about {seconds:.0f} s "
-            f"(the limit is {exp.MAX_SECONDS:.0f} s): split the file, or give --init for one track"
+            f"(the limit is {limit:.0f} s): split the file, give --init for one track or raise the limit "
+            "(--max-minutes)"
         )
     F, Q = cv_model(det.T, cfg.q)
     first = sensors.models[0]

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from motionsig_cli.config import ConfigError, integer, one_of, positive
-from motionsig_cli.models.vehicle import Vehicle1D, nominal_reference, simulate_1d
+from motionsig_cli.models.vehicle import ONBOARD_ESTIMATOR, Vehicle1D, nominal_reference, simulate_1d
 from motionsig_cli.models.vehicle2d import SEED_ANR_PAIRS, Vehicle2D, anr_pair_variances, simulate_2d
 from motionsig_cli.rng import DEFAULT_SEED
 from motionsig_cli.signals.code_spec import parse_codes
@@ -35,6 +35,8 @@ ASSUMPTIONS_1D = (
     "pole placement at wn = 4 pi rad/s, zeta = 0.7), sigma_a, the initial state x0 = 0 and a sine "
     "nominal reference"
 )
+# the metadata's "feedback" (read back by detect) per Vehicle1D.feedback
+FEEDBACK_META = {"true": "true state", "estimate": "estimate"}
 ASSUMPTIONS_2D = (
     "assumed, the mode-signature paper does not state them: T, m_rho, K (the same on both axes), sigma_a, "
     "the references x0 + a_r sin(2 pi f_r t) and y0 + a_r sin(2 pi f_r t), the signature on the axes of "
@@ -42,6 +44,7 @@ ASSUMPTIONS_2D = (
 )
 
 COLUMNS_1D = ("k", "t", "y", "x", "xdot", "r", "rdot", "z", "zdot", "u")
+COLUMNS_ESTIMATE = ("xhat", "xdothat")  # feedback="estimate": the onboard estimate the controller used
 COLUMNS_2D = (
     "k", "t", "range", "bearing", "x", "xdot", "y", "ydot",
     "r_x", "rdot_x", "r_y", "rdot_y", "z", "zdot", "u_x", "u_y",
@@ -108,6 +111,11 @@ class RecordConfig:
         SignatureConfig(
             T=self.vehicle.T, m_rho=self.m_rho, f_c=self.f_c, tau=0 if self.tau is None else self.tau
         )
+        if isinstance(self.vehicle, Vehicle1D) and self.f_c + self.vehicle.f_d < 0:
+            raise ConfigError(
+                "f_d", self.vehicle.f_d, f"makes the received carrier f_c + f_d = {self.f_c + self.vehicle.f_d:g} Hz "
+                "negative",
+            )  # fmt: skip
         if self.tau_chips is not None and abs(integer("tau_chips", self.tau_chips) * self.m_rho) > MAX_TAU:
             raise ConfigError("tau_chips", self.tau_chips, f"is beyond 2^53 samples at m_rho = {self.m_rho}")
         positive("duration", self.duration, unit="s")
@@ -191,7 +199,7 @@ def simulate_record(cfg: RecordConfig) -> SimulatedRecord:
             passes within 10 range-noise standard deviations of the radar (start or R_range) or a measured
             range is ≤ 0 (R_range).
     """
-    from motionsig_cli.experiments.lmp1d import draw_trial, signature_batch
+    from motionsig_cli.experiments.lmp1d import draw_trial, own_sensor_noise, signature_batch
 
     vehicle, n, m_rho = cfg.vehicle, cfg.n_samples, cfg.m_rho
     codes = parse_codes(cfg.codes)
@@ -202,27 +210,40 @@ def simulate_record(cfg: RecordConfig) -> SimulatedRecord:
         cfg.tau if cfg.tau is not None else cfg.tau_chips * m_rho if cfg.tau_chips is not None else draw.tau
     )
     th = draw.theta if cfg.theta is None else cfg.theta
+    f_d = vehicle.f_d if isinstance(vehicle, Vehicle1D) else 0.0
     z, zd = signature_batch(
-        chips, np.array([mode0]), np.array([tau0]), np.array([th]), cfg.f_c, vehicle.T, m_rho, n, cfg.zdot
-    )
+        chips,
+        np.array([mode0]),
+        np.array([tau0]),
+        np.array([th]),
+        cfg.f_c + f_d,
+        vehicle.T,
+        m_rho,
+        n,
+        cfg.zdot,
+    )  # the received carrier f_c + f_d, eq (3)
     if not cfg.signature:
         z, zd = np.zeros_like(z), np.zeros_like(zd)
     common = dict(
         mode=mode0 + 1, tau=int(tau0), tau_chips=tau0 / m_rho, theta=th, signature=cfg.signature,
-        a_sig=vehicle.a_sig, a_r=vehicle.a_r, f_r=vehicle.f_r, f_c=cfg.f_c, f_d=0.0, T=vehicle.T, m_rho=m_rho,
+        a_sig=vehicle.a_sig, a_r=vehicle.a_r, f_r=vehicle.f_r, f_c=cfg.f_c, f_d=f_d, T=vehicle.T, m_rho=m_rho,
         n_rho=int(chips.shape[1]), K=list(vehicle.K), sigma_a=vehicle.sigma_a,
     )  # fmt: skip
+    estimate = isinstance(vehicle, Vehicle1D) and vehicle.feedback == "estimate"
     tail = dict(
         duration=n * vehicle.T,
         n_samples=n,
         codes=codes.spec,
-        feedback="true state",
+        feedback=FEEDBACK_META[vehicle.feedback] if isinstance(vehicle, Vehicle1D) else "true state",
+        **({"onboard_estimator": ONBOARD_ESTIMATOR} if estimate else {}),
         zdot=cfg.zdot,
         seed=cfg.seed,
         trial=0,
+        **({"own_sensor_stream": "SeedSequence(seed, spawn_key=(0, 3))"} if estimate else {}),
     )
     head = f"mode {mode0 + 1}, tau {tau0} samples, theta {th:.3f} rad"
-    drawn = _Drawn(z[0], zd[0], draw.w, draw.v, common, tail, head)
+    v_own = own_sensor_noise(vehicle, cfg.seed, [0], n) if isinstance(vehicle, Vehicle1D) else None
+    drawn = _Drawn(z[0], zd[0], draw.w, draw.v, common, tail, head, None if v_own is None else v_own[0])
     if isinstance(vehicle, Vehicle2D):
         return _record_2d(cfg, vehicle, drawn)
     return _record_1d(vehicle, drawn)
@@ -240,13 +261,15 @@ class _Drawn:
     common: dict[str, Any]
     tail: dict[str, Any]
     head: str
+    v_own: np.ndarray | None = None  # feedback="estimate": the vehicle's own sensor noise (N,)
 
 
 def _record_1d(vehicle: Vehicle1D, drawn: _Drawn) -> SimulatedRecord:
     """The 1-D closed loop (eqs 53–55) and its table."""
     z, zd, common, tail, head = drawn.z, drawn.zd, drawn.common, drawn.tail, drawn.head
+    v_own = None if drawn.v_own is None else drawn.v_own[None, :]
     with np.errstate(over="ignore", invalid="ignore"):  # a divergent loop is reported below
-        sim = simulate_1d(vehicle, z[None], zd[None], drawn.w[None, :], drawn.v[None, :])
+        sim = simulate_1d(vehicle, z[None], zd[None], drawn.w[None, :], drawn.v[None, :], v_own)
     x, y, u, t = sim["x"][0], sim["y"][0], sim["u"][0], sim["t"]
     _check_finite(vehicle, x, y)
     anr = vehicle.anr
@@ -279,12 +302,21 @@ def _record_1d(vehicle: Vehicle1D, drawn: _Drawn) -> SimulatedRecord:
         )
         for k in range(t.size)
     ]
+    columns = COLUMNS_1D
+    if "xhat" in sim:  # the onboard estimate the controller used (feedback="estimate")
+        xh = sim["xhat"][0]
+        rows = [(*row, float(xh[k, 0]), float(xh[k, 1])) for k, row in enumerate(rows)]
+        columns = COLUMNS_1D + COLUMNS_ESTIMATE
+    if vehicle.f_d:
+        head += f", carrier f_c + f_d = {drawn.common['f_c'] + vehicle.f_d:g} Hz"
+    if vehicle.feedback == "estimate":
+        head += ", feedback on the onboard estimate"
     summary = f"simulated {t.size} samples: {head}, R {vehicle.R:g}" + (
         f" (ANR {anr:.4g} = {anr_log10:.1f} dB; the paper's 10*ln label {anr_ln:.1f})"
         if anr > 0
         else " (ANR 0)"
     )
-    return SimulatedRecord(Table(COLUMNS_1D, rows, meta), t, x, r, y, z, vehicle.a_sig, summary)
+    return SimulatedRecord(Table(columns, rows, meta), t, x, r, y, z, vehicle.a_sig, summary)
 
 
 def _record_2d(cfg: RecordConfig, vehicle: Vehicle2D, drawn: _Drawn) -> SimulatedRecord:

@@ -99,12 +99,12 @@ class Vehicle2D(ClosedLoop):
     bearing is undefined); sig_axes one of both, x, y.
 
     Attributes:
-        T: Sample interval [s] [A: 0.05 s].
+        T: Sample interval [s] (assumed: 0.05 s).
         K: Feedback gain (k1, k2), the same on both axes [A].
         a_sig: Signature amplitude a_x = a_y = a_sig on the axes in ``sig_axes`` (0.5 in the paper).
         a_r: Reference amplitude (10 in the paper).
         f_r: Reference frequency [Hz] (0.01 in the paper's Fig 7).
-        sigma_a: True white-acceleration noise per axis [m/s²] [A: 0.01].
+        sigma_a: True white-acceleration noise per axis [m/s²] (assumed: 0.01).
         R_range: Range-noise variance R_κ [m²].
         R_bearing: Bearing-noise variance R_χ [rad²].
         start: Initial position (x_0, y_0) [m], zero velocity ((70, −20) in the paper).
@@ -172,7 +172,8 @@ def simulate_2d(
 
     Args:
         cfg: Vehicle parameters.
-        z, zdot: Signature and its derivative, (B, N); scaled per axis by ``cfg.amplitudes``.
+        z: Signature, (B, N); scaled per axis by ``cfg.amplitudes``.
+        zdot: Its derivative, (B, N).
         w: Standard-normal process-noise draws (B, N, 2) (x, y), scaled by σ_a here.
         v: Standard-normal measurement-noise draws (B, N, 2) (range, bearing), scaled here.
 

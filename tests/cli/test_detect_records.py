@@ -443,7 +443,8 @@ def test_a_bad_code_table_names_its_file_and_line(tmp_path, capsys):
 
 
 def test_record_options_are_refused_with_the_monte_carlo(capsys):
-    for opt in (("--R", "1e-3"), ("--columns", "time=t"), ("--codes", "gold:45,75:3"), ("--T", "0.1")):
+    # (the model options --T, --mrho, --K, --a-r, … are the Monte Carlo's own: tests/cli/test_detect_options.py)
+    for opt in (("--R", "1e-3"), ("--columns", "time=t"), ("--codes", "gold:45,75:3"), ("--f-r", "0.1")):
         err = one_line_error(capsys, "detect", "--montecarlo", "--trials", "1", *opt)
         assert opt[0] in err and "applies to a record" in err
 

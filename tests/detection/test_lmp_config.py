@@ -54,6 +54,7 @@ CASES = [
     (LMPConfig, dict(weights="both"), "weights"),
     (LMPConfig, dict(zdot="numeric"), "zdot"),
     (LMPConfig, dict(center="h1"), "center"),
+    (LMPConfig, dict(q_model="density"), "q_model"),
     (RadarLMPConfig, dict(c_r=-1.0), "c_r"),
     (RadarLMPConfig, dict(Q0=(1.0,) * 4), "Q0"),
     (RadarLMPConfig, dict(Q1=(1.0,) * 2), "Q1"),
