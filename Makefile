@@ -7,10 +7,14 @@ BIN    := $(VENV)/bin
 HASH   := $(shell cat pyproject.toml | cksum | cut -d' ' -f1)
 RUN_STAMP := $(VENV)/.stamp-run-$(HASH)
 DEV_STAMP := $(VENV)/.stamp-dev-$(HASH)
+DOCS_STAMP := $(VENV)/.stamp-docs-$(HASH)
+# Material for MkDocs prints an end-of-life notice on every build (May 2027); what a move to its successor
+# would take is noted in docs/hooks/README.md. The notice asks nothing of this build.
+export NO_MKDOCS_2_WARNING := 1
 MATHJAX   := docs/javascripts/mathjax/tex-svg.js
 OUT    ?= out
 
-.PHONY: demo demo-compare test lint pytest docs browser-check serve clean bench reproduce
+.PHONY: demo demo-compare test preflight lint pytest docs browser-check serve clean bench reproduce
 
 $(BIN)/python:
 	$(PYTHON) -c 'import sys; assert sys.version_info >= (3, 11), "motionsig needs Python >= 3.11"'
@@ -23,14 +27,18 @@ $(RUN_STAMP): pyproject.toml | $(BIN)/python
 
 $(DEV_STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e '.[test,docs]'
+	touch $@ $(RUN_STAMP) $(DOCS_STAMP)
+
+$(DOCS_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install -q -e '.[docs]'
 	touch $@ $(RUN_STAMP)
 
-## demo: the main job — simulate a vehicle carrying a mode signature and detect its mode (seed 000)
+## demo: the main job — simulate a vehicle carrying a mode signature and detect its mode (the mode-signature paper)
 demo: $(RUN_STAMP)
 	@mkdir -p $(OUT)
 	@echo '== simulate | detect: mode 2, code phase 5 chips, ANR label 48.3 (R = 1e-3); LMP bank of 187 Kalman filters'
 	$(BIN)/motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot $(OUT)/fig2.png | $(BIN)/motionsig detect --plot $(OUT)/fig3.png
-	@echo '== Table I of seed 000: printed vs corrected Gold codes (errata view)'
+	@echo '== Table I of the mode-signature paper: printed vs corrected Gold codes (errata view)'
 	$(BIN)/motionsig encode table1 --view errata
 	@echo '== The 33-member Gold family of the preferred pair 45/75, piped into the correlation analysis'
 	$(BIN)/motionsig encode gold --poly1 45 --poly2 75 --all | $(BIN)/motionsig encode correlations - --view values
@@ -40,7 +48,7 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig detect --montecarlo --method fft --trials 200 --fr-list 0.01 --horizons 5,10,20,40 | grep -v '^#'
 	@echo '== Threshold calibration (the seed gives no false-alarm rate): P_FA = 0.01 from 2000 null trials per cell, P_D at it, ROC curves'
 	$(BIN)/motionsig detect --calibrate --method fft --pfa 0.01 --trials 200 --R-list 1,10 --horizons 5,10,20 --plot $(OUT)/roc.png | grep -v '^#'
-	@echo '== Seed 000 Fig 7 setting: a planar vehicle seen by a radar (range, bearing); LMP bank of 187 unscented filters'
+	@echo '== The mode-signature paper, Fig 7 setting: a planar vehicle seen by a radar (range, bearing); LMP bank of 187 unscented filters'
 	$(BIN)/motionsig simulate --example 2d --mode 3 --tau-chips 7 --duration 30 --plot $(OUT)/radar.png | $(BIN)/motionsig detect --horizons 10,30
 	@echo '== ATC-10 Table 2.1: jammer ERP that mislocates 10 % of the airborne aircraft, ours beside the printed values'
 	$(BIN)/motionsig jam-bound table --which 2.1
@@ -50,9 +58,9 @@ demo: $(RUN_STAMP)
 	$(BIN)/motionsig track-sat table --which 4.3
 	@echo '== ATC-10 Fig 4.3: RMS error vs update, tracking then a 60 s three-satellite outage (Example II)'
 	$(BIN)/motionsig track-sat rms --figure 4.3 --plot $(OUT)/fig4_3.png -o $(OUT)/fig4_3.csv
-	@echo '== Seed 001: track existence from four radars in clutter, CKF / DKF / LKF and Wald decisions (20 runs)'
+	@echo '== The SLRT slides (Govaers): track existence from four radars in clutter, CKF / DKF / LKF and Wald decisions (20 runs)'
 	$(BIN)/motionsig slrt --view decisions --runs 20 --plot $(OUT)/slrt.png
-	@echo '== Seed 002: a target turning twice; IMM, GLR, MLR and a CV Kalman filter on the same 100 runs (summary table)'
+	@echo '== The EBPSK paper (Yao, Teng & Wu): a target turning twice; IMM, GLR, MLR and a CV Kalman filter on the same 100 runs (summary table)'
 	$(BIN)/motionsig maneuver --method all --view summary --runs 100 --plot $(OUT)/maneuver.png --plot-compare $(OUT)/maneuver_compare.png
 	@echo '== ATC-10 Fig 3.3: ROC bounds under multiple-access noise (uniform density) with the exact ROC; the printed numbers of §3 beside ours'
 	$(BIN)/motionsig mac-roc bounds --figure 3.3 --exact --theta 0.02:0.98:0.02 --plot $(OUT)/fig3_3.png -o $(OUT)/fig3_3.csv
@@ -65,11 +73,21 @@ demo-compare: $(RUN_STAMP)
 	$(BIN)/python scripts/demo_outputs.py against $(REV)
 
 ## test: ruff, pytest, strict docs build (executes the notebooks), browser check of the built site
-test: $(DEV_STAMP) $(MATHJAX)
+## (checks for its system packages, chromium and npm, before anything else)
+test: preflight $(DEV_STAMP) $(MATHJAX)
 	$(BIN)/ruff check .
 	$(BIN)/python -m pytest
 	$(BIN)/mkdocs build --strict
 	$(BIN)/python scripts/browser_check.py site
+
+preflight:
+	@missing=""; \
+	for c in chromium npm; do command -v $$c >/dev/null 2>&1 || missing="$$missing $$c"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "make test: missing system packages:$$missing (the docs build needs npm, the browser check chromium)."; \
+	  echo "  install them with: sudo apt-get update && sudo apt-get install -y$$missing   (or run: bash .ci/run)"; \
+	  exit 2; \
+	fi
 
 lint: $(DEV_STAMP)
 	$(BIN)/ruff check .
@@ -77,13 +95,13 @@ lint: $(DEV_STAMP)
 pytest: $(DEV_STAMP)
 	$(BIN)/python -m pytest
 
-docs: $(DEV_STAMP) $(MATHJAX)
+docs: $(DOCS_STAMP) $(MATHJAX)
 	$(BIN)/mkdocs build --strict
 
-browser-check: docs
+browser-check: docs $(DEV_STAMP)
 	$(BIN)/python scripts/browser_check.py site
 
-serve: $(DEV_STAMP) $(MATHJAX)
+serve: $(DOCS_STAMP) $(MATHJAX)
 	$(BIN)/mkdocs serve -a 127.0.0.1:8000
 
 # MathJax 3 comes from the npm registry at build time (no CDN in the built site).
@@ -92,7 +110,8 @@ $(MATHJAX): scripts/fetch_mathjax.sh
 
 ## bench: side-by-side timing of the LMP filter banks, the FFT path and the IMM against FilterPy, and of the
 ## Monte Carlo engine (1 worker, 2 workers, Dask) and the start-up of the command line; results in benchmarks/results/, copied with a figure to
-## docs/performance/ and the Performance page (not part of the tests; ~10 minutes on 2 cores)
+## docs/performance/ and the Performance page (not part of the tests; ~10 minutes on 2 cores). Where JAX imports
+## (optional: pip install -e '.[bench-jax]'), bench_kf_bank.py also times the bank against JAX on one core; without it, that part is skipped
 bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench,dask]'
 	$(BIN)/python benchmarks/bench_kf_bank.py
@@ -100,6 +119,7 @@ bench: $(DEV_STAMP)
 	$(BIN)/python benchmarks/bench_imm.py
 	$(BIN)/python benchmarks/bench_slrt.py
 	$(BIN)/python benchmarks/bench_fft.py
+	$(BIN)/python benchmarks/bench_radar_fast.py
 	$(BIN)/python benchmarks/bench_engine.py
 	$(BIN)/python benchmarks/bench_startup.py
 	$(BIN)/python scripts/bench_report.py
@@ -107,6 +127,8 @@ bench: $(DEV_STAMP)
 ## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), seed 002 (results/seed002/), ATC-10 §2 (results/atc10_jamming/), §3 (results/atc10_mac/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)
 	$(BIN)/python scripts/reproduce_seed000.py
+	$(BIN)/python scripts/reproduce_lmp_search.py
+	$(BIN)/python scripts/reproduce_baseline_roc.py
 	@mkdir -p results/seed001
 	$(BIN)/motionsig slrt --plot results/seed001/slrt.png --plot-scan results/seed001/scan.png -o results/seed001/slrt_curves.csv -q
 	$(BIN)/motionsig slrt --view decisions --runs 200 -o results/seed001/slrt_decisions.csv -q
