@@ -115,7 +115,8 @@ print(
 # "synchronous", but at the geosynchronous radius (6.61 Earth radii) the geometry misses Table 4.2 by
 # 2–21 %. Fitting the radius alone to the five printed constants of each example gives about 9.26 R_E
 # (Ex. I) and 9.21 R_E (Ex. II); both together give **9.235 R_E**, and then every printed value is matched
-# within 0.5 %. We cannot explain the radius; the `report` convention uses it, the `corrected` convention
+# within 0.5 %. The radius is fitted, not explained (9.235 R_E is no synchronous orbit: its period is 39.5 h);
+# the `report` convention uses it, the `corrected` convention
 # uses the true geosynchronous radius.
 
 # %%
@@ -549,8 +550,9 @@ md_table(["Ex", "convention", "eN/e0, σ0 = 5/50/500", "eN → eN+1, σ0 = 5 [ft
 #   The jump comes from tr₃ (14.9 against 3.99 in Ex. II) and, for larger σ0, from the one-step clock prediction
 #   $(\sigma_0/\sigma)^2(2/\psi)b_3$. Survives in part.
 # - **Rule 4** ("30 to 60 s" of acceptable three-satellite tracking if σ0 ≲ 0.1σ): the threshold is never
-#   stated. A relative threshold of about 1.8·e0 gives 30 s and 59 s (below); 2·e0 gives 35 s and 69 s. With the
-#   correct $b_3$ the times are much longer. Qualitative only.
+#   stated. Fitted: a relative threshold of 1.78–1.81·e0 gives 30 s and 59–60 s (1.8·e0: 30 s and 59 s, below);
+#   2·e0 gives 35 s and 69 s. Only the ratio of the two times (about 2 for any k from 1.5 to 2) holds without
+#   the fit. With the correct $b_3$ the times are much longer. Qualitative only.
 # - **§1.3/§4.7**: gains need a clock better than σ/τ̄ = 5·10⁻⁸ over one update, and tens of seconds of outage
 #   need about 10× better (5·10⁻⁹). ✔ in both conventions.
 #

@@ -46,13 +46,18 @@ PDL_SET_K1 = (0.88, 0.9, 0.99, 0.999)  # [A] Figs 2.1/2.2: the text cites 0.9, 0
 MAX_POINTS = 1_000_000  # points of one x grid
 MAX_ROWS = 200_000  # rows of one curves table (designs × bounds × points), about 30 MB of CSV
 
-# Tolerances of Table 2.1: the printed values are read off log plots to whole dB
-# (±0.6 dB); K = 100 at 0.88 deviates 0.65 dB (±1 dB); K = 1000 is ill-conditioned: p_f* is within
-# 6 % of its ceiling p_d, so a 13 % change in the ordinate (invisible on a log plot) moves it 1.3 dB.
+# Tolerances of Table 2.1: the printed values are read off log plots to whole dB. A row's tolerance is
+# ±0.5 dB (whole dB) plus S·ε, S = d ERP / d log10(N̄_ADL/N_T) at the crossing and ε the reading error of
+# the log ordinate. S = 1.55, 1.06, 1.72 dB per decade for K = 10 (0.88, 0.999) and K = 100 (0.999):
+# their ±0.6 dB allows ε = 0.1/1.72 = 0.058 decade (14 %) at the steepest of them. K = 100 at 0.88 is
+# worse conditioned (S = 3.00: p_f*/p_d = 0.52, the curve flatter at the crossing), so the same ε gives
+# ±(0.5 + 3.00·0.058) = ±0.67 dB; it deviates 0.65 dB (printed 56 needs the ordinate read ≥ 11.8 % high).
+# K = 1000 is ill-conditioned: p_f* is within 6 % of its ceiling p_d (S = 22 dB per decade), so a 13 %
+# change in the ordinate (invisible on a log plot) moves it 1.3 dB.
 TABLE_2_1_TOL_DB = {
     (10, 0.88): 0.6,
     (10, 0.999): 0.6,
-    (100, 0.88): 1.0,
+    (100, 0.88): 0.67,
     (100, 0.999): 0.6,
     (1000, 0.999): 2.0,
 }
