@@ -13,6 +13,27 @@ from matplotlib.figure import Figure
 from motionsig_cli.signals.signature import Signature
 
 
+def _wrap(text: str, width: int) -> str:
+    """``text`` broken after its ", " / "; " separators into lines of at most ``width`` characters (a title
+    that would otherwise run past its panel or the figure; a part longer than ``width`` keeps its line)."""
+    if len(text) <= width:
+        return text
+    parts: list[str] = []
+    start = 0
+    for i, ch in enumerate(text):
+        if ch in ",;" and text[i + 1 : i + 2] == " ":
+            parts.append(text[start : i + 1])
+            start = i + 2
+    parts.append(text[start:])
+    lines = [parts[0]]
+    for part in parts[1:]:
+        if len(lines[-1]) + 1 + len(part) <= width:
+            lines[-1] += " " + part
+        else:
+            lines.append(part)
+    return "\n".join(lines)
+
+
 def signature_figure(sig: Signature, *, title: str = "", theta: float = 0.0, f_c: float = 1.0) -> Figure:
     """Chips p_k[τ], carrier cos(2π f_c t_k + θ) and signature z_k (eqs 1–3 of the mode-signature paper), stacked."""
     fig = Figure(figsize=(8, 5.5), layout="constrained")
@@ -27,7 +48,10 @@ def signature_figure(sig: Signature, *, title: str = "", theta: float = 0.0, f_c
     axes[2].plot(sig.t, sig.z_cos, color="0.6", lw=0.8, ls="--", label=r"$z_{\cos,k}$ replica")
     axes[2].set_ylabel(r"signature $z_k$")
     axes[2].set_xlabel("time t [s]")
-    axes[2].legend(loc="upper right", fontsize="small")
+    top = max(float(np.max(np.abs(sig.z), initial=0.0)), float(np.max(np.abs(sig.z_cos), initial=0.0)), 1e-12)
+    axes[2].set_ylim(-1.2 * top, 2.0 * top)  # headroom above the waveform for the legend
+    axes[2].set_yticks([-top, 0.0, top], [f"−{top:.3g}", "0", f"{top:.3g}"])
+    axes[2].legend(loc="upper right", fontsize="small", ncol=2)
     for ax in axes:
         ax.grid(alpha=0.3)
     if title:
@@ -36,18 +60,46 @@ def signature_figure(sig: Signature, *, title: str = "", theta: float = 0.0, f_c
 
 
 def correlation_figure(lags: np.ndarray, values: np.ndarray, labels: list[str], bound: int | None) -> Figure:
-    """Periodic correlation R[ℓ] against lag for a few code pairs, with ±t(n) lines."""
-    fig = Figure(figsize=(8, 3.5), layout="constrained")
-    ax = fig.add_subplot()
-    for v, lab in zip(values, labels, strict=True):
-        ax.plot(lags, v, marker=".", lw=0.8, label=lab)
-    if bound is not None:
-        for y in (-bound, bound - 2):
-            ax.axhline(y, color="k", lw=0.6, ls=":")
-    ax.set_xlabel("lag ℓ [chips]")
-    ax.set_ylabel("periodic correlation R[ℓ]")
-    ax.legend(fontsize="small", ncol=2)
-    ax.grid(alpha=0.3)
+    """Periodic correlation R[ℓ] against lag, one panel per code pair (stacked, shared lag axis), with the
+    ±t(n) lines. A peak far above the rest of its curve (R[0] = n of an autocorrelation) is cut at the top
+    of its panel and its value written there, so that the side lobes, the point of the figure, stay
+    readable; codes longer than 64 chips are drawn as dots without lines."""
+    n_pairs = len(labels)
+    fig = Figure(figsize=(8, 0.6 + 1.25 * n_pairs), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(n_pairs, 1, sharex=True, squeeze=False)).ravel()
+    dense = len(lags) > 64
+    style = dict(ls="none", marker=".", ms=2.0) if dense else dict(marker=".", ms=4, lw=0.8)
+    for i, (ax, v, lab) in enumerate(zip(axes, values, labels, strict=True)):
+        mag = np.abs(v)
+        peak = int(np.argmax(mag))
+        rest = np.delete(mag, peak)
+        side = float(rest.max()) if rest.size else float(mag[peak])
+        ref = max(side, float(bound) if bound is not None else 0.0, 1.0)
+        ax.plot(lags, v, color=f"C{i % 10}", **style)
+        ax.set_ylim(-1.45 * ref, 1.45 * ref)  # the top 15 % stays free for the note of a cut peak
+        if mag[peak] > 2.0 * ref:  # an autocorrelation peak: cut at the top, its value written there
+            ax.text(
+                0.995,
+                0.97,
+                f"R[{lags[peak]:g}] = {v[peak]:g} (off scale)",
+                transform=ax.transAxes,
+                ha="right",
+                va="top",
+                fontsize="x-small",
+            )
+        if bound is not None:
+            for y in (-bound, bound - 2):
+                ax.axhline(y, color="k", lw=0.6, ls=":")
+        ax.set_ylabel(lab, fontsize="small")
+        ax.grid(alpha=0.3)
+    ax0 = axes[0]
+    ax0.set_title(
+        "periodic correlation R[ℓ]"
+        + ("" if bound is None else f"; dotted: −t(n) and t(n) − 2, t(n) = {bound}"),
+        fontsize="medium",
+    )
+    axes[-1].set_xlabel("lag ℓ [chips]")
+    axes[-1].set_xlim(lags[0] - 0.01 * (lags[-1] - lags[0] + 1), lags[-1] + 0.01 * (lags[-1] - lags[0] + 1))
     return fig
 
 
@@ -85,7 +137,7 @@ def statistic_figure(
             ax.plot(tau_chips, lam[i], marker=".", lw=0.8, label=f"mode {i + 1}")
         if truth is not None:
             ax.plot(tau_chips[truth[1]], lam[truth], "k*", ms=12, label="truth")
-        ax.set_title(title, fontsize="medium")
+        ax.set_title(_wrap(title, 50), fontsize="medium")
         ax.set_xlabel("candidate code phase τ [chips]")
         ax.set_ylabel("Λ(i, τ)")
         ax.grid(alpha=0.3)
@@ -171,7 +223,17 @@ def psi_figure(alpha: np.ndarray, exact: np.ndarray, large: np.ndarray, small: n
     )
     for i, (a, p, label) in enumerate(marks):
         ax.plot(a, p, "o", mfc="none", color="C2", label="Table 4.3 (printed)" if i == 0 else None)
-        ax.annotate(label, (a, p), textcoords="offset points", xytext=(4, -10), fontsize="x-small")
+        # off the rising curve: below right, or above left where below right would be cut off by the bottom
+        # edge (ψ < 0.1) or cross the small-α form (0.5 < ψ < 0.85); above left of ψ > 0.85 is the legend
+        low = p < 0.1 or 0.5 < p < 0.85
+        ax.annotate(
+            label,
+            (a, p),
+            textcoords="offset points",
+            xytext=(-4, 5) if low else (4, -10),
+            ha="right" if low else "left",
+            fontsize="x-small",
+        )
     ax.set_ylim(0, 1.02)
     ax.set_xlabel(r"$\alpha = (8/27)\,\sigma_0^2\beta/\sigma^2$")
     ax.set_ylabel(r"$\psi(\alpha)$")
@@ -233,9 +295,27 @@ def slrt_figure(panels: list[tuple[str, np.ndarray, dict[str, tuple[np.ndarray, 
             ax.fill_between(k, lo, hi, color=c, alpha=0.15, lw=0)
             ax.plot(k, mean, color=c, lw=1.5, label=f"{name.upper()} (mean)")
         if thresholds is not None:
+            # log B's label above its line, log A's below its own: never on top of each other, however close
+            # the two lines are on the panel's scale; the limits leave room for both labels.
+            lo_t, hi_t = min(thresholds), max(thresholds)
+            y0, y1 = ax.get_ylim()
+            y0, y1 = min(y0, lo_t), max(y1, hi_t)
+            pad = 0.09 * (y1 - y0)
+            ax.set_ylim(min(y0, lo_t - pad), max(y1, hi_t + pad))
             for v, lab in zip(thresholds, ("log A (delete)", "log B (confirm)"), strict=True):
+                above = v == hi_t and lo_t < hi_t
                 ax.axhline(v, color="0.4", ls=":", lw=1)
-                ax.annotate(lab, (k[-1], v), fontsize="x-small", ha="right", va="bottom", color="0.3")
+                ax.annotate(
+                    lab,
+                    (1.0, v),
+                    xycoords=("axes fraction", "data"),
+                    xytext=(-3, 1.5 if above else -1.5),
+                    textcoords="offset points",
+                    fontsize="x-small",
+                    ha="right",
+                    va="bottom" if above else "top",
+                    color="0.3",
+                )
         ax.set_title(title, fontsize="medium")
         ax.set_xlabel("scan k")
         ax.set_ylabel("log LR(k)")
@@ -263,7 +343,7 @@ def slrt_scan_figure(sensors: np.ndarray, clutter_xy: list[np.ndarray], target_x
     ax.set_xlabel("x [km]")
     ax.set_ylabel("y [km]")
     ax.grid(alpha=0.3)
-    ax.legend(fontsize="x-small", loc="upper left", ncol=2)
+    fig.legend(fontsize="x-small", loc="outside lower center", ncol=3)  # below the plane: hides no point
     if title:
         ax.set_title(title)
     return fig
@@ -352,9 +432,15 @@ def maneuver_figure(
     a4.set_ylabel("[m]")
     if any(np.any(sd > 0) for _, _, _, sd, _ in per_sigma):
         a4.set_yscale("log")
+        lo, hi = a4.get_ylim()
+        a4.set_ylim(lo, hi * (hi / lo) ** 0.3)  # a free band above the curves for the legend
     a5.set_title(f"mean {method} model probabilities", fontsize="medium")
     a5.set_ylabel("μ_j(k)")
-    a5.set_ylim(0, 1)
+    if any(mu is not None for *_, mu in per_sigma):
+        a5.set_ylim(0, 1.3)  # a free band above μ = 1 for the legend
+        a5.set_yticks(np.linspace(0.0, 1.0, 6))
+    else:
+        a5.set_ylim(0, 1)
     if not any(mu is not None for *_, mu in per_sigma):
         a5.text(
             0.5, 0.5, f"no model probabilities ({method})", ha="center", va="center", transform=a5.transAxes
@@ -566,7 +652,7 @@ def calibration_roc_figure(
         ax.set_xlabel("$P_{FA}$ (no signature)")
         ax.grid(alpha=0.3, which="both")
     axes[0].set_ylabel("$P_D$ (max Λ > t)")
-    axes[0].legend(title="horizon", fontsize="small")
+    axes[0].legend(title="horizon", fontsize="small", loc="lower right")  # below an ROC's curves: empty
     if title:
         fig.suptitle(title)
     return fig
@@ -752,7 +838,9 @@ def ebpsk_front_end_figure(
     axes[2].semilogy(scan, sigma_cross, color="C4", ls="--", lw=1, label=r"cross-range $r\sigma_\varphi$")
     axes[2].semilogy(scan, sigma_range, color="C5", ls=":", lw=1, label=r"range $\sigma_r$")
     for i, s in enumerate(sigma_paper):
-        axes[2].axhline(s, color="k", ls=(0, (4, 2 + 2 * i)), lw=0.8, label=f"paper σ = {s:g} m")
+        axes[2].axhline(
+            s, color=("k", "0.5")[i % 2], ls=(0, (4, 2 + 2 * i)), lw=0.9, label=f"paper σ = {s:g} m"
+        )
     axes[2].set_ylabel(r"$\sigma$ [m]")
     axes[2].set_xlabel("scan k")
     axes[2].legend(fontsize="small", ncol=2)
