@@ -36,7 +36,7 @@ OUT = ROOT / "docs" / "performance"
 PAGE = ROOT / "docs" / "performance.md"
 FIGURE = "performance.svg"
 BEGIN, END = "<!-- bench:begin -->", "<!-- bench:end -->"
-ENV_KEYS = ("machine", "cores", "python", "numpy", "scipy", "filterpy", "dask", "distributed")
+ENV_KEYS = ("machine", "cores", "python", "numpy", "scipy", "filterpy", "dask", "distributed", "jax")
 TITLES = {
     "bench_kf_bank": "Kalman filter bank (Fig 4 of the mode-signature paper)",
     "bench_ukf_bank": "Sigma-point (UKF) bank, radar (Fig 7 of the mode-signature paper)",

@@ -623,8 +623,16 @@ class RadarLMPConfig:
 
 
 def _range_bearing_rows(s: np.ndarray) -> np.ndarray:
-    """Eq (60) for states stacked on the first axis (x = s[0], y = s[2]); the bank's hot path."""
-    return np.stack([np.hypot(s[0], s[2]), np.arctan2(s[2], s[0])])
+    """Eq (60) for states stacked on the first axis (x = s[0], y = s[2]); the bank's hot path. The range is
+    √(x² + y²) (not np.hypot, whose overflow guard costs more than the rest of the range: positions are far
+    from 1e154 m), written with the bearing straight into one array."""
+    x, y = np.asarray(s[0], dtype=float), np.asarray(s[2], dtype=float)
+    out = np.empty((2, *x.shape))
+    r = np.multiply(x, x, out=out[0, ...])
+    r += y * y
+    np.sqrt(r, out=r)
+    np.arctan2(y, x, out=out[1, ...])
+    return out
 
 
 def radar_measurement(vehicle: Vehicle2D, c_r: float) -> SigmaMeasurement:

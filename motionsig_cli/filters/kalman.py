@@ -17,6 +17,18 @@ the same missing pattern. This is the exact likelihood of the samples that are p
 error decomposition of eqs (48)–(49) over the observed samples, the transition over a gap being the
 product of the F_k it spans.
 
+The structured path: where one state is measured (H = e_sᵀ, so S is a number and the gain a column)
+and the transitions of every filter and step differ from one shared matrix A only in the entries of one
+column (F_k^c = A + v_k^c e_jᵀ: the LMP banks of eq 44, whose H1 filters add the amplitude column to the
+ẋ row), the recursions run on that structure (:func:`column_structure` finds it by comparing the
+transitions exactly; other banks take the general stacked-matrix recursion): covariances stored as
+their distinct entries with the filters last (:class:`_Packed`), so that A P Aᵀ of every filter is one
+BLAS product per step and the v terms a few elementwise passes; the Joseph update in closed form; the
+means of every filter and trial as one array, A x one BLAS product per step. A bank whose transition is
+constant stops its Riccati recursion where the predicted covariance repeats to the last bit (its fixed
+point: the remaining steps would compute the same numbers) and, with constant gains, computes its
+innovations block by block in time (:func:`_steady_tail`). The two paths agree to rounding (tests).
+
 The loops over time take an optional ``progress`` callback, called with the number of time steps done
 once per block of :data:`PROGRESS_BLOCK` steps (and at the end): a long single record shows a bar.
 """
@@ -24,7 +36,7 @@ once per block of :data:`PROGRESS_BLOCK` steps (and at the end): a long single r
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -128,12 +140,16 @@ class BankGains:
         S_inv: Inverse innovation covariances, (C, N, m, m) (zero at a skipped step).
         logdet_2pi_S: log det(2π S_k), (C, N) (zero at a skipped step).
         skip: The predict-only steps (N,) bool, or None (every step updates).
+        transition: The structure of the bank's F_k found by :func:`riccati` (:class:`ColumnStructure`),
+            reused by :func:`innovation_costs` and :func:`expected_costs_white_noise` when they are given
+            the same ``F_at`` callable; None where the bank ran the dense recursion.
     """
 
     K: np.ndarray
     S_inv: np.ndarray
     logdet_2pi_S: np.ndarray
     skip: np.ndarray | None = None
+    transition: ColumnStructure | None = field(default=None, repr=False, compare=False)
 
 
 def _check_psd(name: str, M: np.ndarray) -> None:
@@ -143,6 +159,256 @@ def _check_psd(name: str, M: np.ndarray) -> None:
         raise ValueError(f"{name} is not symmetric")
     if np.min(np.linalg.eigvalsh(M)) < -1e-12 * max(1.0, float(np.abs(M).max())):
         raise ValueError(f"{name} is not positive semi-definite")
+
+
+# ---------------------------------------------------------------------------------------------------
+# The structured path: H = e_sᵀ (one state measured), F_k^c = A + v_k^c e_jᵀ (the LMP banks, eq 44)
+# ---------------------------------------------------------------------------------------------------
+
+STRUCTURE_BLOCK = 64  # time steps of F_k held at once while :func:`column_structure` reads a bank
+
+
+@dataclass(frozen=True)
+class ColumnStructure:
+    """A bank whose transitions differ from one shared matrix in a single column:
+    F_k^c = A + Σ_{r ∈ rows} v[k, r, c] e_r e_colᵀ (eq 44: the H1 filters' a-column in the ẋ row).
+
+    Attributes:
+        A: The shared part (n, n), zero at the varying entries (rows, col).
+        col: The column j of the varying entries (meaningless when ``rows`` is empty).
+        rows: Their rows (may be empty: every filter has the transition A at every step).
+        values: F_k^c at (rows, col), (N − 1, len(rows), C) (C = 1: the same for every filter).
+        source: The ``F_at`` callable read (None: built directly).
+    """
+
+    A: np.ndarray
+    col: int
+    rows: tuple[int, ...]
+    values: np.ndarray
+    source: TransitionFn | None = None
+
+    def __getstate__(self) -> dict[str, object]:
+        """Pickled without ``source`` (a closure may not pickle; a copy is matched to no callable)."""
+        return {**self.__dict__, "source": None}
+
+
+def column_structure(F_at: TransitionFn, n_steps: int, n_filters: int, n: int) -> ColumnStructure | None:
+    """The :class:`ColumnStructure` of the transitions F_at(k), k < n_steps − 1 (the ones a recursion of
+    n_steps applies), found by comparing every entry of every F_k^c with filter 0's F_0, exactly; None
+    where the entries that differ span more than one column, or F_at's shapes are not (n, n) or
+    (n_filters, n, n) throughout.
+
+    Each F_k is compared as it comes and the entries known to vary are copied out (F_at may return one
+    array that it changes in place); every :data:`STRUCTURE_BLOCK` steps the entries that differed so far
+    are collected, and a block that reveals a new varying entry is read again (the earlier blocks held
+    F_0's value there)."""
+    n_pred = max(n_steps - 1, 0)
+    if n_pred == 0:
+        return ColumnStructure(np.zeros((n, n)), 0, (), np.zeros((0, 0, 1)), F_at)
+    F_first = np.asarray(F_at(0), dtype=float)
+    F_first = F_first[None] if F_first.ndim == 2 else F_first
+    if F_first.ndim != 3 or F_first.shape[1:] != (n, n) or F_first.shape[0] not in (1, n_filters):
+        return None
+    shape = F_first.shape
+    ref = F_first[0].copy()
+    if shape[0] == 1:  # one F for every filter: hold them all, compare once
+        every = np.empty((n_pred, n, n))
+        for k in range(n_pred):
+            Fk = np.asarray(F_at(k), dtype=float)
+            if Fk.shape != (n, n) and Fk.shape != shape:
+                return None
+            every[k] = Fk.reshape(n, n)
+        varying = np.not_equal(every, ref).any(axis=0)
+        cols = np.flatnonzero(varying.any(axis=0))
+        if cols.size > 1:
+            return None
+        col = int(cols[0]) if cols.size else 0
+        rows = tuple(int(r) for r in np.flatnonzero(varying[:, col])) if cols.size else ()
+        A = ref.copy()
+        A[list(rows), col] = 0.0
+        return ColumnStructure(A, col, rows, every[:, list(rows), col][:, :, None], F_at)
+    ref_all = np.ascontiguousarray(np.broadcast_to(ref, shape))
+    differs, step_differs = np.zeros(shape, bool), np.empty(shape, bool)
+    col, rows = 0, ()  # the varying entries found so far
+    values: dict[int, np.ndarray] = {}  # row r ↦ F_k^c at (r, col), (N − 1, C)
+
+    def read(start: int, stop: int, check: bool) -> bool:
+        for k in range(start, stop):
+            Fk = np.asarray(F_at(k), dtype=float)
+            if Fk.shape != shape and Fk.shape != (n, n):
+                return False
+            if check:
+                np.not_equal(Fk, ref_all, out=step_differs)  # NaN differs from everything
+                np.logical_or(differs, step_differs, out=differs)
+            for r in rows:
+                values[r][k] = Fk[..., r, col]
+        return True
+
+    for start in range(0, n_pred, STRUCTURE_BLOCK):
+        stop = min(start + STRUCTURE_BLOCK, n_pred)
+        if not read(start, stop, True):
+            return None
+        varying = differs.any(axis=0)
+        cols = np.flatnonzero(varying.any(axis=0))
+        if cols.size > 1:
+            return None
+        new_rows = tuple(int(r) for r in np.flatnonzero(varying[:, cols[0]])) if cols.size else ()
+        if new_rows != rows:  # entries that vary first in this block: F_0's value before it
+            col = int(cols[0])
+            for r in set(new_rows) - set(rows):
+                values[r] = np.empty((n_pred, shape[0]))
+                values[r][:start] = ref[r, col]
+            rows = new_rows
+            read(start, stop, False)
+    A = ref.copy()
+    A[list(rows), col] = 0.0
+    v = np.stack([values[r] for r in rows], axis=1) if rows else np.zeros((n_pred, 0, 1))
+    return ColumnStructure(A, col, rows, v, F_at)
+
+
+def measured_state(H: np.ndarray) -> int | None:
+    """s where H = e_sᵀ (one row, a single 1, zeros elsewhere), else None."""
+    if H.shape[0] != 1:
+        return None
+    nz = np.flatnonzero(H[0])
+    return int(nz[0]) if nz.size == 1 and H[0, nz[0]] == 1.0 else None
+
+
+class _Packed:
+    """Packed symmetric storage of n × n covariances, filters last, (n(n+1)/2, C): row s first (entries
+    (s, j), j = 0…n−1, in state order), then the other pairs i ≤ j (those of the first varying row of F
+    first). Prediction P ← F P Fᵀ (+ Q) for a :class:`ColumnStructure` F = A + v e_jᵀ:
+    F P Fᵀ = A P Aᵀ + v uᵀ + u vᵀ with w = A P e_j and u = w + ½ P_jj v. A P Aᵀ (+ Q) and w are one
+    product of a fixed (n(n+1)/2 + n) × (n(n+1)/2 + 1) matrix with [packed P; 1] (one BLAS call for every
+    filter), the v terms a few elementwise passes over the rows of F that vary.
+    """
+
+    def __init__(self, n: int, s: int, st: ColumnStructure, Q: np.ndarray | None, n_filters: int) -> None:
+        r0 = st.rows[0] if st.rows else None
+        first = [] if r0 is None or r0 == s else [tuple(sorted((r0, b))) for b in range(n) if b != s]
+        rest = first + [
+            (i, j) for i in range(n) for j in range(i, n) if s not in (i, j) and (i, j) not in first
+        ]
+        pairs = [(s, j) for j in range(n)] + rest
+        self.n, self.s, self.st, self.npk = n, s, st, len(pairs)
+        self.ia = np.array([p[0] for p in pairs])
+        self.ib = np.array([p[1] for p in pairs])
+        at = {frozenset(p): q for q, p in enumerate(pairs)}
+        self.Ir = np.array([i for i, _ in rest], dtype=int)  # the rest: P⁺_ij = P_ij − p_i K_j
+        self.Jr = np.array([j for _, j in rest], dtype=int)
+        A, c, npk = st.A, st.col, len(pairs)
+        Qp = None if Q is None else self.pack(Q, n_filters)
+        self.Q_folded = Qp is not None and Qp.shape[1] == 1  # a shared Q: a column of the product
+        self.Q = None if Qp is None or self.Q_folded else Qp
+        M = np.zeros((npk + (n if st.rows else 0), npk + 1))
+        for qo, (a, b) in enumerate(pairs):
+            for qi, (cc, d) in enumerate(pairs):
+                M[qo, qi] = A[a, cc] * A[b, d] + (A[a, d] * A[b, cc] if cc != d else 0.0)  # (A P Aᵀ)_ab
+            if self.Q_folded:
+                M[qo, npk] = Qp[qo, 0]  # type: ignore[index]
+        if st.rows:
+            for a in range(n):  # w_a = (A P e_j)_a = Σ_c A_ac P_cj
+                for cc in range(n):
+                    M[npk + a, at[frozenset((cc, c))]] += A[a, cc]
+        self.M = M
+        self.jj = at[frozenset((c, c))]
+        self.row_at = {r: np.array([at[frozenset((r, b))] for b in range(n)]) for r in st.rows}
+        # the first varying row r0 ≠ s: its entry (s, r0) at index r0, the others at npk_s … (contiguous)
+        self.fast_row = r0 is not None and r0 != s and (s == 0 or s == n - 1)
+        self.others = slice(1, n) if s == 0 else slice(0, n - 1)
+        self.half_v = 0.5 * st.values  # ½ v (exact)
+        self.Pu = np.empty((npk + 1, n_filters))  # [packed P⁺; 1], the product's input
+        self.Pu[npk] = 1.0
+        self.out = np.empty((M.shape[0], n_filters))
+
+    def pack(self, M: np.ndarray, n_filters: int) -> np.ndarray:
+        """(n, n) or (C, n, n) → (n(n+1)/2, C) ((…, 1) for a shared (n, n))."""
+        M = np.asarray(M, dtype=float)
+        if M.ndim == 2:
+            return M[self.ia, self.ib][:, None].copy()
+        return np.ascontiguousarray(np.broadcast_to(M, (n_filters, self.n, self.n))[:, self.ia, self.ib].T)
+
+    def predict(self, k: int) -> np.ndarray:
+        """F_k P F_kᵀ + Q for the packed P in ``self.Pu[:-1]``: a view of ``self.out`` (overwritten by the
+        next call)."""
+        npk, st = self.npk, self.st
+        out = np.matmul(self.M, self.Pu, out=self.out)
+        Pn = out[:npk]
+        if self.Q is not None:
+            Pn += self.Q
+        if st.rows:
+            u = out[npk:]  # w = A P e_j
+            P = self.Pu
+            for i, r in enumerate(st.rows):
+                u[r] += P[self.jj] * self.half_v[k, i]  # u = w + ½ P_jj v
+            for i, r in enumerate(st.rows):
+                t = st.values[k, i] * u  # v uᵀ + u vᵀ on row r of the packed P
+                t[r] *= 2.0
+                if i == 0 and self.fast_row:
+                    Pn[r] += t[self.s]
+                    Pn[self.n : 2 * self.n - 1] += t[self.others]
+                else:
+                    Pn[self.row_at[r]] += t
+        return Pn
+
+
+def _riccati_structured(
+    st: ColumnStructure, s: int, Q: np.ndarray, r: float, P0: np.ndarray, n_steps: int, C: int,
+    tick: Callable[[int], None], skip: np.ndarray | None,
+) -> BankGains:  # fmt: skip
+    """:func:`riccati` for H = e_sᵀ and a :class:`ColumnStructure` (the arrays are stored filters last;
+    the returned fields are views in :class:`BankGains`' layout).
+
+    A bank with a constant transition (no varying entry, no skipped step ahead) whose predicted
+    covariance repeats exactly (P_{k+1} = P_k to the last bit) has reached the fixed point of its
+    recursion: the remaining gains are copies, exactly what the remaining steps would compute."""
+    pk = _Packed(P0.shape[-1], s, st, Q, C)
+    n, npk = pk.n, pk.npk
+    P = np.ascontiguousarray(np.broadcast_to(pk.pack(P0, C), (npk, C)))
+    Kt = np.zeros((n_steps, n, C))
+    S_all = np.ones((n_steps, C))  # S at the steps that update (1 at a skipped step)
+    Ir, Jr, Pu = pk.Ir, pk.Jr, pk.Pu
+    constant = not st.rows
+    last_skip = -1 if skip is None else int(np.flatnonzero(skip)[-1])
+    for k in range(n_steps):
+        if skip is None or not skip[k]:
+            p = P[:n]  # P Hᵀ = row s of P, (n, C)
+            S = np.add(p[s], r, out=S_all[k])  # innovation covariance, eq (47)
+            K = np.divide(p, S, out=Kt[k])  # Kalman gain P Hᵀ S⁻¹
+            # Joseph form (I−KH)P(I−KH)ᵀ + K R Kᵀ, closed for H = e_sᵀ:
+            np.multiply(K, r, out=Pu[:n])  # P⁺_sj = R P_sj / S
+            np.subtract(P[n:], p[Ir] * K[Jr], out=Pu[n:npk])  # P⁺_ij = P_ij − P_is P_sj / S (i, j ≠ s)
+        else:
+            Pu[:npk] = P
+        if k + 1 < n_steps:
+            P_new = pk.predict(k)  # P ← F P Fᵀ + Q
+            if constant and k > last_skip and np.array_equal(P_new, P):  # the fixed point: P_{k+1} = P_k
+                Kt[k + 1 :] = Kt[k]
+                S_all[k + 1 :] = S_all[k]
+                for j in range(k, n_steps):
+                    tick(j)
+                break
+            P = P_new.copy() if constant else P_new
+        tick(k)
+    S_inv = np.divide(1.0, S_all)
+    logdet = np.log(2 * np.pi * S_all)
+    if skip is not None:
+        S_inv[skip], logdet[skip] = 0.0, 0.0
+    return BankGains(Kt.transpose(2, 0, 1)[..., None], S_inv.T[:, :, None, None], logdet.T, skip, st)
+
+
+def _structure_for(gains: BankGains, F_at: TransitionFn, n_steps: int, n: int) -> ColumnStructure | None:
+    st = gains.transition
+    if st is not None and st.source is F_at:
+        return st
+    return column_structure(F_at, n_steps, gains.K.shape[0], n)
+
+
+def _filters_last_gains(gains: BankGains, N: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """K (N, n, C), S⁻¹ (N, C), log det(2πS) (N, C) of a bank with m = 1 (views where they are stored so)."""
+    K = np.ascontiguousarray(np.moveaxis(gains.K[:, :N, :, 0], 0, -1))
+    S_inv = np.ascontiguousarray(gains.S_inv[:, :N, 0, 0].T)
+    return K, S_inv, np.ascontiguousarray(gains.logdet_2pi_S[:, :N].T)
 
 
 def riccati(
@@ -157,10 +423,12 @@ def riccati(
     progress: Progress = None,
     skip: np.ndarray | None = None,
 ) -> BankGains:
-    """Run the covariance recursion of C filters for N steps.
+    """Run the covariance recursion of C filters for N steps (the structured path where it applies: see the
+    module docstring; the structure found is kept in the gains for :func:`innovation_costs`).
 
     Args:
-        F_at: k ↦ transition F_k of every filter, shape (C, n, n) (or (n, n), broadcast).
+        F_at: k ↦ transition F_k of every filter, shape (C, n, n) (or (n, n), broadcast); a function of k
+            alone (it may return one array that it changes in place), called for k = 0 … N − 2.
         H: Measurement matrix (m, n), shared.
         Q: Process-noise covariance, (n, n) or (C, n, n).
         R: Measurement-noise covariance (m, m).
@@ -184,10 +452,6 @@ def riccati(
     if np.min(np.linalg.eigvalsh(R)) <= 0:
         raise ValueError("R must be positive definite")
     eye = np.eye(n)
-    P = np.broadcast_to(P0, (n_filters, n, n)).copy()
-    K_all = np.empty((n_filters, n_steps, n, m))
-    S_inv_all = np.empty((n_filters, n_steps, m, m))
-    logdet_all = np.empty((n_filters, n_steps))
     scalar = m == 1
     tick = step_reporter(progress, n_steps)
     if skip is not None:
@@ -196,6 +460,14 @@ def riccati(
             raise ValueError(f"skip must be ({n_steps},) bool, got shape {skip.shape}")
         if not skip.any():
             skip = None
+    s = measured_state(H)
+    st = None if s is None else column_structure(F_at, n_steps, n_filters, n)
+    if st is not None and s is not None:
+        return _riccati_structured(st, s, Q, float(R[0, 0]), P0, n_steps, n_filters, tick, skip)
+    P = np.broadcast_to(P0, (n_filters, n, n)).copy()
+    K_all = np.empty((n_filters, n_steps, n, m))
+    S_inv_all = np.empty((n_filters, n_steps, m, m))
+    logdet_all = np.empty((n_filters, n_steps))
     for k in range(n_steps):
         if skip is not None and skip[k]:  # predict-only: P carries over to the prediction
             K_all[:, k], S_inv_all[:, k], logdet_all[:, k] = 0.0, 0.0, 0.0
@@ -244,7 +516,8 @@ def innovation_costs(
     (``gains.skip`` marks the missing ones, which must be NaN in every record, and only they).
 
     Args:
-        F_at: As for :func:`riccati` (must be the same bank).
+        F_at: As for :func:`riccati` (must be the same bank; the same callable reuses the structure
+            :func:`riccati` found instead of reading F_at again).
         H: (m, n).
         gains: From :func:`riccati`.
         x0: Prior mean (n,) or (C, n).
@@ -276,16 +549,26 @@ def innovation_costs(
         raise MissingSamples("is missing (NaN) but the gains update there (give riccati the skip mask)", k, b)
     if skip is not None and not (np.all(nan[:, skip]) and not np.any(nan[:, ~skip])):
         raise ValueError("the records' missing samples (NaN) are not the steps the gains skip")
+    s = measured_state(H)
+    st = None if s is None else _structure_for(gains, F_at, N, n)
     if block is not None and B > block:
         starts = range(0, B, block)
         tell = shared_progress(progress, len(starts))
-        parts = [
-            innovation_costs(
-                F_at, H, gains, x0, y[s : s + block], hz, include_logdet=include_logdet, progress=tell
-            )
-            for s in starts
-        ]
+        if st is not None and s is not None:
+            parts = [
+                _innovation_structured(st, s, gains, x0, y[b : b + block], hz, include_logdet, tell)
+                for b in starts
+            ]
+        else:
+            parts = [
+                innovation_costs(
+                    F_at, H, gains, x0, y[b : b + block], hz, include_logdet=include_logdet, progress=tell
+                )
+                for b in starts
+            ]
         return np.concatenate(parts, axis=1)
+    if st is not None and s is not None:
+        return _innovation_structured(st, s, gains, x0, y, hz, include_logdet, progress)
     # state means with the trials last, (C, n, B): the per-step products are (n×n)·(n×B) per filter
     x = np.repeat(np.broadcast_to(np.asarray(x0, dtype=float), (C, n))[:, :, None], B, axis=2)
     yT = np.ascontiguousarray(np.moveaxis(y, 0, -1))  # (N, m, B)
@@ -318,6 +601,180 @@ def innovation_costs(
     return out
 
 
+J_BLOCK = 8  # time steps whose innovations :func:`_innovation_structured` holds before adding them to J
+
+
+def _innovation_structured(
+    st: ColumnStructure, s: int, gains: BankGains, x0: np.ndarray, y: np.ndarray, hz: np.ndarray,
+    include_logdet: bool, progress: Progress,
+) -> np.ndarray:  # fmt: skip
+    """:func:`innovation_costs` for H = e_sᵀ and a :class:`ColumnStructure` (y (B, N, 1), checked).
+
+    Means trials and filters last, x (n, B, C). A step is ν = y_k − x_s and
+    x_{k+1} = A (x + K ν) + v (x + K ν)_j = A x + (A K) ν + v (x_j + K_j ν): one BLAS product A x for every
+    filter and trial over the rows of A that are not rows of the identity (the others are x + (A K) ν
+    as they are), (A K) for every step beforehand. The innovations of :data:`J_BLOCK` steps are held and
+    added to J together, ½ Σ S⁻¹ ν² (eq 49), before every horizon."""
+    B, N, _ = y.shape
+    K, S_inv, logdet = _filters_last_gains(gains, N)
+    C, n = K.shape[2], K.shape[1]
+    A, col, rows, vals = st.A, st.col, st.rows, st.values
+    AK = np.einsum("ij,kjc->kic", A, K)[:, :, None, :]  # (N, n, 1, C)
+    half_s = 0.5 * S_inv  # ½ S⁻¹: (½ S⁻¹) ν² equals ½ (S⁻¹ ν²) to the last bit
+    x = np.empty((n, B, C))
+    x[...] = np.broadcast_to(np.asarray(x0, dtype=float), (C, n)).T[:, None, :]
+    xn = np.empty_like(x)
+    yT = np.ascontiguousarray(y[:, :, 0].T)[:, :, None]  # (N, B, 1)
+    J = np.zeros((B, C))
+    L = min(J_BLOCK, N)
+    nu = np.empty((L, B, C))
+    Jb, xj = np.empty((B, C)), np.empty((B, C))
+    out = np.empty((C, B, hz.size))
+    read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
+    skip = gains.skip
+    tick = step_reporter(progress, N)
+    eye = np.eye(n)
+    moving = [i for i in range(n) if i in rows or not np.array_equal(A[i], eye[i])]  # rows A x changes
+    lo, hi = (moving[0], moving[-1] + 1) if moving else (0, 0)
+    span, kept = slice(lo, hi), [sl for sl in (slice(0, lo), slice(hi, n)) if sl.stop > sl.start]
+    upd = np.empty((hi - lo, B, C))
+    # (A x)_r: the rows of A with three or more entries by one product over the range they span; the
+    # other rows elementwise from their one or two entries (a coefficient-1 term last)
+    dense = [i for i in range(lo, hi) if np.count_nonzero(A[i]) > 2]
+    d_lo, d_hi = (dense[0], dense[-1] + 1) if dense else (0, 0)
+    few = {
+        i: sorted(((int(j), float(A[i, j])) for j in np.flatnonzero(A[i])), key=lambda t: t[1] == 1.0)
+        for i in range(lo, hi)
+        if not d_lo <= i < d_hi
+    }
+    A_dense = np.ascontiguousarray(A[d_lo:d_hi])
+    tmp_row = np.empty((B, C))
+    col_kept = not lo <= col < hi  # x_{k+1, j} = x_j + K_j ν: the v term reads it from the new x
+    k_end = N if rows else _steady_from(K, S_inv, skip, N)  # from k_end on: constant F and gains
+    k0 = 0  # first step whose innovation is held in nu
+    for k in range(k_end):
+        i = k - k0
+        update = skip is None or not skip[k]
+        if update:
+            np.subtract(yT[k], x[s], out=nu[i])  # innovation ν_k = y_k − x_s
+        else:
+            nu[i] = 0.0  # predict-only: no term in J
+        if k + 1 < N:  # prediction x_{k+1} = F_k (x_k + K_k ν_k)
+            if d_hi > d_lo:
+                np.matmul(A_dense, x.reshape(n, B * C), out=xn[d_lo:d_hi].reshape(d_hi - d_lo, B * C))
+            for r, terms in few.items():  # (A x)_r from its one or two entries
+                if not terms:
+                    xn[r] = 0.0
+                    continue
+                (j0, a0), rest = terms[0], terms[1:]
+                if a0 == 1.0:
+                    xn[r] = x[j0]
+                else:
+                    np.multiply(x[j0], a0, out=xn[r])
+                for j, a in rest:
+                    xn[r] += x[j] if a == 1.0 else np.multiply(x[j], a, out=tmp_row)
+            if update:
+                if hi > lo:
+                    xn[span] += np.multiply(AK[k, span], nu[i], out=upd)  # + (A K) ν
+                for sl in kept:
+                    np.multiply(AK[k, sl], nu[i], out=xn[sl])
+                    xn[sl] += x[sl]
+            else:
+                for sl in kept:
+                    xn[sl] = x[sl]
+            if rows:
+                if col_kept:
+                    x_j = xn[col]
+                elif update:
+                    x_j = np.add(x[col], np.multiply(K[k, col], nu[i], out=xj), out=xj)
+                else:
+                    x_j = x[col]
+                for j, r in enumerate(rows):
+                    xn[r] += vals[k, j] * x_j
+            x, xn = xn, x
+        if k + 1 in read_at or i + 1 == L or k + 1 == k_end:  # J += ½ Σ S⁻¹ ν² over the held steps
+            sq = np.multiply(nu[: i + 1], nu[: i + 1], out=nu[: i + 1])  # ν² in place
+            sq *= half_s[k0 : k + 1][:, None, :]
+            J += np.add.reduce(sq, axis=0, out=Jb)
+            if include_logdet:
+                J += 0.5 * logdet[k0 : k + 1].sum(axis=0)
+            k0 = k + 1
+            if k + 1 in read_at:
+                out[:, :, read_at[k + 1]] = J.T[:, :, None]
+        tick(k)
+    if k_end < N:  # the time-invariant rest, block by block
+        later = sorted(h for h in read_at if h > k_end)
+        ends = [h - k_end for h in later] + ([] if later and later[-1] == N else [N - k_end])
+        _, sums = _steady_tail(A, s, K[k_end], half_s[k_end], x, yT[k_end:, :, 0], ends)
+        for h, Jt in zip(later, sums, strict=False):
+            Jh = J + Jt
+            if include_logdet:
+                Jh += 0.5 * logdet[k_end:h].sum(axis=0)
+            out[:, :, read_at[h]] = Jh.T[:, :, None]
+        for k in range(k_end, N):
+            tick(k)
+    return out
+
+
+def _steady_from(K: np.ndarray, S_inv: np.ndarray, skip: np.ndarray | None, N: int) -> int:
+    """The first step from which K and S⁻¹ stay the same and no step is skipped (N: none worth a
+    :func:`_steady_tail`, under two of its blocks)."""
+    same = (K == K[-1]).all(axis=(1, 2)) & (S_inv == S_inv[-1]).all(axis=1)
+    if skip is not None:
+        same &= ~skip
+    changes = np.flatnonzero(~same)
+    k = int(changes[-1]) + 1 if changes.size else 0
+    return k if N - k >= 2 * TAIL_BLOCK else N
+
+
+TAIL_BLOCK = 32  # time steps per block of :func:`_steady_tail`
+
+
+def _steady_tail(
+    A: np.ndarray, s: int, K: np.ndarray, half_s: np.ndarray, x: np.ndarray, Y: np.ndarray, ends: list[int],
+) -> tuple[np.ndarray, list[np.ndarray]]:  # fmt: skip
+    """The innovations' costs of a bank with constant F = A and constant gains (K (n, C), ½ S⁻¹ (C,)) from
+    the means x (n, B, C) over the data Y (M, B): ½ Σ S⁻¹ ν² (eq 49) summed up to each of ``ends``
+    (steps counted from the first row of Y, increasing, the last = M).
+
+    The filter is then time-invariant and linear in the data: over m ≤ :data:`TAIL_BLOCK` steps,
+    [ν_0, …, ν_{m−1}; x_m] = W_m [x_0; y_0, …, y_{m−1}], with x_i = Z_i [x_0; y] from Z_0 = [I 0],
+    Z_{i+1} = A Z_i + (A K)(e_{n+i}ᵀ − e_sᵀ Z_i) (the row of ν_i: e_{n+i}ᵀ − e_sᵀ Z_i). W is built once; a
+    block is one product with the block's [x_0; y] (per filter: one BLAS call when C = 1)."""
+    n, B, C = x.shape
+    L = TAIL_BLOCK
+    AK = A @ K  # (n, C)
+    Z = np.zeros((n, n + L, C))
+    Z[:, :n] = np.eye(n)[:, :, None]
+    rows_nu = np.empty((L, n + L, C))
+    states = [Z.copy()]
+    for i in range(L):
+        d = np.negative(Z[s], out=rows_nu[i])
+        d[n + i] += 1.0
+        Z = np.einsum("ij,jqc->iqc", A, Z) + AK[:, None, :] * d[None]
+        states.append(Z)
+    Wc = {}  # block length m ↦ (C, m + n, n + m)
+    sums: list[np.ndarray] = []
+    J = np.zeros((B, C))
+    xc = np.ascontiguousarray(x.transpose(2, 0, 1))  # (C, n, B)
+    k0 = 0
+    for k1 in ends:
+        while k0 < k1:
+            m = min(L, k1 - k0)
+            if m not in Wc:
+                W = np.concatenate([rows_nu[:m, : n + m], states[m][:, : n + m]], axis=0)  # (m + n, n + m, C)
+                Wc[m] = np.ascontiguousarray(W.transpose(2, 0, 1))
+            W = Wc[m]
+            src = np.concatenate([xc, np.broadcast_to(Y[k0 : k0 + m][None], (C, m, B))], axis=1)
+            res = np.matmul(W, src)  # (C, m + n, B)
+            nu = res[:, :m]
+            J += (half_s[:, None] * (nu * nu).sum(axis=1)).T
+            xc = np.ascontiguousarray(res[:, m:])
+            k0 += m
+        sums.append(J.copy())
+    return xc.transpose(1, 2, 0), sums
+
+
 def expected_costs_white_noise(
     F_at: TransitionFn,
     H: np.ndarray,
@@ -343,6 +800,10 @@ def expected_costs_white_noise(
     n = H.shape[1]
     C = gains.K.shape[0]
     hz = np.asarray(horizons, dtype=int)
+    s = measured_state(H)
+    st = None if s is None else _structure_for(gains, F_at, n_steps, n)
+    if st is not None and s is not None:
+        return _expected_structured(st, s, gains, float(R_true[0, 0]), n_steps, hz, progress)
     Sig = np.zeros((C, n, n))
     EJ = np.zeros(C)
     out = np.empty((C, hz.size))
@@ -369,6 +830,42 @@ def expected_costs_white_noise(
         if k + 1 < n_steps:
             F = np.broadcast_to(F_at(k), (C, n, n))
             Sig = F @ Sig @ np.swapaxes(F, -1, -2)
+        tick(k)
+    return out
+
+
+def _expected_structured(
+    st: ColumnStructure, s: int, gains: BankGains, r_true: float, n_steps: int, hz: np.ndarray,
+    progress: Progress,
+) -> np.ndarray:  # fmt: skip
+    """:func:`expected_costs_white_noise` for H = e_sᵀ and a :class:`ColumnStructure`: Σ packed, filters
+    last (:class:`_Packed`). With σ = Σ e_s (row s) and c = Σ_ss + R_true, the Lyapunov update is
+    Σ⁺ = Σ − K σᵀ − σ Kᵀ + c K Kᵀ = Σ − K tᵀ − t Kᵀ, t = σ − ½ c K; E[½ ν² / S] = ½ S⁻¹ c."""
+    K, S_inv, _ = _filters_last_gains(gains, n_steps)
+    C, n = K.shape[2], K.shape[1]
+    pk = _Packed(n, s, st, None, C)
+    npk, ia, ib = pk.npk, pk.ia, pk.ib
+    Sig = np.zeros((npk, C))
+    EJ = np.zeros(C)
+    out = np.empty((C, hz.size))
+    read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
+    skip = gains.skip
+    tick = step_reporter(progress, n_steps)
+    Pu = pk.Pu
+    for k in range(n_steps):
+        if skip is None or not skip[k]:
+            c = Sig[s] + r_true  # E[ν²] = Σ_ss + R_true
+            EJ += 0.5 * (S_inv[k] * c)  # ½ tr(S⁻¹ E[ννᵀ])
+            Kk = K[k]
+            t = Sig[:n] - (0.5 * c) * Kk  # σ − ½ c K
+            np.subtract(Sig, Kk[ia] * t[ib], out=Pu[:npk])
+            Pu[:npk] -= t[ia] * Kk[ib]  # Σ − K tᵀ − t Kᵀ
+        else:
+            Pu[:npk] = Sig
+        if k + 1 in read_at:
+            out[:, read_at[k + 1]] = EJ[:, None]
+        if k + 1 < n_steps:
+            Sig = pk.predict(k).copy()  # Σ ← F Σ Fᵀ
         tick(k)
     return out
 

@@ -592,10 +592,13 @@ def _packed_predict(
     q_vals: np.ndarray,
     tmp: np.ndarray,
     W: np.ndarray | None = None,
-) -> None:
+    Pn: np.ndarray | None = None,
+) -> np.ndarray:
     """xn ← F_k x, Ppk ← F_k P F_kᵀ + Q **in place** in the packed layout (x, xn by position, (n, C, B);
     tmp scratch (≥ max(2n, max_block), C, B)). With W, P ← P − Σ_a W_a W_aᵀ first
     (:func:`_packed_downdate`), block by block, each just before its product, while it is in cache.
+    With ``Pn`` (an array like Ppk) the products go straight into Pn instead (no copy back; Ppk is left
+    downdated, not predicted). Returns the array that holds the prediction (Ppk or Pn).
 
     With F_k = F_0 + G_k, G_k = Σ_r g_r e_{i_r} e_{j_r}ᵀ (eq 44's time-varying entries)::
 
@@ -607,11 +610,12 @@ def _packed_predict(
     ents = trans.entries
     m = 0 if W is None else W.shape[0]
     cols = []  # P[:, j_r] after the downdate, by position (read before the blocks are overwritten)
-    for _, j in ents:
-        col = np.take(Ppk, lay.columns[j], axis=0, mode="clip")
-        for a in range(m):
-            col -= W[a] * W[a, lay.pos[j]]
-        cols.append(col)
+    if Pn is None:
+        for _, j in ents:
+            col = np.take(Ppk, lay.columns[j], axis=0, mode="clip")
+            for a in range(m):
+                col -= W[a] * W[a, lay.pos[j]]
+            cols.append(col)
     for s, e, Fg in lay.comps:
         if Fg is None:
             xn[s:e] = x[s:e]
@@ -622,9 +626,17 @@ def _packed_predict(
             _packed_downdate(Ppk, lay, W, tmp, bi)
         if M is not None:
             blk = Ppk[lo:hi].reshape(hi - lo, CB)
+            if Pn is not None:
+                _thin_matmul(M, blk, Pn[lo:hi].reshape(hi - lo, CB))
+                continue
             out = tmp[: hi - lo].reshape(hi - lo, CB)
             _thin_matmul(M, blk, out)
             blk[...] = out
+        elif Pn is not None:
+            Pn[lo:hi] = Ppk[lo:hi]
+    if Pn is not None:  # Ppk now holds P − Σ W_a W_aᵀ: its columns as they are
+        cols = [np.take(Ppk, lay.columns[j], axis=0, mode="clip") for _, j in ents]
+        Ppk = Pn
     if ents:
         u = tmp[:n]
         gk = [trans.g[:, k, r][:, None] for r in range(len(ents))]  # (C, 1): broadcasts over the records
@@ -644,6 +656,7 @@ def _packed_predict(
                     Ppk[lay.index[ir, is_]] += (gk[r] * gk[s]) * cols[r][lay.pos[js]]
     for row, qv in zip(q_rows, q_vals, strict=True):
         Ppk[row] += qv  # + Q
+    return Ppk
 
 
 @dataclass(frozen=True)
@@ -722,6 +735,7 @@ def ukf_bank_costs(
     x = np.broadcast_to(np.asarray(x0, float)[lay.perm, None, None], (n, C, B)).copy()  # by position
     Ppk = np.broadcast_to(lay.pack(np.asarray(P0, float))[:, None, None], (lay.size, C, B)).copy()
     xn = np.empty_like(x)
+    P_spare = np.empty_like(Ppk)  # the prediction goes here, then the two swap
     tmp = np.empty((max(2 * n, lay.max_block), C, B))  # scratch
     Lc = np.empty((p, n, C, B))  # the first p columns of chol(P), rows by position
     W = np.empty((m, n, C, B))
@@ -798,7 +812,8 @@ def ukf_bank_costs(
             J_out[:, :, read_at[k + 1]] = J[..., None]
             LD_out[:, :, read_at[k + 1]] = LD[..., None]
         if k + 1 < N:  # (P − W Wᵀ first where k was measured), then the prediction
-            _packed_predict(x, Ppk, xn, lay, trans, k, q_rows, q_vals, tmp, None if none_present[k] else W)
+            Wk = None if none_present[k] else W
+            Ppk, P_spare = _packed_predict(x, Ppk, xn, lay, trans, k, q_rows, q_vals, tmp, Wk, P_spare), Ppk
             x, xn = xn, x
         tick(k)
     if not (np.all(np.isfinite(J_out)) and np.all(np.isfinite(LD_out))):

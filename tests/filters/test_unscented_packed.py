@@ -43,9 +43,11 @@ def test_layout_packs_every_entry_once_and_round_trips():
 
 @pytest.mark.parametrize("case", list(range(2)))
 @pytest.mark.parametrize("downdate", [False, True])
-def test_packed_prediction_equals_dense(case, downdate):
+@pytest.mark.parametrize("into_spare", [False, True])
+def test_packed_prediction_equals_dense(case, downdate, into_spare):
     """F_k (P − Σ W_a W_aᵀ) F_kᵀ + Q from the packed blocks and rank-one terms equals the dense product of
-    the filters' F_k (StructuredTransition.dense), with and without the fused downdate."""
+    the filters' F_k (StructuredTransition.dense), with and without the fused downdate, in place or into
+    a second array (the bank's loop)."""
     F0, entries, Q = list(_cases())[case]
     rng = np.random.default_rng(3 + case)
     n, C, B, k = F0.shape[0], 4, 3, 2
@@ -59,10 +61,12 @@ def test_packed_prediction_equals_dense(case, downdate):
     Qpk = lay.pack(Q)
     rows = np.flatnonzero(Qpk)
     tmp = np.empty((max(2 * n, lay.max_block), C, B))
-    U._packed_predict(
+    spare = np.full_like(Ppk, np.nan) if into_spare else None
+    Ppk = U._packed_predict(
         np.ascontiguousarray(x[lay.perm]), Ppk, xn, lay, tr, k, rows, Qpk[rows], tmp,
-        None if W is None else np.ascontiguousarray(W[:, lay.perm]),
+        None if W is None else np.ascontiguousarray(W[:, lay.perm]), spare,
     )  # fmt: skip
+    assert (Ppk is spare) == into_spare
     F = tr.dense(k)  # (C, n, n)
     Pd = P - (0 if W is None else np.einsum("aicb,ajcb->ijcb", W, W))
     ref = np.einsum("cik,klcb,cjl->ijcb", F, Pd, F) + Q[:, :, None, None]
