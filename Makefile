@@ -124,22 +124,22 @@ bench: $(DEV_STAMP)
 	$(BIN)/python benchmarks/bench_startup.py
 	$(BIN)/python scripts/bench_report.py
 
-## reproduce: every table and figure of seed 000 (results/seed000/), seed 001 (results/seed001/), seed 002 (results/seed002/), ATC-10 §2 (results/atc10_jamming/), §3 (results/atc10_mac/) and §4 (results/atc10_tracking/)
+## reproduce: every table and figure of the mode-signature paper (results/mode_signature/), the SLRT slides (results/slrt/), the EBPSK paper (results/maneuver/), ATC-10 §2 (results/atc10_jamming/), §3 (results/atc10_mac/) and §4 (results/atc10_tracking/)
 reproduce: $(RUN_STAMP)
-	$(BIN)/python scripts/reproduce_seed000.py
+	$(BIN)/python scripts/reproduce_mode_signature.py
 	$(BIN)/python scripts/reproduce_lmp_search.py
 	$(BIN)/python scripts/reproduce_baseline_roc.py
-	@mkdir -p results/seed001
-	$(BIN)/motionsig slrt --plot results/seed001/slrt.png --plot-scan results/seed001/scan.png -o results/seed001/slrt_curves.csv -q
-	$(BIN)/motionsig slrt --view decisions --runs 200 -o results/seed001/slrt_decisions.csv -q
-	$(BIN)/motionsig slrt --view study --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/seed001/slrt_study.csv -q
-	$(BIN)/motionsig slrt --view study --target-motion agile --filter-q 600 --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/seed001/slrt_study_agile_q600.csv -q
-	$(BIN)/python scripts/check_slrt_long_run.py | tee results/seed001/long_run.txt
-	@mkdir -p results/seed002
+	@mkdir -p results/slrt
+	$(BIN)/motionsig slrt --plot results/slrt/slrt.png --plot-scan results/slrt/scan.png -o results/slrt/slrt_curves.csv -q
+	$(BIN)/motionsig slrt --view decisions --runs 200 -o results/slrt/slrt_decisions.csv -q
+	$(BIN)/motionsig slrt --view study --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/slrt/slrt_study.csv -q
+	$(BIN)/motionsig slrt --view study --target-motion agile --filter-q 600 --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/slrt/slrt_study_agile_q600.csv -q
+	$(BIN)/python scripts/check_slrt_long_run.py | tee results/slrt/long_run.txt
+	@mkdir -p results/maneuver
 	for p in literal turn90; do \
-	  $(BIN)/motionsig maneuver --preset $$p --method all --plot results/seed002/figs2-4_$$p.png --plot-compare results/seed002/compare_$$p.png -o results/seed002/scans_$$p.csv -q && \
-	  $(BIN)/motionsig maneuver --preset $$p --method all --view summary -o results/seed002/summary_$$p.csv -q && \
-	  $(BIN)/motionsig maneuver --preset $$p --method glr,mlr --view events -o results/seed002/events_$$p.csv -q || exit 1; \
+	  $(BIN)/motionsig maneuver --preset $$p --method all --plot results/maneuver/figs2-4_$$p.png --plot-compare results/maneuver/compare_$$p.png -o results/maneuver/scans_$$p.csv -q && \
+	  $(BIN)/motionsig maneuver --preset $$p --method all --view summary -o results/maneuver/summary_$$p.csv -q && \
+	  $(BIN)/motionsig maneuver --preset $$p --method glr,mlr --view events -o results/maneuver/events_$$p.csv -q || exit 1; \
 	done
 	$(BIN)/python scripts/reproduce_atc10_jamming.py
 	$(BIN)/python scripts/reproduce_atc10_mac.py

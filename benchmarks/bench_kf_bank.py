@@ -1,7 +1,6 @@
 """`make bench`: motionsig's batched LMP filter bank vs FilterPy running the identical bank.
 
-Workload (Fig 4 of the mode-signature paper, *LMP mode detection with Gold-code signatures*, IEEE CDC
-2008): 50 trials × 4 R values × 187 filters (1 H0 + 93 candidates ×
+Workload (Fig 4 of the mode-signature paper, 47th IEEE CDC, Cancún, 2008): 50 trials × 4 R values × 187 filters (1 H0 + 93 candidates ×
 {cos, sin}) × 1600 steps (T = 0.05 s, 80 s) = 59.84 M filter-steps.
 
 1. Correctness gate: for a handful of filters and one record, FilterPy's cumulative

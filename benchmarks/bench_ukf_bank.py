@@ -1,7 +1,6 @@
 """The 2-D radar LMP detector's batched sigma-point bank vs FilterPy's UnscentedKalmanFilter on the same bank.
 
-Workload (Fig 7 of the mode-signature paper, *LMP mode detection with Gold-code signatures*, IEEE CDC
-2008): 50 trials × 4 ANR pairs × 187 filters (1 H0 filter with 8 states + 93
+Workload (Fig 7 of the mode-signature paper, 47th IEEE CDC, Cancún, 2008): 50 trials × 4 ANR pairs × 187 filters (1 H0 filter with 8 states + 93
 candidates × {cos, sin} H1 filters with 10 states) × 1600 steps (T = 0.05 s, 80 s) = 59.84 M filter-steps.
 
 1. Correctness gate: for a handful of H1 filters and one record (ANR pair 4), FilterPy's cumulative

@@ -15,7 +15,12 @@ A local run of N workers is this process and N − 1 spawned ones: this process 
 and the pool is spawned beside it only once it has computed for :data:`POOL_MIN_SECONDS` with tasks left,
 so small runs never pay for a pool and a large one loses no time to its start-up. The job (the task
 function) is sent to each worker once, when it starts; tasks go out one at a time, so no task waits
-behind a busy worker while another is idle. Where a task runs never changes what it computes.
+behind a busy worker while another is idle. Where a task runs never changes what it computes. A Dask
+LocalCluster of N workers is the same: this process and N − 1 Dask workers.
+
+A worker that dies (killed, out of memory) ends a local run with :class:`WorkerDied` (once this process has
+finished the task it is computing); a Dask cluster retries the task on another worker first. A task's
+exception, in a worker or here, is raised once, and the workers are stopped.
 
 Workers ignore SIGINT: Ctrl-C reaches the main process only, which cancels the pending tasks,
 stops the workers and re-raises :class:`KeyboardInterrupt` (the command layer turns it into one
@@ -41,9 +46,10 @@ import threading
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol, TypeVar, runtime_checkable
+from typing import Any, NoReturn, Protocol, TypeVar, runtime_checkable
 
 from motionsig_cli.config import ConfigError, integer
 
@@ -87,13 +93,22 @@ class EngineError(ConfigError):
         return self.reason
 
 
+class WorkerDied(RuntimeError):
+    """A worker process ended while it ran a task (killed, out of memory, ``os._exit``): the run stops.
+
+    A local pool's lost worker ends the run at once (``__cause__``: the pool's ``BrokenProcessPool``);
+    a Dask cluster retries a task whose worker died and gives up once it has lost that many workers
+    (``distributed.scheduler.allowed-failures``; ``__cause__``: Dask's ``KilledWorker``).
+    """
+
+
 @dataclass(frozen=True, slots=True)
 class Engine:
     """Where the tasks run.
 
     Attributes:
-        workers: Local processes (1 = in this process); with ``scheduler="local"`` the number of
-            Dask workers of the LocalCluster.
+        workers: Local processes, this one included (1 = in this process); with ``scheduler="local"``
+            the same: this process and ``workers − 1`` Dask workers of a LocalCluster (one for ``1``).
         scheduler: ``None`` (local process pool), ``"local"`` (a Dask LocalCluster on 127.0.0.1) or
             the address of a running Dask scheduler (``tcp://host:port`` or ``host:port``).
         checkpoint: Directory for finished task results (resume after an interruption).
@@ -636,10 +651,14 @@ def _run_pool(
             if item is None:
                 fed = True
                 if errors:
-                    raise errors[0]
+                    _raise_pool_error(errors[0])
                 return True
             i, fut = item
-            finish(i, fut.result())
+            try:
+                value = fut.result()
+            except BrokenProcessPool as exc:
+                _raise_pool_error(exc)
+            finish(i, value)
         return True
 
     try:
@@ -664,6 +683,14 @@ def _run_pool(
             else:  # interrupted or failed: do not wait for running tasks
                 _kill_pool(pool)
         feeder.join(timeout=10)
+
+
+def _raise_pool_error(exc: BaseException) -> NoReturn:
+    """Raise ``exc``, a lost worker (a broken pool: a future's error, or a submit to the broken pool) as
+    :class:`WorkerDied`."""
+    if isinstance(exc, BrokenProcessPool):
+        raise WorkerDied("a worker process died (killed, or out of memory?) while it ran a task") from exc
+    raise exc
 
 
 def _kill_pool(pool: ProcessPoolExecutor) -> None:
@@ -697,8 +724,9 @@ def split_address(address: str) -> tuple[str, int]:
 
 
 @contextlib.contextmanager
-def dask_client(engine: Engine) -> Iterator[Any]:
-    """A ``distributed.Client`` for ``engine.scheduler`` (a LocalCluster for ``"local"``)."""
+def dask_client(engine: Engine, n_workers: int | None = None) -> Iterator[Any]:
+    """A ``distributed.Client`` for ``engine.scheduler`` (a LocalCluster of ``n_workers``, default
+    ``engine.workers``, for ``"local"``)."""
     try:
         from distributed import Client, LocalCluster
     except ImportError:
@@ -712,7 +740,7 @@ def dask_client(engine: Engine) -> Iterator[Any]:
             # _children_ignore_sigint); a Ctrl-C during start-up is raised here once it is up
             with dask.config.set({TRIM_KEY: None}), _children_ignore_sigint():  # see TRIM_KEY
                 cluster = LocalCluster(
-                    n_workers=engine.workers,
+                    n_workers=engine.workers if n_workers is None else n_workers,
                     threads_per_worker=1,
                     processes=True,
                     host="127.0.0.1",
@@ -761,8 +789,15 @@ def _probe_scheduler(address: str, host: str, port: int, timeout: float) -> None
 
 
 def _apply(fn: Callable[[Any], Any], task: Any) -> Any:
-    """A task on a Dask worker: ``fn`` arrives once per worker (scattered), the task with each call."""
+    """A task on a Dask worker: ``fn`` is the result of :func:`_same` (fetched once per worker, then kept),
+    the task comes with each call."""
     return fn(task)
+
+
+def _same(value: Any) -> Any:
+    """The job as a Dask task's result: unlike scattered data, which is gone once the workers holding it
+    die, a task's result is recomputed wherever it is lost, so a worker's death costs a retry, not the run."""
+    return value
 
 
 @dataclass(frozen=True, slots=True)
@@ -781,6 +816,12 @@ class _Outcome:
 
     def value(self) -> Any:
         if self.error is not None:
+            from distributed import KilledWorker
+
+            if isinstance(self.error, KilledWorker):  # the task's workers died, as many as Dask allows
+                raise WorkerDied(
+                    "Dask workers died while they ran a task (killed, or out of memory?)"
+                ) from self.error
             raise self.error
         return self.result
 
@@ -793,13 +834,21 @@ def _run_dask(
     finish: Callable[[int, Any], None],
 ) -> None:
     """The pending tasks on the Dask cluster of ``engine``. A feeder thread connects (or starts the
-    LocalCluster), sends ``fn`` to every worker once and submits the tasks; results are handed to
-    ``finish`` here. While a LocalCluster starts (≈ 1 s with its workers' imports), this process
-    computes tasks itself (a remote cluster's client only waits)."""
+    LocalCluster), sends ``fn`` to the workers (:func:`_same`) and submits the tasks; results are handed to
+    ``finish`` here.
+
+    A LocalCluster of N workers is, as a local pool, this process and N − 1 Dask workers: this process
+    computes tasks from the start, beside the cluster while it starts (≈ 1 s of a core per worker for its
+    imports) and after, taking tasks from the same queue; each cluster worker has one task in flight, so that
+    no task waits behind a busy worker at the end of the run. (``workers=1``: one Dask worker; this process
+    computes only while it starts.) A remote cluster's client only waits, with two tasks in flight per
+    worker (bounded memory, early checkpoints, a prompt Ctrl-C)."""
     try:
         import distributed  # noqa: F401
     except ImportError:
         raise EngineError("scheduler", f"needs Dask, which is not installed: {DASK_EXTRA}") from None
+    local = engine.scheduler == "local"
+    here = local and engine.workers > 1  # this process is one of the workers
     shared = _Shared(pending)
     done: queue.SimpleQueue[tuple[int, _Outcome] | None] = queue.SimpleQueue()
     ready = threading.Event()
@@ -808,21 +857,23 @@ def _run_dask(
 
     def feed() -> None:
         try:
-            with dask_client(engine) as client:
+            with dask_client(engine, engine.workers - 1 if here else None) as client:
                 from distributed import wait as dask_wait
 
                 ready.set()
                 if stop.is_set():
                     return
-                fn_f = client.scatter(fn, broadcast=True, hash=False)
-                # at most 2 tasks per worker in flight: bounded memory, early checkpoints, a prompt Ctrl-C
+                fn_f = client.submit(_same, fn, pure=False)  # not scatter: see _same
                 n_workers = max(1, len(client.scheduler_info().get("workers", {})))
+                per_worker = 1 if local else 2
                 futures: dict[Any, int] = {}
                 left: set[Any] = set()
 
                 def top_up() -> None:
                     while (
-                        len(left) < 2 * n_workers and not stop.is_set() and (i := shared.take()) is not None
+                        len(left) < per_worker * n_workers
+                        and not stop.is_set()
+                        and (i := shared.take()) is not None
                     ):
                         fut = client.submit(_apply, fn_f, tasks[i], pure=False)
                         futures[fut] = i
@@ -848,17 +899,35 @@ def _run_dask(
             ready.set()
             done.put(None)
 
+    def collect(block: bool) -> bool:
+        """Hand finished cluster results to ``finish``; True once the feeder has ended."""
+        while True:
+            try:
+                item = done.get(block=block)
+            except queue.Empty:
+                return False
+            if item is None:
+                if errors:
+                    raise errors[0]
+                return True
+            i, outcome = item
+            finish(i, outcome.value())
+
     feeder = threading.Thread(target=feed, name="motionsig-dask-feeder", daemon=True)
     try:
         with _children_ignore_sigint():  # the cluster's threads and processes start with SIGINT blocked
             feeder.start()
-        while engine.scheduler == "local" and not ready.is_set() and (i := shared.take()) is not None:
+        fed = False
+        while (here or (local and not ready.is_set())) and (i := shared.take()) is not None:
             finish(i, fn(tasks[i]))
-        while (item := done.get()) is not None:
-            i, outcome = item
-            finish(i, outcome.value())
-        if errors:
-            raise errors[0]
+            if collect(block=False):
+                fed = True
+                break
+        if not fed:
+            collect(block=True)
+        if shared.left():  # the cluster ended early with tasks left (no failure): they run here
+            while (i := shared.take()) is not None:
+                finish(i, fn(tasks[i]))
     finally:
         stop.set()
         feeder.join(timeout=30)

@@ -1,6 +1,6 @@
 """Figure builders (the only module that imports matplotlib). Each returns a ``Figure``; no pyplot.
 
-"The mode-signature paper" is *LMP mode detection with Gold-code signatures* (IEEE CDC 2008); "the SLRT
+"The mode-signature paper" is 47th IEEE CDC, Cancún, 2008; "the SLRT
 slides" are Govaers, *Evaluation of Distributed Detection Methods for Agile Targets* (Fraunhofer FKIE);
 "the maneuver paper" is Yao, Teng & Wu, *Maneuvering Target Tracking Based on EBPSK Modulated JRC System*.
 """

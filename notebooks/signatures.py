@@ -2,8 +2,7 @@
 # # Mode signatures and Gold codes
 #
 # A vehicle announces its operating mode $i$ by adding a small, known perturbation to its own
-# position reference (§II.A of the mode-signature paper, *LMP mode detection with Gold-code signatures*,
-# IEEE CDC 2008). The perturbation is a Gold-code chip sequence multiplying a
+# position reference (§II.A of the mode-signature paper, 47th IEEE CDC, Cancún, 2008). The perturbation is a Gold-code chip sequence multiplying a
 # sinusoidal carrier. This page derives the signal model (eqs 1–3), the theory of m-sequences and
 # Gold codes that makes the codes easy to tell apart, and audits the paper's Table I. Every claim is
 # followed by a numerical check that calls `motionsig_cli`; the checks run when the site is built,

@@ -70,7 +70,7 @@ rng = np.random.default_rng(20260501)
 # ## 1. Does this vehicle carry a mode signature? `detect` on a position log
 #
 # A vehicle under closed-loop control adds a small Gold-code signature to its reference, which names its
-# mode (the mode-signature paper, *LMP mode detection with Gold-code signatures*, IEEE CDC 2008, eqs 1–3
+# mode (the mode-signature paper, 47th IEEE CDC, Cancún, 2008, eqs 1–3
 # and 53–55). Here the vehicle is written from those equations with NumPy: T = 0.1 s, 10 samples per chip,
 # feedback gains K = (40, 10), carrier 0.5 Hz, measurement variance 10⁻³ m², mode 2 at a code phase of
 # 70 samples — all of it *our* choice, none of it in the file. The file is what a position logger writes:

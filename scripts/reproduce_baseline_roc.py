@@ -1,6 +1,6 @@
 """`make reproduce`: the LMP detector against the estimate-then-correlate baseline at equal false-alarm rate
-(the mode-signature paper, *LMP mode detection with Gold-code signatures*, IEEE CDC 2008, §I), into
-results/seed000/baseline_roc.csv and results/seed000/baseline_roc.png.
+(the mode-signature paper, 47th IEEE CDC, Cancún, 2008, §I), into
+results/mode_signature/baseline_roc.csv and results/mode_signature/baseline_roc.png.
 
 Three runs of :class:`motionsig_cli.experiments.baseline_roc.BaselineRocJob` on the Monte Carlo engine:
 
@@ -36,7 +36,7 @@ from motionsig_cli.experiments.baseline_roc import DETECTORS, BaselineRoc, Basel
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.tables import Table, format_csv, make_meta
 
-OUT = Path("results/seed000")
+OUT = Path("results/mode_signature")
 
 
 def runs(scale: float) -> list[tuple[str, BaselineRocJob]]:

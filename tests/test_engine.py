@@ -286,3 +286,208 @@ def test_pool_workers_die_with_a_killed_parent(tmp_path):
                 p.kill()
         with contextlib.suppress(Exception):
             parent.kill()
+
+
+# ------------------------------------------------------------------ failures and interrupts of a pool run
+def _fail(parent: int, how: str, where: str, trials: range) -> int:
+    """A task that fails as ``how`` in the parent (``where="parent"``) or in a pool worker, from task 2 on."""
+    import os
+    import signal
+
+    time.sleep(0.05)
+    if (os.getpid() == parent) == (where == "parent") and trials.start >= 2:
+        if how == "exit":
+            os._exit(3)
+        if how == "kill":
+            os.kill(os.getpid(), signal.SIGKILL)
+        if how == "memory":
+            raise MemoryError("no memory left")
+        raise ValueError(f"task {trials.start} failed")
+    return trials.start
+
+
+def _spawned(psutil) -> list:
+    """This process's pool workers (and a LocalCluster's processes): children started by multiprocessing."""
+    return [c for c in psutil.Process().children(recursive=True) if "spawn_main" in " ".join(c.cmdline())]
+
+
+@pytest.mark.parametrize(
+    ("how", "where", "error"),
+    [
+        ("exit", "worker", eng.WorkerDied),
+        ("kill", "worker", eng.WorkerDied),
+        ("memory", "worker", MemoryError),
+        ("value", "worker", ValueError),
+        ("memory", "parent", MemoryError),
+        ("value", "parent", ValueError),
+    ],
+)
+def test_a_failing_task_or_a_dead_worker_stops_a_pool_run_with_one_error(how, where, error):
+    """A worker that dies (os._exit, SIGKILL as the OOM killer sends) or a task that raises, in a worker or in
+    this process's own share: the run raises one error at once and leaves no worker behind."""
+    import os
+
+    psutil = pytest.importorskip("psutil")
+    fn = functools.partial(_fail, os.getpid(), how, where)
+    before = {c.pid for c in _spawned(psutil)}  # a session's Dask cluster (the dask_address fixture) stays
+    t0 = time.perf_counter()
+    with pytest.raises(error) as exc:
+        run_tasks(fn, tasks_of(60, 1), Engine(3))  # 3 s of tasks: this process and 2 workers share them
+    assert time.perf_counter() - t0 < 60
+    if error is ValueError:
+        assert str(exc.value).startswith("task ")
+    _, alive = psutil.wait_procs([c for c in _spawned(psutil) if c.pid not in before], timeout=10)
+    assert not alive
+
+
+def test_a_task_whose_dask_workers_die_is_one_clear_error():
+    """A task that kills every Dask worker it runs on (os._exit): Dask retries it on a fresh worker until it
+    has lost ``allowed-failures`` + 1 of them (0 here), then the run raises WorkerDied. (The job used to be
+    scattered: data lost with its workers, and the run failed with "Futures cancelled: already forgotten".)"""
+    import os
+
+    dask = pytest.importorskip("dask")
+    pytest.importorskip("distributed")
+    fn = functools.partial(_fail, os.getpid(), "exit", "worker")
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), pytest.raises(eng.WorkerDied):
+        run_tasks(fn, tasks_of(200, 1), Engine(2, "local"))  # 10 s of tasks: the cluster gets some
+
+
+def test_tiny_tasks_never_start_a_pool(monkeypatch):
+    """200 tasks that take no time: this process computes them all before the pool would start (0.3 s)."""
+    monkeypatch.delenv("MOTIONSIG_POOL_MIN_SECONDS", raising=False)
+
+    def no_pool(*args, **kwargs):
+        raise AssertionError("a pool was started")
+
+    monkeypatch.setattr(eng, "ProcessPoolExecutor", no_pool)
+    assert run_tasks(_pid, tasks_of(200, 1), Engine(2)) == [_pid(range(0))] * 200
+
+
+def _pid_and_draw(trials: range) -> tuple[int, float]:
+    import os
+
+    time.sleep(0.1)
+    return os.getpid(), float(trial_rng(5, trials.start).standard_normal())
+
+
+def test_checkpoint_resume_with_2_workers_including_tasks_done_here(tmp_path, monkeypatch):
+    """This process computes tasks beside its pool: a checkpoint holds tasks of both, and a resume with 2
+    workers after deleting some of each gives the results of one uninterrupted worker."""
+    import os
+
+    monkeypatch.delenv("MOTIONSIG_POOL_MIN_SECONDS", raising=False)
+    tasks, ident, ck = tasks_of(40, 1), {"command": "pids"}, tmp_path / "ck"
+    first = run_tasks(_pid_and_draw, tasks, Engine(2, None, ck), identity=ident)
+    here = [i for i, (pid, _) in enumerate(first) if pid == os.getpid()]
+    there = [i for i, (pid, _) in enumerate(first) if pid != os.getpid()]
+    assert here and there, "the run did not share its tasks between this process and the pool"
+    for i in here[-2:] + there[-2:]:
+        (ck / f"task-{i:07d}.pkl").unlink()
+    again = run_tasks(_pid_and_draw, tasks, Engine(2, None, ck), identity=ident)
+    plain = run_tasks(_pid_and_draw, tasks, Engine(1))
+    assert [d for _, d in again] == [d for _, d in plain]
+    assert [p for p, _ in again][: min(here[-2:] + there[-2:])] == [p for p, _ in first][
+        : min(here[-2:] + there[-2:])
+    ]
+
+
+def _interrupt(parent: int, phase: str, n: int, trials: range) -> int:
+    """A task that sends SIGINT (a terminal's Ctrl-C) to ``parent`` at ``phase``: ``first`` (this process's
+    first task, before a pool or cluster is up), ``starting`` (this process's first task once pool processes
+    exist, while they import), ``mid`` (the first task a worker runs), ``last`` (the last task)."""
+    import multiprocessing
+    import os
+    import signal
+
+    time.sleep(0.05)
+    here = os.getpid() == parent
+    fire = {
+        "first": here and trials.start == 0,
+        "starting": here and bool(multiprocessing.active_children()),
+        "mid": not here,
+        "last": trials.start == n - 1,
+    }[phase]
+    if fire:
+        os.kill(parent, signal.SIGINT)
+        time.sleep(0.5)
+    return trials.start
+
+
+INTERRUPT_SCRIPT = """
+import functools, os, sys, time
+import psutil
+from motionsig_cli.engine import Engine, run_tasks, tasks_of
+from tests.test_engine import _interrupt
+
+scheduler = sys.argv[1] if sys.argv[1] != "pool" else None
+for phase in sys.argv[2:]:
+    n = 60 if phase == "last" else 400  # 400 × 50 ms: a loaded machine's cluster gets some of them
+    t0 = time.perf_counter()
+    try:
+        run_tasks(functools.partial(_interrupt, os.getpid(), phase, n), tasks_of(n, 1), Engine(2, scheduler))
+        print(phase, "finished")
+    except KeyboardInterrupt:
+        kids = [c for c in psutil.Process().children(recursive=True) if "spawn_main" in " ".join(c.cmdline())]
+        _, alive = psutil.wait_procs(kids, timeout=10)
+        print(phase, "interrupted", len(alive), "left", round(time.perf_counter() - t0, 1), "s", flush=True)
+"""
+
+
+@pytest.mark.parametrize(
+    ("scheduler", "phases"),
+    [("pool", ["first", "starting", "mid", "last"]), ("local", ["first", "mid", "last"])],
+)
+def test_ctrl_c_at_every_phase_stops_the_run_and_its_processes(tmp_path, monkeypatch, scheduler, phases):
+    """Ctrl-C before the pool (or a LocalCluster) is up, while its processes start, mid-run and during the last
+    task: run_tasks raises KeyboardInterrupt (the command layer's exit 130) and no worker is left."""
+    import subprocess
+
+    pytest.importorskip("psutil")
+    if scheduler == "local":
+        pytest.importorskip("distributed")
+    monkeypatch.delenv("MOTIONSIG_POOL_MIN_SECONDS", raising=False)
+    proc = subprocess.run(
+        [sys.executable, "-c", INTERRUPT_SCRIPT, scheduler, *phases],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    lines = proc.stdout.splitlines()
+    assert proc.returncode == 0 and len(lines) == len(phases), (proc.stdout, proc.stderr[-2000:])
+    for phase, line in zip(phases, lines, strict=True):
+        assert line.startswith(f"{phase} interrupted 0 left"), (line, proc.stderr[-2000:])
+
+
+def test_the_run_time_rule_divides_by_the_workers_and_names_the_ways_out():
+    """check_run_time: the one-core estimate over the run's workers against the limit; --max-minutes raises the
+    limit; a checkpoint lifts it for a Monte Carlo, not for a computation in this process (parallel=False)."""
+    from motionsig_cli.config import ConfigError
+    from motionsig_cli.engine import Budget, budget, check_run_time
+
+    check_run_time("runs", 10, 500.0, 600.0)  # under the limit on one core
+    with pytest.raises(ConfigError, match=r"17 min on one core; the limit is 10 min: fewer runs; or raise"):
+        check_run_time("runs", 10, 1000.0, 600.0, also="fewer runs; or ")
+    with budget(Budget(workers=2)):
+        check_run_time("runs", 10, 1000.0, 600.0)  # 500 s on 2 workers
+        with pytest.raises(
+            ConfigError, match=r"17 min on one core; the limit is 10 min: raise the limit"
+        ) as exc:
+            check_run_time("runs", 10, 1000.0, 600.0, parallel=False)
+        assert "--checkpoint" not in str(exc.value)
+    with budget(Budget(workers=2)), pytest.raises(ConfigError, match=r"on one core, 17 min on 2 workers"):
+        check_run_time("runs", 10, 2000.0, 600.0)
+    with budget(Budget(max_minutes=20.0)):
+        check_run_time("runs", 10, 1000.0, 600.0)
+    with budget(Budget(checkpoint=True)):
+        check_run_time("runs", 10, 1e9, 600.0)
+        with pytest.raises(ConfigError):
+            check_run_time("runs", 10, 1e9, 600.0, parallel=False)
+    asked = []
+    with budget(Budget(workers=lambda: asked.append(1) or 4)):
+        check_run_time("runs", 10, 500.0, 600.0)
+        assert (
+            not asked
+        )  # the workers (a remote scheduler's, say) are counted only when the limit is exceeded
+        check_run_time("runs", 10, 2000.0, 600.0)
+        assert asked

@@ -217,8 +217,8 @@ WorkersOpt = Annotated[
     int | None,
     typer.Option(
         "--workers",
-        help="Local worker processes (default: the machine's cores); with --scheduler local, Dask workers "
-        "(a remote scheduler brings its own).",
+        help="Worker processes, this one included (default: the machine's cores); with --scheduler local, "
+        "this process and N-1 Dask workers (a remote scheduler brings its own).",
     ),
 ]
 SchedulerOpt = Annotated[
@@ -281,9 +281,7 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
     option; Ctrl-C is one line and exit code 130 (no output is written: commands write after the
     block), with a hint to resume when a checkpoint is kept.
     """
-    from concurrent.futures.process import BrokenProcessPool
-
-    from motionsig_cli.engine import EngineError
+    from motionsig_cli.engine import EngineError, WorkerDied
 
     finished = [0]
     try:
@@ -297,15 +295,18 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
             yield advance
     except EngineError as exc:
         raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field)) from None
-    except BrokenProcessPool:
+    except WorkerDied as exc:
         hint = (
             f"; rerun with --checkpoint {engine.checkpoint} to resume"
             if engine.checkpoint is not None
             else ""
         )
+        typer.echo(f"{command_path()}: error: {exc} after {finished[0]}/{total} trials{hint}", err=True)
+        raise typer.Exit(1) from None
+    except MemoryError:  # in this process's own share of the tasks (a worker's comes back the same way)
         typer.echo(
-            f"{command_path()}: error: a worker process died (killed, or out of memory?) after {finished[0]}/{total} "
-            f"trials{hint}",
+            f"{command_path()}: error: out of memory after {finished[0]}/{total} trials (fewer --workers or a "
+            "smaller run)",
             err=True,
         )
         raise typer.Exit(1) from None

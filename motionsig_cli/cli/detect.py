@@ -1,5 +1,4 @@
-"""``motionsig detect``: the LMP mode detector of eq (52) of the mode-signature paper (LMP mode detection with
-Gold-code signatures, IEEE CDC 2008) on a record (a simulate record or a user's own export), the Monte Carlo
+"""``motionsig detect``: the LMP mode detector of eq (52) of the mode-signature paper (47th IEEE CDC, Cancún, 2008) on a record (a simulate record or a user's own export), the Monte Carlo
 study of Figs 4–6 (``--montecarlo``), its threshold calibration (``--calibrate``) and, for 2-D radar records,
 Fig 7 (:mod:`motionsig_cli.cli.detect_radar`).
 
@@ -69,6 +68,7 @@ Method = choices("Method", "How the statistic is computed.", "bank", "fft", "lin
 ExampleKind = choices("ExampleKind", "Example of the paper for --montecarlo.", one_d="1d", two_d="2d")
 Ar = choices("Ar", "The nominal reference in the filters.", "cv", "identity", "known")
 QModel = choices("QModel", "How the filters' Q matrices are read.", "per-step", "continuous")
+Detector = choices("Detector", "The detector --calibrate calibrates.", "lmp", "estimate-correlate")
 
 
 SourceArg = Annotated[
@@ -362,6 +362,14 @@ PfaOpt = Annotated[
         "signature); with --calibrate, the Monte Carlo's (default 0.01).",
     ),
 ]
+DetectorOpt = Annotated[
+    Detector,
+    typer.Option(
+        "--detector",
+        help="--calibrate (1d): lmp (eq 52) or estimate-correlate (the baseline the paper's LMP replaces: a "
+        "Kalman estimate of the command correlated with every replica), on the same records.",
+    ),
+]
 NullTrialsOpt = Annotated[
     int | None,
     typer.Option("--null-trials", help="--pfa on a record, or --calibrate: null trials (default 20 / pfa)."),
@@ -403,6 +411,7 @@ def detect(
     calibrate_: CalibrateOpt = False,
     pfa: PfaOpt = None,
     null_trials: NullTrialsOpt = None,
+    detector: DetectorOpt = Detector.lmp,
     columns: ColumnsOpt = None,
     units: UnitsOpt = None,
     T: TOpt = None,
@@ -489,6 +498,7 @@ def detect(
         if null_trials is not None and pfa is None:
             raise typer.BadParameter("applies with --pfa (or --calibrate)", param_hint="--null-trials")
     two_d = example is ExampleKind.two_d or (rec is not None and rec.y.ndim == 2)
+    _refuse_for_baseline(detector, calibrate_, two_d, locals())
     _refuse_other_example(
         two_d, {"--Qa": Qa is not None, "--method": method is Method.fft,
                 "--Ar": Ar_ is not Ar.cv, "--weights": weights is not Weights.paper,
@@ -523,7 +533,7 @@ def detect(
         model = _mc_model(record, f_known)
     if calibrate_:
         return _calibrate(output, engine, lmp, _floats("--fr-list", fr_list or "0.01", "frequency"), *mc,
-                          null_trials, 0.01 if pfa is None else pfa, model)  # fmt: skip
+                          null_trials, 0.01 if pfa is None else pfa, model, detector)  # fmt: skip
     if montecarlo:
         if pfa is not None or null_trials is not None:
             hint = "--pfa" if pfa is not None else "--null-trials"
@@ -618,6 +628,26 @@ def _refuse_record_options(given: list[str], calibrate: bool) -> None:
         raise typer.BadParameter(f"applies to a record, not {where}", param_hint=given[0])
 
 
+def _refuse_for_baseline(detector: Any, calibrate: bool, two_d: bool, given: dict[str, Any]) -> None:
+    """--detector estimate-correlate: --calibrate of the 1d example only, and none of the LMP's own options
+    (``given``: detect's parameters)."""
+    if detector is Detector.lmp:
+        return
+    if not calibrate or two_d:
+        raise typer.BadParameter("applies to --calibrate of the 1d example only", param_hint="--detector")
+    lmp_only = {
+        "--Qa": given["Qa"] is not None, "--method": given["method"] is not Method.bank,
+        "--Ar": given["Ar_"] is Ar.known, "--weights": given["weights"] is not Weights.paper,
+        "--center": given["center"] is not Center.none, "--q-model": given["q_model"] is not QModel.per_step,
+        "--include-logdet": given["include_logdet"], "--filter": given["filter_"] is FilterKind.ukf,
+    }  # fmt: skip
+    for option, is_given in lmp_only.items():
+        if is_given:
+            raise typer.BadParameter(
+                "is an LMP setting: not with --detector estimate-correlate", param_hint=option
+            )
+
+
 def _refuse_other_example(two_d: bool, given: dict[str, bool]) -> None:
     """An option of the other example (given: option → whether it was given) is a usage error."""
     only_1d = ("--Qa", "--method", "--calibrate", "--Ar", "--weights", "--center", "--R-list", "--q-model")
@@ -677,13 +707,19 @@ def _montecarlo(
 def _calibrate(
     output: Output, engine: Engine, lmp: dict[str, Any], frs: tuple[float, ...] | None,
     Rs: tuple[float, ...] | None, hs: tuple[float, ...] | None, trials: int, seed: int, method: str,
-    null_trials: int | None, pfa: float, model: dict[str, Any],
+    null_trials: int | None, pfa: float, model: dict[str, Any], detector: Any = None,
 ) -> None:  # fmt: skip
-    """The threshold of max Λ for a false-alarm probability, and P_D at it (ROC curves with --plot)."""
+    """The threshold of max Λ for a false-alarm probability, and P_D at it (ROC curves with --plot); with
+    ``detector`` estimate-correlate, the baseline's (:mod:`motionsig_cli.experiments.baseline_calibration`)."""
     from motionsig_cli.detection.lmp import LMPConfig
     from motionsig_cli.experiments.lmp1d import CalibrationJob
 
-    job = CalibrationJob(LMPConfig(**lmp), frs, Rs, hs, trials, null_trials, pfa, seed, method, **model)
+    if detector is Detector.estimate_correlate:
+        from motionsig_cli.experiments.baseline_calibration import baseline_calibration_job
+
+        job: Any = baseline_calibration_job(lmp, frs, Rs, hs, trials, null_trials, pfa, seed, model)
+    else:
+        job = CalibrationJob(LMPConfig(**lmp), frs, Rs, hs, trials, null_trials, pfa, seed, method, **model)
     if job.warning:
         output.note(job.warning)
     cal = common.run_job(job, engine, "Calibration trials (null + signature)", output.quiet)

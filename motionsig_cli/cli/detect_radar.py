@@ -1,5 +1,5 @@
 """``motionsig detect`` on 2-D radar records and its Fig 7 Monte Carlo (the radar example of the
-mode-signature paper, LMP mode detection with Gold-code signatures, IEEE CDC 2008, §IV.B, eqs 59–62).
+mode-signature paper, 47th IEEE CDC, Cancún, 2008, §IV.B, eqs 59–62).
 
 :func:`detect_radar` builds the detector's configuration and one run of
 :mod:`motionsig_cli.experiments.lmp2d` (a record's
@@ -56,10 +56,6 @@ def detect_radar(
         _montecarlo(output, engine, radar, frs, pairs, hs, trials, seed, signature, method, center)
     else:
         assert rec is not None
-        if calibration is not None and method != "bank":
-            raise typer.BadParameter(
-                "on a radar record calibrates with the bank: use --method bank with --pfa", param_hint="--pfa"
-            )
         _record(output, engine, rec, radar, hs, threshold, candidates, calibration, method, center)
 
 
@@ -87,12 +83,33 @@ def _record(
 
     cfg = RadarLMPConfig(**{"fc_grid": (rec.f_c,), **radar})
     run = RadarRecordDetection(rec, cfg, hs, threshold, candidates, method=method, center=center)
-    if calibration is not None:
+    if calibration is not None and method == "bank":
         run = with_null_threshold(run, "bank", "ukf", cfg.sigma, *calibration, engine, output)
+    elif calibration is not None:  # the null records run the record's statistic: the linearised path, center
+        run = _linearised_null_threshold(run, calibration, engine, output)
     what = "Sigma-point filter bank" if method == "bank" else "Linearised projection"
     with progress_bar(f"{what} (time steps)", run.steps, output.quiet) as advance:
         result = run.detect(progress=advance)
     emit_record(output, result, run.title)
+
+
+def _linearised_null_threshold(
+    run: Any, calibration: tuple[float, int | None, int], engine: Engine, output: Output
+) -> Any:
+    """``run`` (a linearised :class:`~motionsig_cli.experiments.lmp2d.RadarRecordDetection`) at the thresholds
+    that null records of its model, through the same path and centring, exceed with probability P_FA."""
+    import dataclasses
+
+    from motionsig_cli.experiments.record_calibration import RecordNullJob
+
+    pfa, null_trials, seed = calibration
+    job = RecordNullJob(run.record, run.cfg, "linearised", "ukf", run.cfg.sigma, run.horizons, pfa, null_trials,
+                        seed, center=run.center)  # fmt: skip
+    cal = run_job(job, engine, "null records (no signature)", output.quiet)
+    if cal.warning:
+        output.note(cal.warning)
+    thresholds = tuple(float(v) for v in cal.thresholds)
+    return dataclasses.replace(run, threshold=thresholds, threshold_meta=cal.meta())
 
 
 def _montecarlo(

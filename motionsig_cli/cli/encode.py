@@ -1,6 +1,5 @@
 """``motionsig encode``: m-sequences, preferred pairs, Gold families, GPS C/A, Table I, correlations,
-signature waveforms (§II.A, eqs 1–3 and Table I of the mode-signature paper, LMP mode detection with
-Gold-code signatures, IEEE CDC 2008), and the EBPSK waveform, impacting filter and BER of Yao, Teng & Wu's
+signature waveforms (§II.A, eqs 1–3 and Table I of the mode-signature paper, 47th IEEE CDC, Cancún, 2008), and the EBPSK waveform, impacting filter and BER of Yao, Teng & Wu's
 joint radar–communication front end (``encode ebpsk``; :mod:`motionsig_cli.experiments.ebpsk_link`).
 
 Every code-producing command writes the same long table ``code,chip,value`` (plus descriptive
@@ -215,7 +214,7 @@ def table1(
 ) -> None:
     """Table I of the mode-signature paper: the three 31-chip mode signatures, corrected or as printed.
 
-    The paper is "LMP mode detection with Gold-code signatures" (IEEE CDC 2008). The corrected codes are
+    The paper is the mode-signature paper (47th IEEE CDC, Cancún, 2008). The corrected codes are
     the members of the 45/75 Gold family nearest the printed strings (mode 1 identical; mode 2 differs at
     chip 15; mode 3 has one chip dropped and one inserted).
 
@@ -296,7 +295,7 @@ def signature(
 ) -> None:
     """Sampled mode signature z_k = p_k[tau] cos(2 pi (f_c + f_d) t_k + theta), replicas and derivatives (eqs 1-3).
 
-    Eqs (1)-(3) of the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008);
+    Eqs (1)-(3) of the mode-signature paper (47th IEEE CDC, Cancún, 2008);
     the sample interval T and the samples per chip m_rho are assumed (the paper does not state them).
 
     \b

@@ -1,5 +1,5 @@
 """``motionsig simulate``: the closed-loop vehicle carrying a mode signature, after §IV.A (Fig 2) and §IV.B of
-the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008).
+the mode-signature paper (47th IEEE CDC, Cancún, 2008).
 
 The command parses the options, builds the vehicle and record configurations (which check every value)
 and writes the table of :func:`motionsig_cli.experiments.vehicle_record.simulate_record`.
@@ -181,8 +181,7 @@ def simulate(
 ) -> None:
     """Closed-loop vehicle whose position reference carries a mode signature: 1-D (eqs 53-55, Fig 2) or 2-D radar (eqs 59-60).
 
-    Equations, figures and Table I are those of the mode-signature paper (LMP mode detection with Gold-code
-    signatures, IEEE CDC 2008). The random inputs are those of Monte Carlo trial 0 of
+    Equations, figures and Table I are those of the mode-signature paper (47th IEEE CDC, Cancún, 2008). The random inputs are those of Monte Carlo trial 0 of
     `detect --montecarlo --seed SEED`.
 
     \b

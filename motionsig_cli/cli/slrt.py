@@ -190,7 +190,9 @@ def slrt(
         ),
     ] = None,
     scans: Annotated[int, typer.Option("--scans", help="Scans per run.")] = 30,
-    runs: Annotated[int, typer.Option("--runs", help="Monte Carlo runs per case (over the time limit: --max-minutes).")] = 50,
+    runs: Annotated[
+        int, typer.Option("--runs", help="Monte Carlo runs per case (over the time limit: --max-minutes).")
+    ] = 50,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     alpha: Annotated[float, typer.Option("--alpha", help="SPRT α = P(confirm | no target).")] = 1e-3,
     beta: Annotated[float, typer.Option("--beta", help="SPRT β = P(delete | target).")] = 0.1,

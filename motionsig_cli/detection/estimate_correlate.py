@@ -1,5 +1,4 @@
-"""The estimate-then-correlate mode detector: the suboptimal baseline that the mode-signature paper (LMP
-mode detection with Gold-code signatures, IEEE CDC 2008, §I) replaces by its LMP test.
+"""The estimate-then-correlate mode detector: the suboptimal baseline that the mode-signature paper (47th IEEE CDC, Cancún, 2008, §I) replaces by its LMP test.
 
 The paper describes its predecessor (Otanez and Campbell, *Mode estimation switching using perturbation
 signatures for hybrid multi-vehicle systems*, AIAA GNC 2005) in one sentence: a Kalman filter estimates the

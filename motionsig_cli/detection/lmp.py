@@ -1,5 +1,5 @@
 """Locally most powerful (LMP) mode detector evaluated with Kalman-filter innovations — eqs (27)–(52) of
-the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008).
+the mode-signature paper (47th IEEE CDC, Cancún, 2008).
 
 For every candidate c = (i, τ, f_c) two filters run on the augmented model of eq (44): KF_cos with
 the replica z_cos and KF_sin with z_sin; one H0 filter runs without the amplitude state. With

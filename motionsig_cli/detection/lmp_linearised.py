@@ -24,8 +24,7 @@ and the Gaussian integral over a gives, exactly (★ of the 1-D FFT path, now wi
 
 e_k = L_S,k⁻¹ ν_k the base filter's whitened innovations. So Λ(c) = 2(J_H0 − J_base) + G_cos(c) +
 G_sin(c), G = ½ bᵀ(I/P0 + A)⁻¹ b: one base filter per record, and per candidate a linear recursion
-(a batched 8×8 matrix product per step over candidates, records and noise levels) and two inner
-products. The base filter is the H1 model's first eight states: eq (62)'s Q differs there from eq (61)'s,
+(run on a basis of the replicas, see Implementation below) and two inner products. The base filter is the H1 model's first eight states: eq (62)'s Q differs there from eq (61)'s,
 so the H0 filter (for J_H0) and the base filter (Q^{H1}[:8]) both run, two filters instead of 2C + 1;
 the term 2(J_H0 − J_base) is the same for every candidate.
 
@@ -104,6 +103,9 @@ MEASUREMENTS = ("radar", "position")
 Center = Literal["none", "h0-noise", "standardised"]
 H_POSITION = np.array([[1.0, 0, 0, 0, 0, 0, 0, 0], [0, 0, 1.0, 0, 0, 0, 0, 0]])  # y = (x, y) + v
 SEGMENT = 256  # most time steps of ψ kept between two Gram updates
+# the Gram updates are kept below the size above which OpenBLAS threads a matrix product (m·n·k ≈ 2.6e5): on
+# these small products a thread pool costs more than it gains (measured 2-3x slower on a shared 2-core machine)
+BLAS_SINGLE = 262144
 
 
 # ------------------------------------------------------------------------------------------ replica basis
@@ -129,7 +131,7 @@ def replica_basis(
     k = −1 for the finite-difference ż) differ by a constant are one class; a basis replica is a unit
     chip in one slot of a class's representative phase, one per carrier; slots never reached are left out."""
     chips = np.asarray(chips, float)
-    _M, n_rho = chips.shape
+    n_rho = chips.shape[1]
     k = np.arange(-1, n)
     k1, k2 = K
     index: dict[tuple[float, bytes, int], int] = {}  # (f_c, class key, relative slot) -> basis row
@@ -159,23 +161,7 @@ def replica_basis(
     return ReplicaBasis(S, np.ascontiguousarray(cos[used]), np.ascontiguousarray(sin[used]))
 
 
-# ------------------------------------------------------------------------------- small closed-form algebra
-def _chol(A: np.ndarray, what: str) -> np.ndarray:
-    """Lower Cholesky factors of symmetric matrices stacked on the last axis, (d, d, B)."""
-    d = A.shape[0]
-    L = np.zeros_like(A)
-    for j in range(d):
-        piv = A[j, j] - sum((L[j, i] * L[j, i] for i in range(j)), start=np.zeros(A.shape[2:]))
-        if not np.all(piv > 0):
-            raise FloatingPointError(f"{what} does not factor (use --method bank)")
-        L[j, j] = np.sqrt(piv)
-        for i in range(j + 1, d):
-            L[i, j] = (A[i, j] - sum((L[i, t] * L[j, t] for t in range(j)), start=np.zeros(A.shape[2:]))) / L[
-                j, j
-            ]
-    return L
-
-
+# ---------------------------------------------------------------------------------------------- helpers
 def _wrap(d: np.ndarray, angular: np.ndarray) -> np.ndarray:
     """Wrap the angular components (first axis) of d to (−π, π], in place."""
     for a in angular:
@@ -311,13 +297,14 @@ class _Pass:
         self.Q = np.concatenate([np.broadcast_to(q[:, :, None], (n, n, B)) for q in Qs], axis=2)
 
     def go(self, progress: Progress) -> None:
+        """The fused pass over the time steps (the outputs of the class docstring)."""
         F0, meas, cfg, y, hz, basis = self.F0, self.meas, self.cfg, self.y, self.hz, self.basis
         B, N, m, n, p, nf = self.B, self.N, self.m, self.n, self.p, self.nf
         BB = nf * B
         base = slice((nf - 1) * B, nf * B)  # the base filter's copies
         _, wc0, wj, c = cfg.sigma.weights(n)
         w_e0 = wc0 + 2 * (n - p) * wj
-        ang = np.flatnonzero(np.asarray(meas.angular, bool))
+        ang = [int(a) for a in np.flatnonzero(np.asarray(meas.angular, bool))]
         missing = missing_steps(y, "the sigma-point filter")  # (B, N)
         any_missing = missing.any(axis=0)
         yT = np.ascontiguousarray(np.transpose(y, (1, 2, 0)))  # (N, m, B)
@@ -341,15 +328,15 @@ class _Pass:
         Mk[:, :n, p:] = F0[:, p:]  # A_k = F0 (I − K_k H_k) differs from F0 in the lead columns only
         Os = [np.zeros((B, n + m, wide)), np.zeros((B, n + m, wide))]
         Z = Os[0][:, :n]
-        seg_len = min(SEGMENT, N)
+        width = cols if self.moments else 2 * r  # the widest Gram update's columns
+        seg_len = int(min(SEGMENT, N, max(8, BLAS_SINGLE // (m * width * width))))
         Psi = np.zeros((B, m * seg_len, cols))  # ψ_k of the segment, rows (step, component)
         Eseg = np.zeros((B, m * seg_len, 1))
         bb = np.zeros((B, cols, 1))
         self.b_out = np.empty((H, B, cols))
         if self.moments:
-            Yseg = np.zeros((B, m * seg_len, cols))  # H̄_k X_k
-            Tseg = np.zeros((B, m * seg_len, cols))  # L_eᵀ ψ_k (Σe_k = L_e L_eᵀ)
-            Sig = np.zeros((B, cols, cols))
+            Vseg = np.zeros((B, m * seg_len, cols))  # V_k = H̄_k X_k + ½ Σe_k ψ_k
+            Sig = np.zeros((B, cols, cols))  # Σ_k ψ_kᵀ V_k: Σ_β = Sig + Sigᵀ
             self.S_out = np.empty((H, B, cols, cols))
             Pe = np.zeros((B, n, n))
             Rt = np.ascontiguousarray(np.transpose(self.R_true, (2, 0, 1)))  # (B, m, m)
@@ -391,10 +378,10 @@ class _Pass:
             Y0 = Y[:, :1]
             D6 = Y[:, 1:] - Y0
             wrap = False
-            if ang.size:  # no wrap can act when every angle stays within (−π, π] (one test per step)
-                spread = float(np.abs(D6[ang]).max())
-                shift = 2 * p * abs(wj) * spread  # bound on |ŷ − h(χ_0)| in the angular components
-                wrap = not (spread + shift < np.pi and float(np.abs(Y0[ang]).max()) + shift < np.pi)
+            for a in ang:  # no wrap can act when every angle stays within (−π, π] (two tests per step)
+                lo, hi = float(Y[a].min()), float(Y[a].max())  # hi − lo bounds |h(χ_i) − h(χ_0)|
+                shift = 2 * p * abs(wj) * (hi - lo)  # bound on |ŷ − h(χ_0)| in the angular components
+                wrap = wrap or not (hi - lo + shift < np.pi and max(hi, -lo) + shift < np.pi)
             if wrap:
                 D6 = _wrap(D6, ang)
             y_hat = Y0[:, 0] + wj * D6.sum(1)  # Σ W^m_i h(χ_i), angles about χ_0
@@ -444,26 +431,25 @@ class _Pass:
             FW = np.transpose(FWs, (2, 0, 1))  # (B, n, m)
             np.subtract(F0[:, :p], np.einsum("aib,ijb->baj", FWs, Hw[:, :, base]), out=Mk[:, :n, :p])
             Mk[:, n:, :p] = Hwb  # A_k = F0 (I − K_k H_k) with K_k H_k = W_k H̄_k, and H̄_k
-            O = Os[(k + 1) % 2]  # noqa: E741 - the product O = M Z of the derivation
-            np.matmul(Mk, Z, out=O)
+            Ob = Os[(k + 1) % 2]
+            np.matmul(Mk, Z, out=Ob)
             i = k - s0
-            Psi[:, m * i : m * i + m] = O[:, n:, :cols]  # ψ_k = H̄_k δ_k
+            Psi[:, m * i : m * i + m] = Ob[:, n:, :cols]  # ψ_k = H̄_k δ_k
             Eseg[:, m * i : m * i + m, 0] = u[:, base].T
             if self.moments:
-                Yseg[:, m * i : m * i + m] = O[:, n:, cols:]  # H̄_k X_k = E[e_k b_kᵀ]
                 Lib[:, 0, 0], Lib[:, 1, 0], Lib[:, 1, 1] = ia[base], c10[base], ib[base]
                 Rbar = Lib @ Rt @ np.swapaxes(Lib, 1, 2)  # L_S⁻¹ R L_S⁻ᵀ (R the true covariance)
                 Hwb = np.ascontiguousarray(Hwb)
                 HPe = Hwb @ Pe[:, :p]  # H̄ Pe (lead rows), (B, m, n)
                 Se = HPe[:, :, :p] @ np.swapaxes(Hwb, 1, 2) + Rbar  # Σe_k
-                Le = _chol(np.transpose(Se, (1, 2, 0)), "a whitened innovation covariance")
-                Tseg[:, m * i : m * i + m] = np.transpose(Le, (2, 1, 0)) @ O[:, n:, :cols]  # L_eᵀ ψ_k
+                # ψᵀ H̄X + (H̄X)ᵀ ψ + ψᵀ Σe ψ = ψᵀ V + Vᵀ ψ, with H̄_k X_k = E[e_k b_kᵀ]
+                Vseg[:, m * i : m * i + m] = Ob[:, n:, cols:] + 0.5 * (Se @ Ob[:, n:, :cols])
                 Ak = Mk[:, :n]
                 APe = Ak @ Pe
                 Gam = APe[:, :, :p] @ np.swapaxes(Hwb, 1, 2) - FW @ Rbar  # Γ_k = (A Pe Hᵀ − F0 K R) L_S⁻ᵀ
                 Pe = APe @ np.swapaxes(Ak, 1, 2) + FW @ Rbar @ np.swapaxes(FW, 1, 2)
-                O[:, :n, cols:] += Gam @ O[:, n:, :cols]  # X_{k+1} = A_k X_k + Γ_k ψ_k
-            Z = O[:, :n]
+                Ob[:, :n, cols:] += Gam @ Ob[:, n:, :cols]  # X_{k+1} = A_k X_k + Γ_k ψ_k
+            Z = Ob[:, :n]
             Z[:, IXD] += gx[k]
             Z[:, IYD] += gy[k]
             # ---- the filters' predict: x = F0 x, P = F0 P F0ᵀ + Q
@@ -480,9 +466,7 @@ class _Pass:
                 Gs += np.swapaxes(Ps, 1, 2) @ Ps
                 bb += np.swapaxes(Psi[:, rows], 1, 2) @ Eseg[:, rows]
                 if self.moments:
-                    PY = np.swapaxes(Psi[:, rows], 1, 2) @ Yseg[:, rows]
-                    Tt = Tseg[:, rows]
-                    Sig += PY + np.swapaxes(PY, 1, 2) + np.swapaxes(Tt, 1, 2) @ Tt
+                    Sig += np.swapaxes(Psi[:, rows], 1, 2) @ Vseg[:, rows]
                 s0 = k + 1
             if h in read:
                 j = read[h]
@@ -491,7 +475,7 @@ class _Pass:
                 self.b_out[j] = bb[:, :, 0]
                 self.Gc_out[j], self.Gs_out[j] = Gc, Gs
                 if self.moments:
-                    self.S_out[j] = Sig
+                    self.S_out[j] = Sig + np.swapaxes(Sig, 1, 2)
             tick(k)
         if not (np.all(np.isfinite(self.J)) and np.all(np.isfinite(self.LD))):
             raise FloatingPointError("the sigma-point filter produced a non-finite cost")
@@ -508,7 +492,7 @@ class _Pass:
 
         def quad(
             G: np.ndarray, i: int, j: int
-        ) -> np.ndarray:  # diag S G_ij Sᵀ of blocks (.., r, r) → (C, H, B)
+        ) -> np.ndarray:  # diag S G_ij Sᵀ, blocks (.., r, r) → (C, H, B)
             Gij = G[..., i * r : (i + 1) * r, j * r : (j + 1) * r]
             return np.einsum("hbcq,cq->chb", S @ Gij, S)
 

@@ -1,6 +1,5 @@
 """The LMP detector against the estimate-then-correlate baseline at equal false-alarm rate: P_D versus the
-signature amplitude a_sig and the horizon, 1-D and radar (the mode-signature paper, LMP mode detection with
-Gold-code signatures, IEEE CDC 2008, §I: the LMP test replaces an estimate-then-correlate detector and is
+signature amplitude a_sig and the horizon, 1-D and radar (the mode-signature paper, 47th IEEE CDC, Cancún, 2008, §I: the LMP test replaces an estimate-then-correlate detector and is
 locally most powerful as a_sig → 0).
 
 Both detectors see the same records. Null records (no signature) set each detector's threshold for the

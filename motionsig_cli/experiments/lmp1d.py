@@ -1,5 +1,4 @@
-"""The 1-D LMP experiment of the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE
-CDC 2008, §IV.A, Figs 3–6): one record through the detector, and the Monte Carlo of Figs 4–6 (one trial =
+"""The 1-D LMP experiment of the mode-signature paper (47th IEEE CDC, Cancún, 2008, §IV.A, Figs 3–6): one record through the detector, and the Monte Carlo of Figs 4–6 (one trial =
 draw (i, τ, θ), simulate, detect) with its threshold calibration.
 
 Random streams (so a trial's numbers depend on (seed, trial) only, never on batching):
@@ -34,7 +33,7 @@ from motionsig_cli.detection.lmp import (
     progress_steps,
 )
 from motionsig_cli.detection.lmp_fft import check_fft_config, lmp_detect_fft
-from motionsig_cli.engine import tasks_of, trials_per_task
+from motionsig_cli.engine import check_run_time, tasks_of, trials_per_task
 from motionsig_cli.experiments.lmp_record import RecordResult, record_result, sigma_meta
 from motionsig_cli.experiments.record_reading import VehicleRecord, record_horizons
 from motionsig_cli.filters.kalman import Progress
@@ -629,6 +628,17 @@ class CalibrationCell:
         return math.sqrt(self.pd * (1 - self.pd) / self.trials)
 
 
+def null_trials_warning(null_trials: int, pfa: float) -> str | None:
+    """A note when ``null_trials`` are too few for the target ``pfa`` (the threshold is then the largest
+    null maximum), else None."""
+    if null_trials * pfa >= 1:
+        return None
+    return (
+        f"warning: {null_trials} null trials < 1/P_FA: the threshold is the largest null maximum, "
+        f"its false-alarm rate is not {pfa:g}"
+    )
+
+
 def threshold_for(null_max: np.ndarray, pfa: float) -> float:
     """The smallest order statistic t of ``null_max`` with #{λ* > t} ≤ ⌊pfa n⌋."""
     s = np.sort(np.asarray(null_max, dtype=float))
@@ -703,12 +713,7 @@ class CalibrationJob:
     @property
     def warning(self) -> str | None:
         """A note when the null trials are too few for the target P_FA."""
-        if self.null_trials * self.pfa >= 1:
-            return None
-        return (
-            f"warning: {self.null_trials} null trials < 1/P_FA: the threshold is the largest null maximum, "
-            f"its false-alarm rate is not {self.pfa:g}"
-        )
+        return null_trials_warning(self.null_trials, self.pfa)
 
     def tasks(self) -> list[tuple[int, float, range]]:
         """``(0 | 1, R, trials)``: 0 = null records (no signature), 1 = with it; the null tasks first."""
@@ -957,12 +962,16 @@ class RecordDetection(RecordHorizons):
             need_gb = (4 * H * max(N, n_rho * rec.m_rho) * 16 + 10 * C * H * 8) / 1e9
             seconds = 0.0
             what = f"the FFT path over {C} candidates"
-        if need_gb > MAX_BANK_GB or seconds > MAX_RECORD_SECONDS:
+        if need_gb > MAX_BANK_GB:
             raise ConfigError(
-                "horizons", max(self.horizons), f"s is too long for {what}: it would need ~{need_gb:.1f} GB "
-                f"and ~{seconds / 60:.0f} min (limits {MAX_BANK_GB:g} GB, {MAX_RECORD_SECONDS / 60:g} min); "
-                "use shorter horizons, fewer codes or a coarser grid",
+                "horizons", max(self.horizons), f"s is too long for {what}: it would need an estimated "
+                f"{need_gb:.1f} GB; the limit is {MAX_BANK_GB:g} GB: use shorter horizons, fewer codes or a "
+                "coarser grid",
             )  # fmt: skip
+        check_run_time(  # one record, in this process: --max-minutes raises the limit
+            "horizons", max(self.horizons), seconds, MAX_RECORD_SECONDS, what=f"s is too long for {what}: it ",
+            parallel=False, also="use shorter horizons, fewer codes or a coarser grid, or ",
+        )  # fmt: skip
 
     @property
     def steps(self) -> int:

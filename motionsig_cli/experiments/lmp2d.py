@@ -1,5 +1,4 @@
-"""The 2-D radar experiment of the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE
-CDC 2008, §IV.B, Fig 7): one radar record through the sigma-point bank, and the Fig 7 Monte Carlo (one
+"""The 2-D radar experiment of the mode-signature paper (47th IEEE CDC, Cancún, 2008, §IV.B, Fig 7): one radar record through the sigma-point bank, and the Fig 7 Monte Carlo (one
 trial = draw (i, τ, θ), simulate, detect) as the job :class:`RadarLmpJob`.
 
 The random streams are those of :mod:`motionsig_cli.experiments.lmp1d` with two-column noise:
@@ -20,7 +19,7 @@ import numpy as np
 from motionsig_cli.config import ConfigError, in_range, integer, one_of
 from motionsig_cli.detection.lmp import LMPResult, RadarLMPConfig, candidate_grid, lmp_detect_radar
 from motionsig_cli.detection.lmp_linearised import CENTERS, lmp_detect_radar_linearised
-from motionsig_cli.engine import tasks_of, trials_per_task
+from motionsig_cli.engine import check_run_time, tasks_of, trials_per_task
 from motionsig_cli.experiments.lmp1d import (
     CORRECT,
     FIG_HORIZONS,
@@ -57,9 +56,11 @@ MAX_HORIZON_S = 1e6  # the Monte Carlo's longest horizon [s]
 MAX_FR = 1e6  # the Monte Carlo's highest reference frequency [Hz]
 RADAR_METHODS = ("bank", "linearised")
 LINEARISED_S = (
-    4e-5  # the linearised path: s per record and time step, records of several pairs at once (measured)
+    1.5e-5  # the linearised path: s per record and time step, records of several pairs at once (measured)
 )
-LINEARISED_BLOCK = 25  # trials per task of the linearised path (every ANR pair of them in one call)
+# trials per task of the linearised path (every ANR pair of them in one call): its per-step cost is mostly
+# per call, so few large tasks (two for Fig 7's 50 trials: one per worker of a 2-core machine)
+LINEARISED_BLOCK = 25
 
 
 def check_radar_method(method: str, center: str) -> None:
@@ -110,17 +111,33 @@ def simulate_trials_2d(
     return sim, draws
 
 
-def check_size(field_name: str, value: Any, n_filters: int, trials: int, n_samples: int, batch: int) -> None:
-    """Refuse runs over ~1 h or ~4 GB before any work: ~(2 + 10/B) µs per filter-step for B records at
-    once (measured), and the candidate replicas and transitions, ~6 arrays of (filters × samples) doubles.
-    The :class:`ConfigError` names ``field_name`` (the field to change) with its ``value``."""
+def check_size(
+    field_name: str,
+    value: Any,
+    n_filters: int,
+    trials: int,
+    n_samples: int,
+    batch: int,
+    *,
+    parallel: bool = True,
+) -> None:
+    """Refuse, before any work, a run over ~4 GB per worker (each worker holds one bank) or over the time
+    limit (:func:`~motionsig_cli.engine.check_run_time`: ~1 h on the workers the run has; ``parallel=False``:
+    one record in this process): ~(2 + 10/B) µs per filter-step for B records at once (measured), and the
+    candidate replicas and transitions, ~6 arrays of (filters × samples) doubles. The :class:`ConfigError`
+    names ``field_name`` (the field to change) with its ``value``."""
     seconds = float(n_filters) * trials * n_samples * (2 + 10 / batch) * 1e-6
     gb = 6.0 * n_filters * n_samples * 8 / 1e9
-    if seconds > MAX_SECONDS or gb > MAX_GB:
+    if gb > MAX_GB:
         raise ConfigError(
-            field_name, value, f"would take ~{seconds / 3600:.2g} h and ~{gb:.2g} GB (limits "
-            f"{MAX_SECONDS / 3600:g} h, {MAX_GB:g} GB): fewer trials, shorter horizons or a coarser grid",
+            field_name, value, f"would need an estimated {gb:.2g} GB{' per worker' if parallel else ''} for the "
+            f"bank of {n_filters} filters; the limit is {MAX_GB:g} GB: shorter horizons or a coarser grid",
         )  # fmt: skip
+    check_run_time(
+        field_name, value, seconds, MAX_SECONDS, parallel=parallel,
+        also="fewer trials, shorter horizons or a coarser grid; or " if parallel else "shorter horizons or a "
+        "coarser grid; or ",
+    )  # fmt: skip
 
 
 def n_candidates(chips: np.ndarray, m_rho: int, cfg: RadarLMPConfig) -> int:
@@ -165,7 +182,7 @@ class RadarRecordDetection(RecordHorizons):
         object.__setattr__(self, "horizons", tuple(hs))
         n_modes, n_rho = rec.chips.shape
         C = n_grid_candidates(n_modes, n_rho, rec.m_rho, self.cfg.tau_grid, len(self.cfg.fc_grid))
-        check_size("horizons", max(hs), 2 * C + 1, 1, self.n_used, 1)
+        check_size("horizons", max(hs), 2 * C + 1, 1, self.n_used, 1, parallel=False)
         check_threshold(self.threshold, len(hs))
 
     @property

@@ -36,7 +36,8 @@ from motionsig_cli.detection.lmp import (
     lmp_detect_radar,
 )
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft
-from motionsig_cli.engine import trials_per_task
+from motionsig_cli.detection.lmp_linearised import lmp_detect_radar_linearised
+from motionsig_cli.engine import check_run_time, trials_per_task
 from motionsig_cli.experiments.lmp1d import (
     MAX_BANK_GB,
     MAX_NULL_TRIALS,
@@ -46,22 +47,22 @@ from motionsig_cli.experiments.lmp1d import (
     simulate_trials,
     threshold_for,
 )
-from motionsig_cli.experiments.lmp2d import simulate_trials_2d
+from motionsig_cli.experiments.lmp2d import check_radar_method, simulate_trials_2d
 from motionsig_cli.experiments.record_reading import VehicleRecord, record_horizons
 from motionsig_cli.filters.unscented import SigmaPointParams
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.models.vehicle2d import Vehicle2D
 from motionsig_cli.rng import DEFAULT_SEED
 
-MAX_SECONDS = 600.0  # estimated run time (one core) above which a job is refused
+MAX_SECONDS = 600.0  # the interactive limit of the estimated run time on the run's workers (check_run_time)
 HOW = "null records simulated from the record's model, same length and missing samples"
 # trials evaluated together (see the module docstring), at most: many for the Kalman bank and the FFT path
 # (their per-trial work is a few elementwise passes), few for the sigma-point banks (their covariances are
 # kept per trial); fewer where a block's arrays would exceed BLOCK_BYTES (assumed: 50 MB for the banks, a
 # working set that stays near the caches: the innovations of a 6000-filter bank ran ~1.5x slower per trial
 # in blocks of 170; 250 MB for the FFT path, whose fixed cost per call is worth sharing over more trials)
-BLOCK = {"kf": 256, "fft": 256, "ukf": 16}
-BLOCK_BYTES = {"kf": 5e7, "fft": 2.5e8, "ukf": 5e7}
+BLOCK = {"kf": 256, "fft": 256, "ukf": 16, "linearised": 64}
+BLOCK_BYTES = {"kf": 5e7, "fft": 2.5e8, "ukf": 5e7, "linearised": 2.5e8}
 # cost model [s], measured on a 2-core machine (see RecordNullJob.cost)
 KF_RICCATI = 1.6e-6  # per filter-step of the Riccati recursion (once per task)
 KF_TRIAL = 3e-8  # per filter-step and trial of the innovations (2e-8 … 5e-8 measured, by bank and block)
@@ -73,6 +74,8 @@ FFT_CALL, FFT_CALL_XCORR = 0.05, 1.5e-7
 FFT_SAMPLE, FFT_FOLD, FFT_XCORR = 1e-7, 2e-8, 5e-8
 UKF_TRIAL_1D = 4e-7  # per filter-step and trial of the 1-D sigma-point bank (4 and 5 states), blocks of 16
 UKF_TRIAL_2D = 1.3e-6  # per filter-step and trial of the radar bank (8 and 10 states), blocks of 16
+# the radar's linearised path: per time step and call (its per-step fixed cost), per time step and trial
+LIN_CALL, LIN_TRIAL = 3e-4, 1.5e-5
 
 
 @dataclass(frozen=True)
@@ -145,7 +148,9 @@ class RecordNullJob:
     Attributes:
         record: The user's record (1-D or 2-D radar; NaN marks a missing sample).
         cfg: Detector settings, :class:`LMPConfig` (1-D) or :class:`RadarLMPConfig` (radar record).
-        method: ``"bank"`` or ``"fft"`` (1-D only; the FFT path cannot skip a missing sample).
+        method: ``"bank"`` or ``"fft"`` (1-D only; the FFT path cannot skip a missing sample), or for a radar
+            record ``"linearised"`` (:mod:`motionsig_cli.detection.lmp_linearised`; missing samples are
+            predict-only steps, as in the bank).
         filter: ``"kf"`` or ``"ukf"`` (1-D); a radar record always runs the sigma-point bank.
         sigma: Unscented-transform parameters of the 1-D ``"ukf"`` bank (a radar record uses ``cfg.sigma``).
         horizons: Horizons [s]; None: every 10 s of the record
@@ -156,13 +161,15 @@ class RecordNullJob:
         seed: Root seed (>= 0).
         chunk: Null trials per task, rounded up to whole blocks (None: from the cost model); the result does
             not depend on it.
+        center: The radar linearised path's ``center`` (``"none"``, ``"h0-noise"`` or ``"standardised"``): the
+            null records run the statistic the record's detection runs.
     """
 
     name: ClassVar[str] = "detect --pfa"
 
     record: VehicleRecord
     cfg: LMPConfig | RadarLMPConfig
-    method: Method = "bank"
+    method: Method | Literal["linearised"] = "bank"
     filter: Literal["kf", "ukf"] = "kf"
     sigma: SigmaPointParams = field(default_factory=SigmaPointParams)
     horizons: tuple[float, ...] | None = None
@@ -170,6 +177,7 @@ class RecordNullJob:
     null_trials: int | None = None
     seed: int = DEFAULT_SEED
     chunk: int | None = None
+    center: str = "none"
 
     def __post_init__(self) -> None:
         rec = self.record
@@ -188,8 +196,10 @@ class RecordNullJob:
         if not isinstance(self.sigma, SigmaPointParams):
             raise ConfigError("sigma", self.sigma, "is not a SigmaPointParams")
         if self.two_d:
-            one_of("method", self.method, ("bank",))
+            one_of("method", self.method, ("bank", "linearised"))
+            check_radar_method(self.method, self.center)
         else:
+            one_of("center", self.center, ("none",))
             assert isinstance(self.cfg, LMPConfig)
             check_record_detector(self.method, self.filter, self.cfg, self.sigma)
         T = veh.T
@@ -219,16 +229,15 @@ class RecordNullJob:
         need_gb = n_filters * self.n_used * 7 * 8 / 1e9  # Kalman bank: gains, S⁻¹, log det per filter-step
         if self.bank == "kf" and need_gb > MAX_BANK_GB:
             raise ConfigError(
-                "horizons", max(hs), f"s is too long for the bank of {n_filters} filters: it would need "
-                f"~{need_gb:.1f} GB (limit {MAX_BANK_GB:g} GB); use shorter horizons or a coarser grid",
+                "horizons", max(hs), f"s is too long for the bank of {n_filters} filters: it would need an "
+                f"estimated {need_gb:.1f} GB per worker; the limit is {MAX_BANK_GB:g} GB: use shorter horizons "
+                "or a coarser grid",
             )  # fmt: skip
-        seconds = self.estimate_seconds()
-        if seconds > MAX_SECONDS:
-            raise ConfigError(
-                "null_trials", self.null_trials, f"null records would take ~{seconds / 60:.3g} min on one core "
-                f"(limit {MAX_SECONDS / 60:g} min): raise P_FA, set fewer null trials, use shorter horizons"
-                + (" or the FFT path (--method fft)" if self.bank == "kf" else "") + " or a coarser grid",
-            )  # fmt: skip
+        check_run_time(  # on the workers the run has; --max-minutes raises the limit, --checkpoint lifts it
+            "null_trials", self.null_trials, self.estimate_seconds(), MAX_SECONDS, what="null records ",
+            also="raise P_FA, set fewer null trials, use shorter horizons"
+            + (", the FFT path (--method fft)" if self.bank == "kf" else "") + " or a coarser grid; or ",
+        )  # fmt: skip
 
     # ------------------------------------------------------------------------------------------ shape
     @property
@@ -238,7 +247,10 @@ class RecordNullJob:
 
     @property
     def bank(self) -> str:
-        """What runs: ``"kf"`` (Kalman bank), ``"ukf"`` (a sigma-point bank) or ``"fft"``."""
+        """What runs: ``"kf"`` (Kalman bank), ``"ukf"`` (a sigma-point bank), ``"fft"`` or ``"linearised"``
+        (the radar's projection)."""
+        if self.two_d and self.method == "linearised":
+            return "linearised"
         if self.two_d or self.filter == "ukf":
             return "ukf"
         return "fft" if self.method == "fft" else "kf"
@@ -278,6 +290,8 @@ class RecordNullJob:
         elif self.bank == "fft":  # folded innovations and cross-correlations (H, period) and C statistics
             period = rec.chips.shape[1] * rec.m_rho
             per_trial = H * max(self.n_used, period) * 16 * 6 + C * H * 8 * 10
+        elif self.bank == "linearised":  # the basis responses and one segment of them, and C statistics
+            per_trial = 8 * 8 * rec.chips.shape[1] * (10 + 2 * 256) + C * H * 8 * 12
         else:  # the sigma-point bank's covariances and factors, (n, n, filters, trials)
             n = 10 if self.two_d else 5
             per_trial = n * n * filters * 8 * 4
@@ -291,12 +305,15 @@ class RecordNullJob:
         (~3e-8 s per filter-step and trial); FFT path: per call (block) ~0.05 s and 0.15 µs per code-period
         sample, mode, horizon and carrier, per trial and carrier 0.1 µs per sample, 0.02 µs per sample and
         horizon and 0.05 µs per code-period sample, mode and horizon;
-        sigma-point banks: ~0.4 µs (1-D) and ~1.3 µs (radar) per filter-step and trial. Every path adds
+        sigma-point banks: ~0.4 µs (1-D) and ~1.3 µs (radar) per filter-step and trial; the radar's linearised
+        path ~15 µs per time step and trial and ~0.3 ms per time step and block. Every path adds
         the simulation loop (~10 µs per time step and block). Good to a factor of ~2 (the machine's load,
         the bank's size).
         """
         n, filters = self.n_used, 2 * self.n_candidates + 1
         sim = n * SIM_STEP / self.block
+        if self.bank == "linearised":
+            return 0.0, n * (LIN_TRIAL + LIN_CALL / self.block) + sim
         if self.bank == "kf":
             return n * filters * KF_RICCATI, n * filters * KF_TRIAL + sim
         if self.bank == "fft":
@@ -353,6 +370,11 @@ class RecordNullJob:
         rec, hz = self.record, self.horizon_samples
         if self.two_d:
             assert isinstance(self.cfg, RadarLMPConfig) and isinstance(rec.vehicle, Vehicle2D)
+            if self.method == "linearised":
+                center: Any = self.center
+                return lmp_detect_radar_linearised(
+                    y, rec.chips, rec.vehicle, rec.m_rho, self.cfg, hz, center=center
+                )
             return lmp_detect_radar(y, rec.chips, rec.vehicle, rec.m_rho, self.cfg, hz)
         assert isinstance(self.cfg, LMPConfig) and isinstance(rec.vehicle, Vehicle1D)
         if self.method == "fft":
@@ -395,4 +417,5 @@ class RecordNullJob:
             vehicle=repr(rec.vehicle), m_rho=int(rec.m_rho), f_c=float(rec.f_c), n_used=self.n_used, missing_and_codes=digest,
             cfg=repr(self.cfg), method=self.method, filter=self.filter, sigma=repr(self.sigma),
             horizons=list(self.horizons or ()), pfa=self.pfa, null_trials=self.null_trials, seed=self.seed,
+            **({"center": self.center} if self.method == "linearised" else {}),
         )  # fmt: skip

@@ -1,5 +1,5 @@
 """The tables of ``motionsig encode``: m-sequences, preferred pairs, Gold families, GPS C/A codes, Table I of
-the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008), periodic
+the mode-signature paper (47th IEEE CDC, Cancún, 2008), periodic
 correlations and sampled mode signatures (the paper's §II.A, eqs 1–3).
 
 Every code-producing table is the long table ``code,chip,value`` (plus descriptive columns), so that any of
@@ -43,7 +43,7 @@ CHIPS = ("bits", "bipolar")  # how chips are written: 0/1, or the paper's BPSK (
 TABLE1_VIEWS = ("codes", "summary", "errata")
 CORRELATION_VIEWS = ("summary", "values", "full")
 ZDOT = ("analytic", "finite-difference")
-MODE_PAPER = "the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008)"
+MODE_PAPER = "the mode-signature paper (47th IEEE CDC, Cancún, 2008)"
 
 
 def codes_table(

@@ -1,6 +1,5 @@
 """One simulated record of the closed-loop vehicle carrying a mode signature (``motionsig simulate``): the
-1-D example (eqs 53–55, Fig 2) and the 2-D radar example (eqs 59–60) of the mode-signature paper (LMP mode
-detection with Gold-code signatures, IEEE CDC 2008).
+1-D example (eqs 53–55, Fig 2) and the 2-D radar example (eqs 59–60) of the mode-signature paper (47th IEEE CDC, Cancún, 2008).
 
 The random inputs (mode, code phase, carrier phase, noise) are those of Monte Carlo trial 0 of the
 detection experiments (:func:`motionsig_cli.experiments.lmp1d.draw_trial`) at the same seed; a mode, code

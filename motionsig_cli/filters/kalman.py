@@ -1,5 +1,4 @@
-"""Batched linear Kalman filter banks — eqs (45)–(52) of the mode-signature paper (LMP mode detection with
-Gold-code signatures, IEEE CDC 2008): the prediction-error decomposition.
+"""Batched linear Kalman filter banks — eqs (45)–(52) of the mode-signature paper (47th IEEE CDC, Cancún, 2008): the prediction-error decomposition.
 
 A *bank* is C filters that share the measurement record but have their own time-varying
 transition matrices F_k^c (C, n, n). Their Riccati recursions do not depend on the measurements,

@@ -1,5 +1,4 @@
-"""Unscented (sigma-point) Kalman filters, batched — the radar example of the mode-signature paper (LMP mode
-detection with Gold-code signatures, IEEE CDC 2008, §IV.B, eqs 59–62).
+"""Unscented (sigma-point) Kalman filters, batched — the radar example of the mode-signature paper (47th IEEE CDC, Cancún, 2008, §IV.B, eqs 59–62).
 
 The scaled unscented transform (Julier 2002; Van der Merwe's parametrisation, the one FilterPy's
 ``MerweScaledSigmaPoints`` uses) with n states, λ = α²(n + κ) − n and c = √(n + λ)::

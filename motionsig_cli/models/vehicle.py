@@ -1,5 +1,4 @@
-"""The 1-D closed-loop vehicle of the mode-signature paper (LMP mode detection with Gold-code signatures,
-IEEE CDC 2008), §IV.A, eqs 53–55, and its augmented filter models (eq 44).
+"""The 1-D closed-loop vehicle of the mode-signature paper (47th IEEE CDC, Cancún, 2008), §IV.A, eqs 53–55, and its augmented filter models (eq 44).
 
 Truth::
 

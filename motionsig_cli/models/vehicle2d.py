@@ -1,5 +1,4 @@
-"""The 2-D closed-loop vehicle observed by a radar: the mode-signature paper (LMP mode detection with
-Gold-code signatures, IEEE CDC 2008), §IV.B, eqs (59)–(62).
+"""The 2-D closed-loop vehicle observed by a radar: the mode-signature paper (47th IEEE CDC, Cancún, 2008), §IV.B, eqs (59)–(62).
 
 Truth (eq 59, per axis α ∈ {x, y}, the 1-D loop of eq 53 on each axis)::
 

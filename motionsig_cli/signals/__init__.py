@@ -1,4 +1,4 @@
-"""Signals (§II.A of the mode-signature paper, LMP mode detection with Gold-code signatures, IEEE CDC 2008):
+"""Signals (§II.A of the mode-signature paper, 47th IEEE CDC, Cancún, 2008):
 LFSR m-sequences, Gold codes, GPS C/A codes, mode signatures.
 
 Bits are ``uint8`` arrays of 0/1, chip 0 first. Bipolar chips follow the paper's BPSK mapping

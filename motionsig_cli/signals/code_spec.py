@@ -1,7 +1,6 @@
 """The codes of the modes, written as one short text (``--codes`` of ``simulate`` and ``detect``).
 
-Mode i carries the i-th code of the set (eqs 1–3 of the mode-signature paper, LMP mode detection with
-Gold-code signatures, IEEE CDC 2008: the signature of mode i spreads its carrier with code i). A set is
+Mode i carries the i-th code of the set (eqs 1–3 of the mode-signature paper, 47th IEEE CDC, Cancún, 2008: the signature of mode i spreads its carrier with code i). A set is
 
 - ``corrected`` or ``printed``: Table I of the paper (3 codes of 31 chips; the corrected Gold codes, or
   the strings as printed, see ``motionsig encode table1 --view errata``);

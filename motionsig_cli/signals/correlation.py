@@ -1,5 +1,4 @@
-"""Periodic auto- and cross-correlation of bipolar codes (§II.A of the mode-signature paper, LMP mode detection
-with Gold-code signatures, IEEE CDC 2008; Sarwate & Pursley 1980).
+"""Periodic auto- and cross-correlation of bipolar codes (§II.A of the mode-signature paper, 47th IEEE CDC, Cancún, 2008; Sarwate & Pursley 1980).
 
 R_xy[ℓ] = Σ_t x_t y_{(t+ℓ) mod N},  ℓ = 0 … N−1,  x, y ∈ {−1, +1}ᴺ.
 

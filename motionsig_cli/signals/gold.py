@@ -1,5 +1,4 @@
-"""Preferred pairs and Gold code families — §II.A (ref [11]) of the mode-signature paper (LMP mode detection
-with Gold-code signatures, IEEE CDC 2008); Gold (1967), Sarwate & Pursley (1980).
+"""Preferred pairs and Gold code families — §II.A (ref [11]) of the mode-signature paper (47th IEEE CDC, Cancún, 2008); Gold (1967), Sarwate & Pursley (1980).
 
 For degree n with n mod 4 ≠ 0, a *preferred pair* of m-sequences (u, v) has a three-valued periodic
 cross-correlation {−t(n), −1, t(n) − 2}, t(n) = 1 + 2^⌊(n+2)/2⌋ (n = 5: {−9, −1, 7}). Its Gold

@@ -1,5 +1,5 @@
 """Maximal-length sequences (m-sequences) from a primitive polynomial — §II.A (ref [11]) of the mode-signature
-paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008).
+paper (47th IEEE CDC, Cancún, 2008).
 
 Convention (MATLAB ``comm.PNSequence`` / ``comm.GoldSequence`` compatible, checked against the
 MATLAB vectors quoted in the ``mhostetter/sdr`` tests; see ``tests/signals/test_lfsr.py``):

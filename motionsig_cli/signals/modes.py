@@ -1,4 +1,4 @@
-"""Table I of the mode-signature paper (LMP mode detection with Gold-code signatures, IEEE CDC 2008): the
+"""Table I of the mode-signature paper (47th IEEE CDC, Cancún, 2008): the
 three mode signatures (n_ρ = 31), printed and corrected.
 
 The printed strings are copied verbatim in ``data/table1.csv``. Mode 1 is exactly a member of the

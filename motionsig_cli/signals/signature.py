@@ -1,5 +1,4 @@
-"""Mode perturbation signatures: the mode-signature paper (LMP mode detection with Gold-code signatures,
-IEEE CDC 2008), §II.A, eqs (1)–(3).
+"""Mode perturbation signatures: the mode-signature paper (47th IEEE CDC, Cancún, 2008), §II.A, eqs (1)–(3).
 
 Sampling t_k = kT. A chip lasts m_ρ samples (T_c = m_ρT); with code phase τ (samples) the sample k
 carries chip j(k) = ⌊(k − τ)/m_ρ⌋ mod n_ρ (floor division, so negative k − τ wraps correctly)::

@@ -55,8 +55,8 @@ def test_local_cluster_processes_die_with_a_killed_parent(tmp_path):
     helpers and the resource tracker exit within a few seconds; no output is written."""
     out = tmp_path / "out.csv"
     proc = _motionsig(
-        "maneuver", "--runs", "3000", "--scheduler", "local", "--workers", "2", "-q", "-o", str(out)
-    )
+        "maneuver", "--runs", "3000", "--scheduler", "local", "--workers", "3", "-q", "-o", str(out)
+    )  # 3 workers: this process and a LocalCluster of 2
     children: list = []
     try:
         parent = psutil.Process(proc.pid)
@@ -75,6 +75,44 @@ def test_local_cluster_processes_die_with_a_killed_parent(tmp_path):
         assert not alive, [p.cmdline() for p in alive]
         assert not out.exists()
     finally:  # a failing run must not leave its processes behind either
+        for p in children:
+            with contextlib.suppress(Exception):
+                p.kill()
+        with contextlib.suppress(Exception):
+            proc.kill()
+
+
+def test_a_killed_pool_worker_ends_the_command_with_one_line(tmp_path):
+    """SIGKILL of a pool worker (what the OOM killer does) mid-run: exit code 1, one line naming what happened,
+    no output and none of the command's processes left. (A Dask cluster retries the task on another worker;
+    tests/test_engine.py checks the error once it gives up.)"""
+    out = tmp_path / "out.csv"
+    env = {k: v for k, v in os.environ.items() if not k.startswith("MOTIONSIG_")}  # default tasks and pool
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "motionsig_cli", "detect", "--montecarlo", "--trials", "400", "--fr-list", "0.01",
+         "--R-list", "1e-1,1e-3", "--workers", "2", "-q", "-o", str(out)],
+        env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    children: list = []
+    try:
+        parent = psutil.Process(proc.pid)
+        deadline = time.monotonic() + 90
+        workers: list = []
+        while time.monotonic() < deadline and not workers:
+            children = parent.children(recursive=True)
+            workers = [c for c in children if "spawn_main" in " ".join(c.cmdline())]
+            time.sleep(0.1)
+        assert workers, "the pool did not start"
+        time.sleep(1.0)
+        children = parent.children(recursive=True)
+        workers[0].kill()
+        _, err = proc.communicate(timeout=120)
+        assert proc.returncode == 1, err
+        assert err.count("\n") == 1 and "a worker process died" in err and "Traceback" not in err, err
+        assert not out.exists()
+        _, alive = psutil.wait_procs(children, timeout=10)
+        assert not alive, [p.cmdline() for p in alive]
+    finally:
         for p in children:
             with contextlib.suppress(Exception):
                 p.kill()

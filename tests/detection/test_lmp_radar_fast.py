@@ -152,3 +152,47 @@ def test_refusals():
     with pytest.raises(ValueError, match="noise"):
         lmp_detect_radar_linearised(np.ones((2, 10, 2)), CHIPS, VEH, 20, CONST, [10], noise=np.ones((1, 2)))
     assert RadarRecordDetection.__dataclass_fields__["method"].default == "bank"
+
+
+@pytest.mark.parametrize(
+    ("tau_grid", "zdot", "n"),
+    [("chips", "analytic", 1600), ("chips", "finite-difference", 300), ("samples", "analytic", 130)],
+)
+def test_replica_basis_reproduces_the_replicas(tau_grid, zdot, n):
+    """The basis of unit-chip replicas (a linear decomposition of replica_bank's output in the chip values)
+    gives back every candidate's a-column g = T(k1 z + k2 ż): exactly for the analytic ż (one ±1 term per
+    sample), to rounding for the finite difference (two terms). On the chip grid there are 31 basis replicas
+    per carrier (1600 samples reach every chip slot, 300 samples 15 slots)."""
+    from motionsig_cli.detection.lmp import candidate_grid
+    from motionsig_cli.detection.lmp_linearised import replica_basis
+
+    cfg = RadarLMPConfig(tau_grid=tau_grid, zdot=zdot)
+    c = candidate_grid(3, 31, 20, cfg.as_grid)
+    basis = replica_basis(CHIPS, c, VEH.T, VEH.K, 20, n, zdot)
+    zc, zs, dc, ds = replica_bank(CHIPS, c.mode, c.tau, c.f_c, VEH.T, 20, n, zdot)
+    for z, d, b in ((zc, dc, basis.cos), (zs, ds, basis.sin)):
+        g = VEH.T * (VEH.K[0] * z + VEH.K[1] * d)
+        err = np.max(np.abs(basis.S @ b - g)) / np.max(np.abs(g))
+        assert err == 0.0 if zdot == "analytic" else err < 1e-14
+    if tau_grid == "chips":  # the finite difference also reads the slot of sample -1 (the last chip)
+        reached = -(-n // 20) + (zdot == "finite-difference")
+        assert basis.S.shape == (93, 31 if n >= 620 else reached)
+    assert basis.S.shape[1] < len(c.tau)  # fewer columns than candidates (a third on these grids)
+
+
+def test_fig7_grid_agrees_with_the_bank_on_one_trial_per_pair():
+    """The Fig 7 configuration (every ANR pair in one call, per-record noise): the projection's Λ on radar
+    records tracks the bank's (not equal: the linearisation of the module docstring), and J_H0 is the bank's
+    H0 filter to 1e-10 on each pair's record (several noise levels in one call must not mix)."""
+    pairs = [anr_pair_variances(p) for p in (1, 2, 3, 4)]
+    ys, j0 = [], []
+    for a, b in pairs:
+        veh = Vehicle2D(R_range=a, R_bearing=b)
+        sim, _ = simulate_trials_2d(veh, CHIPS, 20, 1.0, 120, 4, [0])
+        ys.append(sim["y"])
+        j0.append(lmp_detect_radar(sim["y"], CHIPS, veh, 20, RadarLMPConfig(), [120]).J0)
+    fast = lmp_detect_radar_linearised(
+        np.concatenate(ys), CHIPS, VEH, 20, RadarLMPConfig(), [120], noise=np.asarray(pairs)
+    )
+    bank_j0 = np.concatenate(j0)
+    assert np.max(np.abs(fast.J0 - bank_j0)) <= 1e-10 * np.max(np.abs(bank_j0))

@@ -58,3 +58,31 @@ def test_cli_two_d_methods_and_refusals():
                         "--horizons", "3", "--anr-pairs", "4", "--quiet"])  # fmt: skip
     assert mc.exit_code == 0, mc.output
     assert np.isfinite(float(mc.output.strip().splitlines()[-1].split(",")[9]))
+
+
+def test_radar_record_with_a_null_threshold_on_the_linearised_path(tmp_path):
+    """``detect RECORD --example 2d --method linearised --pfa P``: null records through the same path and
+    centring (RecordNullJob, method linearised); at most floor(P * null trials) null maxima above each
+    threshold; the calibration's identity names the centring."""
+    from motionsig_cli.detection.lmp import RadarLMPConfig
+    from motionsig_cli.experiments.record_calibration import RecordNullJob
+    from motionsig_cli.experiments.record_reading import read_vehicle_record
+
+    r = CliRunner()
+    sim = r.invoke(app, ["simulate", "--example", "2d", "--duration", "6", "--anr-pair", "4", "--seed", "5"])
+    assert sim.exit_code == 0, sim.output
+    path = tmp_path / "rec.csv"
+    path.write_text(sim.stdout)
+    out = r.invoke(app, ["detect", str(path), "--example", "2d", "--method", "linearised", "--center",
+                         "standardised", "--pfa", "0.2", "--null-trials", "10", "--horizons", "3,6", "--quiet"])  # fmt: skip
+    assert out.exit_code == 0, out.output
+    rows = [ln.split(",") for ln in out.stdout.strip().splitlines() if not ln.startswith("#")]
+    assert rows[0][-2:] == ["threshold", "signature_present"] and len(rows) == 3
+    assert all(np.isfinite(float(row[-2])) for row in rows[1:])
+    rec = read_vehicle_record(path, example="2d")
+    job = RecordNullJob(rec, RadarLMPConfig(fc_grid=(rec.f_c,)), "linearised", "ukf", horizons=(3.0, 6.0), pfa=0.2,
+                        null_trials=10, center="standardised")  # fmt: skip
+    cal = run_job(job)
+    assert np.all(cal.false_alarms <= 2) and job.identity()["center"] == "standardised"
+    with pytest.raises(ConfigError, match="center"):
+        RecordNullJob(rec, RadarLMPConfig(), "bank", "ukf", pfa=0.2, null_trials=10, center="standardised")

@@ -10,20 +10,27 @@ import pytest
 import scipy.linalg
 
 from motionsig_cli.config import ConfigError
-from motionsig_cli.detection.lmp import LMPConfig
+from motionsig_cli.detection.lmp import LMPConfig, RadarLMPConfig
 from motionsig_cli.engine import run_job
 from motionsig_cli.experiments.lmp1d import LmpJob, LmpMonteCarlo
 from motionsig_cli.experiments.lmp_search import (
     ANR_LABELS,
     BASELINE,
     FIG3_CR,
+    Q0_2D_FLIPPED,
+    Q1_2D_FLIPPED,
     R_LN,
+    RADAR_BASELINE,
     Fig3Outcomes,
+    RadarSearchJob,
+    RadarSetup,
+    RadarSetupResult,
     SearchJob,
     Setup,
     SetupResult,
     anr_variances,
     design,
+    design_radar,
     fig3_trials,
     predictors,
 )
@@ -147,3 +154,47 @@ def test_predictors_innovation_variance_and_the_fig6_ceiling() -> None:
 
 def test_lmpjob_is_what_the_setup_runs() -> None:
     assert isinstance(FAST.job(1, 1), LmpJob)
+
+
+# ------------------------------------------------------------------------------- claim 5: the radar
+def test_radar_design_is_distinct_and_its_readings_are_the_printed_exponents_flipped() -> None:
+    d = design_radar()
+    assert d[0] == RADAR_BASELINE and d[0].cfg() == RadarLMPConfig()
+    assert len({s.name for s in d}) == len(d)
+    assert len({replace(s, name="", group="", trials=None) for s in d}) == len(d)
+    # eq (61): 10+4 on the reference velocities read as 10-4; eq (62): every positive exponent negated
+    assert Q0_2D_FLIPPED == (1e-1, 1e-3, 1e-1, 1e-3, 1e-1, 1e-4, 1e-1, 1e-4)
+    assert Q1_2D_FLIPPED == (1e-1, 1e-2, 1e-1, 1e-1, 1e-2, 1e-2, 1e-2, 1e-3, 1e-1, 1e0)
+    assert {s.method for s in d} == {"linearised", "bank"}
+    with pytest.raises(ConfigError) as e:
+        RadarSetup("bad", method="fft")  # type: ignore[arg-type]
+    assert e.value.field == "method"
+
+
+def test_radar_search_equals_the_setups_own_monte_carlo() -> None:
+    # second implementation: the setup's RadarLmpJob run alone, its per-cell counts
+    s = RadarSetup("s", c_r=1.0, T=0.1, m_rho=10)
+    res = run_job(RadarSearchJob((s,), trials=2, seed=3))
+    alone = run_job(s.job(2, 3)).cells
+    ok = res.results[0].ok
+    assert [c.correct for c in alone] == [int(ok[p, :, j].sum()) for p in range(4) for j in range(8)]
+    row = res.table().rows[0]
+    assert row[0] == "s" and len(row) == len(res.table().columns)
+
+
+def test_claim5_scores_against_hand_computed_values() -> None:
+    n = 10
+    ok = np.ones((4, n, 8), bool)
+    ok[2, :6, :] = False  # pair 3: 40 % at every horizon, pair 4: 100 % -> drop 60 points
+    ok[3, 0, 4:] = False  # pair 4, trial 0 wrong beyond 40 s -> 90 %
+    sc = RadarSetupResult(RADAR_BASELINE, ok).scores()
+    assert (
+        sc["claim5_pct_best_beyond40"].value == pytest.approx(90.0) and sc["claim5_pct_best_beyond40"].holds
+    )
+    # paired per trial, pair 4 minus pair 3: trial 0 0 - 0, trials 1-5 100 - 0, trials 6-9 100 - 100
+    d = np.array([0.0] + [100.0] * 5 + [0.0] * 4)
+    assert sc["claim5_drop_next"].value == pytest.approx(d.mean())
+    assert sc["claim5_drop_next"].se == pytest.approx(d.std(ddof=1) / math.sqrt(n))
+    assert sc["claim5"].holds
+    flat = RadarSetupResult(RADAR_BASELINE, np.ones((4, n, 8), bool)).scores()  # no drop at all
+    assert flat["claim5_drop_next"].value == 0.0 and not flat["claim5"].holds

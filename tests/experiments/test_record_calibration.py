@@ -19,7 +19,7 @@ import pytest
 from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.lmp import LMPConfig, RadarLMPConfig, lmp_detect
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft
-from motionsig_cli.engine import Engine, run_job
+from motionsig_cli.engine import Budget, Engine, budget, run_job
 from motionsig_cli.experiments.lmp1d import simulate_trials
 from motionsig_cli.experiments.record_calibration import HOW, RecordNullJob, RecordThreshold
 from motionsig_cli.experiments.record_reading import VehicleRecord
@@ -180,7 +180,7 @@ GAPPY = np.where(np.arange(N) == 7, np.nan, 0.0)
         (dict(pfa=1.0), "pfa", "not in"),
         (dict(pfa=1e-7), "pfa", "null records by default"),
         (dict(null_trials=0), "null_trials", "not in"),
-        (dict(null_trials=2_000_000, y=np.zeros(4000)), "null_trials", "min on one core"),
+        (dict(null_trials=2_000_000, y=np.zeros(4000)), "null_trials", "on one core; the limit is 10 min"),
         (dict(seed=-1), "seed", "not in"),
         (dict(chunk=0), "chunk", "not in"),
         (dict(filter="pf"), "filter", "not one of"),
@@ -206,7 +206,7 @@ GAPPY = np.where(np.arange(N) == 7, np.nan, 0.0)
         (
             dict(vehicle=Vehicle2D(), y=np.zeros((N, 2)), cfg=RadarLMPConfig(), pfa=1e-4),
             "null_trials",
-            "min on one",
+            "on one core; the limit is 10 min",
         ),
     ],
 )
@@ -217,7 +217,14 @@ def test_fields_are_checked_naming_the_field(kw, field, words):
 
 
 def test_cost_refusal_states_the_estimate():
-    with pytest.raises(ConfigError, match=r"would take ~\d[\d.e+]* min on one core \(limit 10 min\)"):
+    refused = r"would take an estimated [\d.]+ (min|h) on one core; the limit is 10 min"
+    with pytest.raises(ConfigError, match=refused):
         _job(null_trials=2_000_000, y=np.zeros(4000))  # ~1.9 h: 4000 samples x 43 filters x 2e-8 s x 2e6
+    with budget(Budget(max_minutes=600.0)):  # --max-minutes raises the limit
+        _job(null_trials=2_000_000, y=np.zeros(4000))
+    with budget(Budget(checkpoint=True)):  # with a checkpoint there is no time limit
+        _job(null_trials=2_000_000, y=np.zeros(4000))
+    with budget(Budget(workers=4)), pytest.raises(ConfigError, match=r"on one core, \d+ min on 4 workers"):
+        _job(null_trials=2_000_000, y=np.zeros(4000))  # ≥ 29 min on 4 workers: still over 10 min
     job = _job(pfa=0.01)
     assert 0 < job.estimate_seconds() < 60

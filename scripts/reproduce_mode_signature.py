@@ -1,5 +1,4 @@
-"""`make reproduce`: regenerate every figure and table of the mode-signature paper (*LMP mode detection with
-Gold-code signatures*, IEEE CDC 2008) at full size into results/seed000/.
+"""`make reproduce`: regenerate every figure and table of the mode-signature paper (47th IEEE CDC, Cancún, 2008) at full size into results/mode_signature/.
 
 Table I (errata), Fig 2 (closed-loop response), Fig 3 (single-run statistic at two ANRs × c_r ∈ {1, 100}),
 Figs 4–6 (% correct vs horizon and ANR, 50 trials per cell, f_r = 0.01, 0.1, 1 Hz), Fig 7 (the 2-D radar
@@ -13,7 +12,7 @@ from pathlib import Path
 
 from reproducelib import motionsig_stdout, plot_and_csv, to_csv
 
-OUT = Path("results/seed000")
+OUT = Path("results/mode_signature")
 
 
 def main() -> None:
