@@ -628,6 +628,22 @@ class CalibrationCell:
         return math.sqrt(self.pd * (1 - self.pd) / self.trials)
 
 
+def calibration_null_trials(pfa: float, null_trials: int | None) -> int | None:
+    """The null trials of a threshold calibration: ``null_trials`` as given, else ⌈20 / pfa⌉ (assumed: about
+    20 null maxima above the threshold), after checking ``pfa`` in (0, 1) and the default against
+    :data:`MAX_NULL_TRIALS`. A given number is checked by the job."""
+    in_range("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True)
+    if null_trials is not None:
+        return null_trials
+    n = math.ceil(20 / pfa)
+    if n > MAX_NULL_TRIALS:
+        raise ConfigError(
+            "pfa", pfa, f"needs 20/P_FA = {20 / pfa:.1e} null trials by default, more than "
+            f"{MAX_NULL_TRIALS:.0e}: raise it or set the number of null trials",
+        )  # fmt: skip
+    return n
+
+
 def null_trials_warning(null_trials: int, pfa: float) -> str | None:
     """A note when ``null_trials`` are too few for the target ``pfa`` (the threshold is then the largest
     null maximum), else None."""
@@ -684,15 +700,7 @@ class CalibrationJob:
     f_c: float = 1.0
 
     def __post_init__(self) -> None:
-        in_range("pfa", self.pfa, 0.0, 1.0, lo_open=True, hi_open=True)
-        if self.null_trials is None:
-            n = math.ceil(20 / self.pfa)
-            if n > MAX_NULL_TRIALS:
-                raise ConfigError(
-                    "pfa", self.pfa, f"needs 20/P_FA = {20 / self.pfa:.1e} null trials by default, more than "
-                    f"{MAX_NULL_TRIALS:.0e}: raise it or set the number of null trials",
-                )  # fmt: skip
-            object.__setattr__(self, "null_trials", n)
+        object.__setattr__(self, "null_trials", calibration_null_trials(self.pfa, self.null_trials))
         for name in ("null_trials", "trials"):
             integer(name, getattr(self, name), 1)
             if getattr(self, name) > MAX_NULL_TRIALS:

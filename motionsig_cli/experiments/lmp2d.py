@@ -16,7 +16,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from motionsig_cli.config import ConfigError, in_range, integer, one_of
+from motionsig_cli.config import ConfigError, integer, one_of
 from motionsig_cli.detection.lmp import LMPResult, RadarLMPConfig, candidate_grid, lmp_detect_radar
 from motionsig_cli.detection.lmp_linearised import CENTERS, lmp_detect_radar_linearised
 from motionsig_cli.engine import check_run_time, tasks_of, trials_per_task
@@ -33,10 +33,12 @@ from motionsig_cli.experiments.lmp1d import (
     Threshold,
     TrialDraw,
     _tuple,
+    calibration_null_trials,
     check_horizons,
     check_threshold,
     check_values,
     n_grid_candidates,
+    null_trials_warning,
     record_notes,
     roc_curve,
     table1_chips,
@@ -547,14 +549,7 @@ class RadarCalibrationJob:
     f_c: float = 1.0
 
     def __post_init__(self) -> None:
-        in_range("pfa", self.pfa, 0.0, 1.0, lo_open=True, hi_open=True)
-        if self.null_trials is None:
-            n = math.ceil(20 / self.pfa)
-            if n > MAX_NULL_TRIALS:
-                raise ConfigError(
-                    "pfa", self.pfa, f"needs 20/P_FA = {n:.1e} null trials by default: set fewer"
-                )
-            object.__setattr__(self, "null_trials", n)
+        object.__setattr__(self, "null_trials", calibration_null_trials(self.pfa, self.null_trials))
         for name in ("null_trials", "trials"):
             integer(name, getattr(self, name), 1, MAX_NULL_TRIALS)
         arm = self.arm(False)  # checks the shared fields (and the run time of the larger arm)
@@ -574,12 +569,7 @@ class RadarCalibrationJob:
     def warning(self) -> str | None:
         """A note when the null trials are too few for the target P_FA."""
         assert self.null_trials is not None
-        if self.null_trials * self.pfa >= 1:
-            return None
-        return (
-            f"warning: {self.null_trials} null trials < 1/P_FA: the threshold is the largest null maximum, "
-            f"its false-alarm rate is not {self.pfa:g}"
-        )
+        return null_trials_warning(self.null_trials, self.pfa)
 
     def tasks(self) -> list[tuple[int, tuple[float, int, float, float, range]]]:
         """``(0 | 1, task of that arm)``: 0 = null records, 1 = with a signature; the null tasks first."""
