@@ -2,15 +2,16 @@
 
 Workload: the Fig-4 Monte Carlo (``LmpJob(..., method="bank")``: simulation and detection with
 the 187-filter bank, default ``LMPConfig``), TRIALS trials × 2 R values (1e-1, 1e-3), f_r = 0.01,
-horizons 10..80 s (1600 steps), the default seed. The tasks (chunks of at most 200 trials, worth
-≥ 4× their fixed Riccati cost by the cost model of ``LmpJob.cost``) are the same whatever the
-engine, so the cells must be identical.
+horizons 10..80 s (1600 steps), the default seed. The tasks (chunks of 50 trials by the cost model of
+``LmpJob.cost``) are the same whatever the engine, so the cells must be identical.
 
-Timed (wall clock around ``engine.run_job``, best of 3 each):
+Timed (wall clock around ``engine.run_job``, best of 3 each; every process computes with one BLAS
+thread, ``engine.one_blas_thread``):
 
 * ``Engine(1)``: every task in this process.
-* ``Engine(1)`` with ``chunk=25``: small tasks, for reference: every task pays for its own Riccati
-  recursion and replica bank (~0.4 s), which is why the default tasks are large.
+* ``Engine(1)`` with nothing kept between tasks (``$MOTIONSIG_CACHE_MB=0``): every task computes its own
+  Riccati recursion, replicas and structure (~0.07 s a task), which a process otherwise computes once
+  per R (``motionsig_cli.cache``).
 * ``Engine(2)``: this process and one spawned worker (its start-up and imports included: it starts
   0.3 s after this process has begun computing, the job is sent to it once, tasks one at a time).
 * ``Engine(2, "local")``: this process and a Dask LocalCluster of 1 worker process, started and closed
@@ -19,20 +20,24 @@ Timed (wall clock around ``engine.run_job``, best of 3 each):
 * Dask without start-up: a LocalCluster of 2 started beforehand, reached through its address
   (``Engine(2, scheduler=address)``); the workers stay warm across the 3 repeats.
 
-On a 2-core machine the pool cannot beat 2x, and numpy in the single process may already use both
-cores for part of the work; the numbers say what the engine costs, not what a larger machine gains.
+On a 2-core machine the pool cannot beat 2x; the numbers say what the engine costs, not what a larger
+machine gains.
 
 Writes ``benchmarks/results/bench_engine.csv`` (layout: ``benchlib.COLUMNS``) and prints a summary.
 """
 
 from __future__ import annotations
 
+import contextlib
 import logging
+import os
 import sys
 import time
+from collections.abc import Iterator
 
 from benchlib import cores, write_results
 
+from motionsig_cli.cache import clear_all
 from motionsig_cli.detection.lmp import LMPConfig
 from motionsig_cli.engine import Engine, run_job
 from motionsig_cli.experiments.lmp1d import LmpJob, MCCell
@@ -41,7 +46,7 @@ from motionsig_cli.rng import DEFAULT_SEED
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
 
-TRIALS, RS, FR, M_RHO = 1800, (1e-1, 1e-3), 0.01, 20  # ≈ 15.5 s on one core (0.86 s / 200 trials): ≥ 15 s
+TRIALS, RS, FR, M_RHO = 2400, (1e-1, 1e-3), 0.01, 20  # ≈ 16 s on one core (0.17 s / 50 trials, idle): ≥ 15 s
 HORIZONS_S = tuple(float(h) for h in range(10, 81, 10))
 REPEATS = 3
 CHIPS = to_bipolar(corrected_codes()).astype(float)
@@ -58,6 +63,22 @@ def job(chunk: int | None = None) -> LmpJob:
         LMPConfig(), (FR,), RS, HORIZONS_S, TRIALS, DEFAULT_SEED, method="bank", vehicle=Vehicle1D(f_r=FR),
         chips=CHIPS, m_rho=M_RHO, f_c=1.0, chunk=chunk,
     )  # fmt: skip
+
+
+@contextlib.contextmanager
+def uncached() -> Iterator[None]:
+    """Nothing kept between tasks inside the block (and nothing kept from before it)."""
+    old = os.environ.get("MOTIONSIG_CACHE_MB")
+    os.environ["MOTIONSIG_CACHE_MB"] = "0"
+    clear_all()
+    try:
+        yield
+    finally:
+        if old is None:
+            os.environ.pop("MOTIONSIG_CACHE_MB")
+        else:
+            os.environ["MOTIONSIG_CACHE_MB"] = old
+        clear_all()
 
 
 def best(engine: Engine, chunk: int | None = None) -> tuple[float, list[MCCell]]:
@@ -79,7 +100,8 @@ def main() -> int:
     filter_steps = TRIALS * len(RS) * 187 * round(max(HORIZONS_S) / Vehicle1D().T)
 
     t1, cells1 = best(Engine(1))
-    tb, cells_b = best(Engine(1), chunk=25)
+    with uncached():
+        tb, cells_b = best(Engine(1))
     t2, cells2 = best(Engine(2))
     td, cells_d = best(Engine(2, "local"))
     import dask
@@ -99,7 +121,7 @@ def main() -> int:
     ):
         tw, cells_w = best(Engine(2, cluster.scheduler_address))
     same = cells1 == cells_b == cells2 == cells_d == cells_w
-    print(f"cells identical across Engine(1) (both chunkings), Engine(2), Dask (cold and warm): {same}")
+    print(f"cells identical across Engine(1) (kept and not), Engine(2), Dask (cold and warm): {same}")
     if not same:
         print("FAILED: the engines disagree", file=sys.stderr)
         return 1
@@ -119,9 +141,9 @@ def main() -> int:
     rows = [
         row("1 worker (in process)", t1, "Engine(1)"),
         row(
-            "1 worker, tasks of 25 trials",
+            "1 worker, nothing kept between tasks",
             tb,
-            "Engine(1), chunk=25: a Riccati recursion per 25 trials (the default: per 200)",
+            "Engine(1), MOTIONSIG_CACHE_MB=0: a Riccati recursion per task (the default: per process and R)",
         ),
         row("2 workers (process pool)", t2, "Engine(2): this process + 1 spawned worker, start-up included"),
         row(

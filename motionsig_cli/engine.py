@@ -22,6 +22,11 @@ A worker that dies (killed, out of memory) ends a local run with :class:`WorkerD
 finished the task it is computing); a Dask cluster retries the task on another worker first. A task's
 exception, in a worker or here, is raised once, and the workers are stopped.
 
+Every process of a run computes with one BLAS thread (:func:`one_blas_thread`), so a task's numbers never
+depend on where it ran, and the processes do not fight over the cores. A process keeps what its tasks compute
+before they read a record (a bank's Riccati recursion; :mod:`motionsig_cli.cache`), so small tasks cost no
+more per trial than large ones.
+
 Workers ignore SIGINT: Ctrl-C reaches the main process only, which cancels the pending tasks,
 stops the workers and re-raises :class:`KeyboardInterrupt` (the command layer turns it into one
 line and exit code 130; no output file is written before all tasks are done).
@@ -408,16 +413,32 @@ def run_tasks(
         if progress is not None:
             progress(sizes[i])
 
-    if engine.scheduler is not None:
-        if pending:  # a fully restored checkpoint needs no cluster
-            _run_dask(fn, tasks, pending, engine, finish)
-        return results
-    if engine.workers == 1 or len(pending) <= 1:
-        for i in pending:
-            finish(i, fn(tasks[i]))
-    else:
-        _run_pool(fn, tasks, pending, min(engine.workers, len(pending)), finish)
+    with one_blas_thread():
+        if engine.scheduler is not None:
+            if pending:  # a fully restored checkpoint needs no cluster
+                _run_dask(fn, tasks, pending, engine, finish)
+        elif engine.workers == 1 or len(pending) <= 1:
+            for i in pending:
+                finish(i, fn(tasks[i]))
+        else:
+            _run_pool(fn, tasks, pending, min(engine.workers, len(pending)), finish)
     return results
+
+
+@contextlib.contextmanager
+def one_blas_thread() -> Iterator[None]:
+    """This process's BLAS and OpenMP libraries with one thread each inside the block (as every worker has:
+    :data:`BLAS_THREADS`).
+
+    The tasks are small matrices and element-wise steps, where a BLAS thread pool gains nothing, and its
+    threads, spinning after each call, take the core that another worker computes on: on 2 cores the
+    187-filter bank ran 10 % faster alone with one thread, and two one-threaded processes side by side
+    each lost 1-2 % (25-37 % with the default thread count).
+    """
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"), threadpool_limits(limits=1, user_api="openmp"):
+        yield
 
 
 @runtime_checkable
@@ -865,16 +886,17 @@ def _run_dask(
                     return
                 fn_f = client.submit(_same, fn, pure=False)  # not scatter: see _same
                 n_workers = max(1, len(client.scheduler_info().get("workers", {})))
-                per_worker = 1 if local else 2
                 futures: dict[Any, int] = {}
                 left: set[Any] = set()
 
+                def in_flight() -> int:
+                    """Two tasks a worker, so that it never waits for the client's round trip (≈ 11 ms a task
+                    on a LocalCluster); one at the end of a local run, where a second task could wait behind
+                    a busy worker while this process is idle."""
+                    return n_workers * (2 if not local or shared.left() > 2 * (n_workers + here) else 1)
+
                 def top_up() -> None:
-                    while (
-                        len(left) < per_worker * n_workers
-                        and not stop.is_set()
-                        and (i := shared.take()) is not None
-                    ):
+                    while len(left) < in_flight() and not stop.is_set() and (i := shared.take()) is not None:
                         fut = client.submit(_apply, fn_f, tasks[i], pure=False)
                         futures[fut] = i
                         left.add(fut)

@@ -41,16 +41,18 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 import scipy.linalg
 
+from motionsig_cli import cache
+from motionsig_cli.cache import BytesLRU
 from motionsig_cli.config import ConfigError, in_range, one_of, positive
-from motionsig_cli.filters.kalman import MissingSamples as MissingSamples  # re-exported for the callers
 from motionsig_cli.filters.kalman import (
+    BankGains,
     Progress,
     expected_costs_white_noise,
     innovation_costs,
@@ -59,6 +61,7 @@ from motionsig_cli.filters.kalman import (
     riccati,
     shared_progress,
 )
+from motionsig_cli.filters.kalman import MissingSamples as MissingSamples  # re-exported for the callers
 from motionsig_cli.filters.unscented import (
     BankCosts,
     SigmaMeasurement,
@@ -445,51 +448,26 @@ def lmp_detect(
     groups = missing_patterns(missing_steps(y))
     B, N = y.shape
     y = known_input_removed(y, vehicle, cfg, reference)
-    cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
+    rep = _kf_replicas(chips, vehicle, m_rho, cfg, N)
+    cands, z_cos, z_sin = rep.cands, rep.z_cos, rep.z_sin
     C = len(cands)
     R_kf = np.array([[cfg.c_r * vehicle.R]])
-    # H0: one filter, n states (4, or 2 with a known reference)
-    model = filter_model(vehicle, cfg)
-    n = model.n
-    F0 = model.F0
-    H0m = model.H()
-    Q0 = model.Q0
-    # H1: 2C filters (cos block then sin block), n + 1 states, time-varying a-column (eq 44)
-    z_cos, z_sin, zd_cos, zd_sin = replica_bank(
-        chips, cands.mode, cands.tau, cands.f_c, vehicle.T, m_rho, N, cfg.zdot
-    )
-    gcol = np.concatenate(
-        [amplitude_column(vehicle, z_cos, zd_cos), amplitude_column(vehicle, z_sin, zd_sin)]
-    )  # (2C, N)
-    F1 = np.zeros((2 * C, n + 1, n + 1))
-    F1[:, :n, :n] = F0
-    F1[:, n, n] = 1.0
-
-    def F1_at(k: int) -> np.ndarray:
-        F1[:, 1, n] = gcol[:, k]  # T (k1 z_k + k2 ż_k)
-        return F1
-
-    H1m = model.H(h1=True)
-    Q1 = model.Q1
     tell = shared_progress(progress, len(groups))
 
     def bank(skip: np.ndarray | None, yg: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """J0 (b, H), J_cos and J_sin (C, b, H) of records yg (b, N) that miss the samples ``skip``."""
-        g0 = riccati(lambda k: F0, H0m, Q0, R_kf, cfg.P0 * np.eye(n), N, 1, skip=skip)
+        g = _kf_gains(rep, vehicle, cfg, N, hz, skip, tell)
         J0 = innovation_costs(
-            lambda k: F0, H0m, g0, np.zeros(n), yg, hz, include_logdet=cfg.include_logdet, block=block
+            g.F0_at, g.H0, g.g0, np.zeros(g.n), yg, hz, include_logdet=cfg.include_logdet, block=block
         )[0]
-        g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(n + 1), N, 2 * C, progress=tell, skip=skip)
         J1 = innovation_costs(
-            F1_at, H1m, g1, np.zeros(n + 1), yg, hz, include_logdet=cfg.include_logdet, progress=tell,
+            g.F1_at, g.H1, g.g1, np.zeros(g.n + 1), yg, hz, include_logdet=cfg.include_logdet, progress=tell,
             block=block,
         )  # fmt: skip
         J_cos, J_sin = J1[:C], J1[C:]
-        if cfg.center == "h0-noise":  # centre every J on its expectation under white noise of variance R
-            R_true = np.array([[vehicle.R]])
-            J0 = J0 - expected_costs_white_noise(lambda k: F0, H0m, g0, R_true, N, hz)[0][None, :]
-            E1 = expected_costs_white_noise(F1_at, H1m, g1, R_true, N, hz, progress=tell)
-            J_cos, J_sin = J_cos - E1[:C, None, :], J_sin - E1[C:, None, :]
+        if g.E0 is not None and g.E1 is not None:  # centre every J on its expectation under white noise of R
+            J0 = J0 - g.E0[None, :]
+            J_cos, J_sin = J_cos - g.E1[:C, None, :], J_sin - g.E1[C:, None, :]
         return J0, J_cos, J_sin
 
     def statistic(
@@ -696,3 +674,105 @@ def lmp_detect_radar(
     )
     c1 = bank(trans1, cfg.Q1, True, progress)
     return _assemble(cands, hz, c0, c1, cfg.include_logdet)
+
+
+# ------------------------------------------------------------------- the Kalman bank's fixed part, cached
+_REPLICAS: BytesLRU[_KfReplicas] = BytesLRU()
+_GAINS: BytesLRU[_KfGains] = BytesLRU()
+
+
+@dataclass(frozen=True, eq=False)
+class _KfReplicas:
+    """The candidates of :func:`lmp_detect` and their replicas z_cos, z_sin (C, N) and amplitude columns
+    gcol (2C, N): the cos block, then the sin block (eq 44)."""
+
+    key: str
+    cands: Candidates
+    z_cos: np.ndarray
+    z_sin: np.ndarray
+    gcol: np.ndarray
+
+
+def _kf_replicas(chips: np.ndarray, vehicle: Vehicle1D, m_rho: int, cfg: LMPConfig, N: int) -> _KfReplicas:
+    """The replicas of every candidate, kept per process (:mod:`motionsig_cli.cache`)."""
+    key = cache.key_of("lmp-replicas", chips, vehicle.T, vehicle.K, m_rho, cfg, N)  # what the replicas read
+
+    def build() -> tuple[_KfReplicas, int]:
+        cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg)
+        z_cos, z_sin, zd_cos, zd_sin = replica_bank(
+            chips, cands.mode, cands.tau, cands.f_c, vehicle.T, m_rho, N, cfg.zdot
+        )
+        gcol = np.concatenate(
+            [amplitude_column(vehicle, z_cos, zd_cos), amplitude_column(vehicle, z_sin, zd_sin)]
+        )  # (2C, N): T (k1 z_k + k2 ż_k), eq (44)
+        return _KfReplicas(key, cands, z_cos, z_sin, gcol), cache.freeze((z_cos, z_sin, gcol))
+
+    return _REPLICAS.get(key, build)[0]
+
+
+@dataclass(frozen=True, eq=False)
+class _KfGains:
+    """The measurement-independent part of the two banks for one pattern of missing samples: transitions,
+    gains and (``center="h0-noise"``) the expected costs E0 (H,) and E1 (2C, H) under white noise."""
+
+    n: int
+    H0: np.ndarray
+    H1: np.ndarray
+    F0_at: Callable[[int], np.ndarray]
+    F1_at: Callable[[int], np.ndarray]
+    g0: BankGains
+    g1: BankGains
+    E0: np.ndarray | None
+    E1: np.ndarray | None
+
+
+def _kf_gains(
+    rep: _KfReplicas,
+    vehicle: Vehicle1D,
+    cfg: LMPConfig,
+    N: int,
+    hz: np.ndarray,
+    skip: np.ndarray | None,
+    tell: Progress,
+) -> _KfGains:
+    """The H0 filter's and the 2C H1 filters' Riccati recursions (and expected costs), kept per process: a
+    hit reports to ``tell`` the steps the recursions would have reported, so progress adds up either way."""
+    centre = cfg.center == "h0-noise"
+    key = cache.key_of("lmp-gains", rep.key, vehicle, cfg, N, hz, np.zeros(0) if skip is None else skip)
+
+    def build() -> tuple[_KfGains, int]:
+        model = filter_model(vehicle, cfg)
+        n, F0, Q0, Q1 = model.n, model.F0, model.Q0, model.Q1  # H0: n states (4, or 2 with a known reference)
+        H0m, H1m = model.H(), model.H(h1=True)
+        R_kf = np.array([[cfg.c_r * vehicle.R]])
+        gcol = rep.gcol
+        F1 = np.zeros((gcol.shape[0], n + 1, n + 1))  # H1: n + 1 states, time-varying a-column (eq 44)
+        F1[:, :n, :n] = F0
+        F1[:, n, n] = 1.0
+
+        def F0_at(k: int) -> np.ndarray:
+            return F0
+
+        def F1_at(k: int) -> np.ndarray:
+            F1[:, 1, n] = gcol[:, k]  # T (k1 z_k + k2 ż_k)
+            return F1
+
+        g0 = riccati(F0_at, H0m, Q0, R_kf, cfg.P0 * np.eye(n), N, 1, skip=skip)
+        g1 = riccati(F1_at, H1m, Q1, R_kf, cfg.P0 * np.eye(n + 1), N, gcol.shape[0], progress=tell, skip=skip)
+        E0 = E1 = None
+        if centre:
+            R_true = np.array([[vehicle.R]])
+            E0 = expected_costs_white_noise(F0_at, H0m, g0, R_true, N, hz)[0]
+            E1 = expected_costs_white_noise(F1_at, H1m, g1, R_true, N, hz, progress=tell)
+        arrays = [g.K for g in (g0, g1)] + [g.S_inv for g in (g0, g1)] + [g.logdet_2pi_S for g in (g0, g1)]
+        arrays += [st.values for st in (g0.transition, g1.transition) if st is not None]
+        arrays += [e for e in (E0, E1) if e is not None]
+        size = cache.freeze(arrays)
+        return _KfGains(n, H0m, H1m, F0_at, F1_at, g0, g1, E0, E1), size
+
+    g, hit = _GAINS.get(key, build)
+    if hit and tell is not None:  # the steps the H1 recursion (and its expectation) would have reported
+        tell(N)
+        if centre:
+            tell(N)
+    return g

@@ -395,15 +395,18 @@ class LmpJob:
     def cost(self) -> tuple[float, float]:
         """Cost model [s] of a task at one R: (fixed, per trial over all f_r), measured on a 2-core machine.
 
-        The bank's fixed part is its Riccati recursion (2C + 1 filters, ≈ 0.37 s at N = 1600), the
-        per-trial part the innovations (≈ 1.2e-8 s per filter-step); the FFT path's fixed part is the
+        The bank's fixed part is the loops over N of the simulation and of the innovations (≈ 2.8e-5 s per
+        sample); its Riccati recursion (2C + 1 filters, ≈ 0.05 s at N = 1600, and the replicas) is computed once per process
+        and R and kept (:mod:`motionsig_cli.cache`), so tasks may be small and keep every worker busy to
+        the end of a run (a task of 50 trials, ≈ 0.2 s, took as long per trial as one of 200). The
+        per-trial part is the innovations (≈ 1.2e-8 s per filter-step). The FFT path's fixed part is the
         simulation and whitening loops over N (≈ 2e-5 s per sample), its per-trial part ≈ 8e-7 s per
         sample and f_r.
         """
         n, F = self.n_samples, len(self.fr_list)
         if self.method == "fft":
             return n * 2e-5, F * n * 8e-7
-        return n * 2.3e-4, F * n * (2 * self.n_candidates + 1) * 1.2e-8
+        return n * 2.8e-5, F * n * (2 * self.n_candidates + 1) * 1.2e-8
 
     def tasks(self) -> list[tuple[float, range]]:
         """For every R, the trials in chunks worth ≥ 0.1 s and ≥ 4× the task's fixed cost (so chunking adds
