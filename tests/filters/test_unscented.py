@@ -194,3 +194,22 @@ def test_bad_input_is_refused():
     bad = np.full((3, 3, 1), np.nan)
     with pytest.raises(FloatingPointError):
         U._repaired_cholesky(bad, 2)
+
+
+def test_wrap_rows_wraps_only_the_angular_entries_out_of_range():
+    """The bank's wrap: entries of an angular row outside [−π, π] go to (−π, π] (any number of turns away);
+    those inside, and every other row, are kept bit for bit."""
+    rng = np.random.default_rng(3)
+    d = rng.uniform(-np.pi, np.pi, size=(2, 3, 50))
+    d[1, 0, :5] = [np.pi + 1e-3, -np.pi - 0.2, 7 * np.pi + 0.5, -5 * np.pi + 0.1, 2.5 * np.pi]
+    d[0, 0, :2] = [10.0, -10.0]  # not angular: untouched
+    before = d.copy()
+    out = U._wrap_rows(d, np.array([False, True]))
+    assert out is d
+    moved = np.abs(before[1]) > np.pi
+    assert moved.sum() == 5
+    assert np.array_equal(d[0], before[0]) and np.array_equal(d[1][~moved], before[1][~moved])
+    w = d[1][moved]
+    assert np.all((w > -np.pi) & (w <= np.pi))
+    turns = (before[1][moved] - w) / (2 * np.pi)
+    np.testing.assert_allclose(turns, np.round(turns), atol=1e-12)
