@@ -62,7 +62,7 @@ R = TypeVar("R")
 
 MIN_TASK_SECONDS = 0.1  # a task shorter than this costs more in scheduling than it computes
 POOL_MIN_SECONDS = (
-    0.3  # this process computes alone this long before a pool (~0.5 s of a core a worker) starts
+    0.1  # this process computes alone this long before a pool (~0.35 s of a core a worker) starts
 )
 MANIFEST = "manifest.json"
 CHECKPOINT_VERSION = 1
@@ -563,6 +563,16 @@ def _worker_init(parent: int | None, fn: Callable[[Any], Any]) -> None:
     _WORKER_FN[:] = [fn]
 
 
+PROBE = -1
+"""The index under which a worker's probe (:func:`_ready`) is in flight."""
+
+
+def _ready() -> bool:
+    """A pool worker's first call: it returns once the worker has started (imports and job included), so
+    that no task is sent to a worker that is still starting, where it could hold up the end of a run."""
+    return True
+
+
 def _call(task: Any) -> Any:
     """A task in a pool worker: the function :func:`_worker_init` kept, on ``task``."""
     return _WORKER_FN[0](task)
@@ -609,10 +619,11 @@ def _run_pool(
     spawned when :func:`pool_min_seconds` is 0, the tests' setting).
 
     This process computes tasks from the start; a feeder thread waits :func:`pool_min_seconds`, then
-    (if tasks are left) spawns the pool and keeps one task in flight per pool worker, taking the next
-    pending task each time one finishes. So a run shorter than that never pays for a pool, the pool's
-    start-up (≈ 0.5 s of a core per worker) overlaps with work here, and no task waits in a queue behind
-    a busy worker while another is idle. Results from the pool are handed to ``finish`` here, between
+    (if tasks are left) spawns the pool, sends each worker a probe (:func:`_ready`) and, once a worker has
+    answered it, keeps one task in flight per worker, taking the next pending task each time one finishes.
+    So a run shorter than that never pays for a pool, the pool's start-up (≈ 0.35 s of a core per worker
+    on an idle machine) overlaps with work here, a run that ends while its workers start waits for none of
+    them (they are stopped), and no task waits in a queue behind a busy worker while another is idle. Results from the pool are handed to ``finish`` here, between
     this process's own tasks. Which process runs a task never changes what it computes.
     """
     delay = pool_min_seconds()
@@ -623,6 +634,7 @@ def _run_pool(
     stop = threading.Event()
     holder: list[ProcessPoolExecutor] = []
     made = threading.Lock()
+    used = threading.Event()  # a task was sent to the pool (else it can be stopped without waiting)
     errors: list[BaseException] = []
 
     def feed() -> None:
@@ -642,14 +654,17 @@ def _run_pool(
                 )
                 holder.append(pool)
                 with _children_ignore_sigint(), _blas_single_thread():  # processes spawn on these submits
-                    while len(inflight) < n_pool and (i := shared.take()) is not None:
-                        inflight[pool.submit(_call, tasks[i])] = i
+                    for _ in range(n_pool):  # a probe per worker: it returns once the worker is up
+                        inflight[pool.submit(_ready)] = PROBE
             while inflight:
-                finished, _ = wait(inflight, timeout=0.2, return_when=FIRST_COMPLETED)
+                if shared.left() == 0 and all(i == PROBE for i in inflight.values()):
+                    return  # every task was taken here while the workers started: the pool has no work
+                finished, _ = wait(inflight, timeout=0.05, return_when=FIRST_COMPLETED)
                 for fut in sorted(finished, key=inflight.__getitem__):
                     done.put((inflight.pop(fut), fut))
                     if fut.exception() is None and not stop.is_set() and (i := shared.take()) is not None:
                         inflight[pool.submit(_call, tasks[i])] = i
+                        used.set()
                 if stop.is_set() and not finished:
                     return
         except BaseException as exc:  # reported in the main thread
@@ -679,7 +694,8 @@ def _run_pool(
                 value = fut.result()
             except BrokenProcessPool as exc:
                 _raise_pool_error(exc)
-            finish(i, value)
+            if i != PROBE:
+                finish(i, value)
         return True
 
     try:
@@ -699,9 +715,9 @@ def _run_pool(
         with made:
             pool = holder[0] if holder else None
         if pool is not None:
-            if ok:
+            if ok and used.is_set():
                 pool.shutdown(wait=True)
-            else:  # interrupted or failed: do not wait for running tasks
+            else:  # interrupted or failed, or no task ever sent: do not wait for the workers
                 _kill_pool(pool)
         feeder.join(timeout=10)
 
