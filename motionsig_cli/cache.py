@@ -3,7 +3,7 @@
 A Monte Carlo task computes a bank's Riccati recursion, its replicas and their structure before it reads a
 single record; every task of a run at the same measurement variance computes the same ones. A process that
 runs several tasks of a run keeps them here, so that only its first task at each variance pays for them
-(≈ 0.07 s of the ≈ 0.09 s fixed cost of a 1-D bank task at N = 1600), and tasks can be small enough to
+(a 1-D bank task's fixed cost at N = 1600 fell from ≈ 0.097 s to ≈ 0.045 s), and tasks can be small enough to
 balance the workers at the end of a run. What a task computes never depends on whether it was a hit.
 
 Entries are read-only (their arrays are flagged so): a caller that wrote into one would change the next

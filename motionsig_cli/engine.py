@@ -431,9 +431,9 @@ def one_blas_thread() -> Iterator[None]:
     :data:`BLAS_THREADS`).
 
     The tasks are small matrices and element-wise steps, where a BLAS thread pool gains nothing, and its
-    threads, spinning after each call, take the core that another worker computes on: on 2 cores the
-    187-filter bank ran 10 % faster alone with one thread, and two one-threaded processes side by side
-    each lost 1-2 % (25-37 % with the default thread count).
+    threads, spinning after each call, take the core that another worker computes on: on an idle 2-core
+    machine the 187-filter bank ran 2-10 % faster alone with one thread, and two processes side by side
+    each lost 1-2 % with one thread, 4-6 % with the default thread count.
     """
     from threadpoolctl import threadpool_limits
 
