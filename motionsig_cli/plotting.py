@@ -8,6 +8,7 @@ slides" are Govaers, *Evaluation of Distributed Detection Methods for Agile Targ
 from __future__ import annotations
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from motionsig_cli.signals.signature import Signature
@@ -115,7 +116,8 @@ def response_figure(
     ax.plot(t, y, ".", color="C3", ms=1.5, alpha=0.4, label="measurement $y_k$")
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("position [m]")
-    ax.legend(fontsize="small", loc="best")
+    # above the axes: the loop's response fills the plane, so no place inside it is free of the curves
+    fig.legend(fontsize="small", loc="outside upper center", ncol=4, markerscale=4)
     ax.grid(alpha=0.3)
     return fig
 
@@ -169,6 +171,45 @@ def montecarlo_figure(
     return fig
 
 
+ZOOM_BELOW = 0.15  # a jamming panel gets an inset when its curves rise within this fraction of its width
+
+
+def _rise_span(lines: list[tuple[str, np.ndarray, np.ndarray]], y_floor: float) -> tuple[float, float] | None:
+    """The J/P₀Bτ span [dB] over which the curves rise: from the first abscissa where one of them leaves
+    the bottom of the panel (y_floor) to the last where one reaches 95 % of its own largest value."""
+    lo, hi = np.inf, -np.inf
+    floor = np.log10(y_floor)
+    for _, x, log10_y in lines:
+        x, ly = np.asarray(x, float), np.asarray(log10_y, float)
+        up = np.flatnonzero(ly > floor)
+        if up.size == 0:
+            continue
+        top = np.flatnonzero(ly >= np.nanmax(ly) + np.log10(0.95))
+        lo, hi = min(lo, x[up[0]]), max(hi, x[top[0]])
+    return (float(lo), float(hi)) if lo < hi else None
+
+
+def _rise_inset(ax: Axes, lines: list[tuple[str, np.ndarray, np.ndarray]], rise: tuple[float, float],
+                ylim: tuple[float, float]) -> None:  # fmt: skip
+    """A zoom on the span where the curves rise (a few dB of a panel a hundred wide), right of that span (in
+    the left half of the panel), below the curves' plateau near the top and above the legend at the lower
+    right."""
+    pad = 0.15 * (rise[1] - rise[0])
+    x0, x1 = ax.get_xlim()
+    left = max(0.3, (rise[1] + pad - x0) / (x1 - x0) + 0.08)  # right of the framed span: covers no rise
+    ins = ax.inset_axes((left, 0.44, min(0.38, 0.96 - left), 0.42))
+    for _, x, log10_y in lines:
+        ins.semilogy(x, 10.0 ** np.maximum(log10_y, -300.0), lw=1.3)
+    ins.set_xlim(rise[0] - pad, rise[1] + pad)
+    ins.set_ylim(*ylim)
+    ins.set_title(f"zoom: {rise[0] - pad:.1f} to {rise[1] + pad:.1f} dB", fontsize="x-small")
+    ins.tick_params(labelsize="x-small")
+    ins.grid(alpha=0.3, which="both")
+    frame = ax.indicate_inset_zoom(ins, edgecolor="0.4")  # the zoomed span, framed on the panel
+    for line in frame.connectors:  # connectors would cross the curves and the legend
+        line.set_visible(False)
+
+
 def jamming_figure(
     panels: list[tuple[str, list[tuple[str, np.ndarray, np.ndarray]], list[tuple[float, str]]]],
     title: str = "",
@@ -198,7 +239,13 @@ def jamming_figure(
         ax.set_xlabel(r"$10\log_{10}\,J/(P_0 B\tau)$ [dB]")
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3, which="both")
-        ax.legend(fontsize="small", loc="best")
+        rise = _rise_span(lines, ylim[0])
+        x0, x1 = ax.get_xlim()
+        if rise is not None and rise[1] - rise[0] < ZOOM_BELOW * (x1 - x0) and rise[1] < x0 + 0.5 * (x1 - x0):
+            _rise_inset(ax, lines, rise, ylim)
+            ax.legend(fontsize="small", loc="lower right")  # the inset sits above the middle, clear of it
+        else:
+            ax.legend(fontsize="small", loc="best")
     if title:
         fig.suptitle(title)
     return fig
@@ -289,11 +336,14 @@ def slrt_figure(panels: list[tuple[str, np.ndarray, dict[str, tuple[np.ndarray, 
         "ldf": "C4",
         "naive": "C5",
     }
+    # a line style per method as well: where two methods' means coincide (CKF and FKF at a high p_D), the
+    # dashed one stays visible on the solid one
+    styles = {"fkf": "--", "lkf": "-.", "dkf": ":", "fkf-feedback": (0, (5, 1)), "ldf": (0, (3, 1, 1, 1))}
     for ax, (title, k, curves) in zip(axes, panels, strict=False):
         for name, (mean, lo, hi) in curves.items():
             c = colors.get(name, None)
             ax.fill_between(k, lo, hi, color=c, alpha=0.15, lw=0)
-            ax.plot(k, mean, color=c, lw=1.5, label=f"{name.upper()} (mean)")
+            ax.plot(k, mean, color=c, lw=1.5, ls=styles.get(name, "-"), label=f"{name.upper()} (mean)")
         if thresholds is not None:
             # log B's label above its line, log A's below its own: never on top of each other, however close
             # the two lines are on the panel's scale; the limits leave room for both labels.

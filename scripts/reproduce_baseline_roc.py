@@ -28,6 +28,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from matplotlib.lines import Line2D
 from matplotlib.ticker import NullFormatter
 
 from motionsig_cli.detection.lmp import LMPConfig
@@ -85,20 +86,23 @@ def _pd_correct(c: RocCell) -> float:
 
 
 def figure(results: list[tuple[str, BaselineRoc]], path: Path) -> None:
-    fig, axes = plt.subplots(2, len(results), figsize=(5 * len(results), 8), squeeze=False)
+    # one colour per horizon across every panel (the panels' horizons differ), one line style per detector,
+    # and one legend for the figure below the panels instead of eight legends of eight entries
+    horizons = sorted({h for _, res in results for h in res.job.horizons_s})
+    colour = {h: f"C{j}" for j, h in enumerate(horizons)}
+    fig, axes = plt.subplots(2, len(results), figsize=(5 * len(results), 8.4), squeeze=False)
     for col, (title, res) in enumerate(results):
         job = res.job
         for row, (what, value) in enumerate(
             ((f"P_D at P_FA = {job.pfa:g}", lambda c: c.pd), ("P(detected and (i, tau) right)", _pd_correct))
         ):
             ax = axes[row, col]
-            for j, h in enumerate(job.horizons_s):
+            for h in job.horizons_s:
                 for d, style in zip(DETECTORS, ("-", "--"), strict=True):
                     cells = [res.cell(d, a, h) for a in job.a_list]
                     p = [value(c) for c in cells]
                     se = [math.sqrt(max(q * (1 - q), 0.0) / c.trials) for q, c in zip(p, cells, strict=True)]
-                    ax.errorbar(job.a_list, p, yerr=se, ls=style, marker="o", color=f"C{j}",
-                                label=f"{d}, {h:g} s", capsize=2)  # fmt: skip
+                    ax.errorbar(job.a_list, p, yerr=se, ls=style, marker="o", color=colour[h], capsize=2)
             ax.set_xscale("log")
             ax.xaxis.set_minor_formatter(NullFormatter())
             ax.set_ylim(-0.03, 1.03)
@@ -106,11 +110,15 @@ def figure(results: list[tuple[str, BaselineRoc]], path: Path) -> None:
             ax.set_ylabel(what)
             ax.set_title(title, fontsize=9)
             ax.grid(alpha=0.3)
-            ax.legend(fontsize=6)
+    handles = [Line2D([], [], color=colour[h], marker="o", label=f"horizon {h:g} s") for h in horizons]
+    handles += [
+        Line2D([], [], color="0.3", ls=st, label=d) for d, st in zip(DETECTORS, ("-", "--"), strict=True)
+    ]
+    fig.legend(handles=handles, loc="lower center", ncol=len(handles), fontsize=9, frameon=False)
     fig.suptitle(
         "LMP (solid) vs estimate-then-correlate (dashed), equal P_FA from the null records", fontsize=10
     )
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
     fig.savefig(path, dpi=120)
     plt.close(fig)
 

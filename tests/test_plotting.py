@@ -214,3 +214,53 @@ def test_slrt_scan_legend_hides_no_point() -> None:
     truth = np.column_stack([np.linspace(0, 4.4e3, 30), np.zeros(30), np.linspace(0, 1e3, 30), np.zeros(30)])
     fig = plotting.slrt_scan_figure(sensors, clutter, target, truth, "target, p_D = 0.9: run 0, scan 30")
     assert_readable(fig)
+
+
+def _jamming(figure: str) -> Figure:
+    from motionsig_cli.experiments.jamming import CurvesConfig, curves_table
+
+    result = curves_table(CurvesConfig(figure=figure))
+    return plotting.jamming_figure(result.panels, title=result.title)
+
+
+def test_jamming_rise_of_a_few_db_gets_a_zoom_clear_of_the_curves() -> None:
+    """`jam-bound curves --figure 2.11`: the curves rose within 4 dB of a 105 dB axis, drawn on top of each
+    other; an inset now shows that span, placed where it covers none of the panel's rising curves."""
+    fig = _jamming("2.11")
+    ax = fig.axes[0]
+    assert len(ax.child_axes) == 1
+    ins = ax.child_axes[0]
+    renderer = _draw(fig)
+    box = ins.get_tightbbox(renderer)
+    lo, hi = ins.get_xlim()
+    y_floor = ax.get_ylim()[0]
+    for line in ax.get_lines():
+        x, y = (np.asarray(v, float) for v in line.get_data())
+        if x.size < 3:
+            continue  # a reference level
+        rising = (y > y_floor) & (y < 0.95 * np.max(y))
+        assert np.all((x[rising] >= lo) & (x[rising] <= hi))  # the whole rise is in the zoom
+        xy = line.get_transform().transform(np.column_stack([x, y]))
+        under = (xy[:, 0] > box.x0) & (xy[:, 0] < box.x1) & (xy[:, 1] > box.y0) & (xy[:, 1] < box.y1)
+        assert not np.any(under & rising)
+    assert_readable(fig)
+
+
+def test_jamming_spread_curves_get_no_zoom() -> None:
+    """Fig. 2.12 spreads its curves over 40 dB: no inset."""
+    fig = _jamming("2.12")
+    assert fig.axes[0].child_axes == []
+    assert_readable(fig)
+
+
+def test_response_legend_outside_the_curves() -> None:
+    """`simulate --plot` (Fig 2 of the mode-signature paper): the legend at 'best' sat on the response,
+    which fills the plane; now it is above the axes."""
+    t = np.arange(0, 60, 0.05)
+    r = 10 * np.sin(2 * np.pi * 0.1 * t)
+    x = r + 0.5 * np.sin(2 * np.pi * t)
+    fig = plotting.response_figure(t, x, r, x, x + 0.1)
+    renderer = _draw(fig)
+    (leg,) = fig.legends
+    assert not leg.get_window_extent(renderer).overlaps(fig.axes[0].get_window_extent(renderer))
+    assert_readable(fig)

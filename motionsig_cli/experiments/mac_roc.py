@@ -727,6 +727,19 @@ class Outcome:
     warnings: tuple[str, ...] = ()
 
 
+def _power_label(v: float) -> str:
+    """v as a figure label in powers of ten (mathtext): 1e5 → 10⁵, 2e5 → 2·10⁵, 1e-06 → 10⁻⁶; other values
+    (no more than three significant digits before the power) as ``g`` does."""
+    if v <= 0 or not math.isfinite(v):
+        return f"{v:g}"
+    e = math.floor(math.log10(v))
+    m = v / 10.0**e
+    if abs(m - round(m)) > 1e-9 * m or abs(e) < 3:
+        return f"{v:g}"
+    m_txt = "" if round(m) == 1 else rf"{round(m)}\cdot"
+    return rf"${m_txt}10^{{{e}}}$"
+
+
 def _fin(x: float) -> float | None:
     x = float(x)
     return x if math.isfinite(x) else None
@@ -1093,10 +1106,12 @@ def exponent(cfg: ExponentConfig) -> Outcome:
         if fig == "3.9":
             for gi in G:
                 ys = exp_of_gaussian_exponent(gi, Ns, t)
-                lines.append((f"τ/α = {t:g}" + (f", Exp_g = {gi:g}" if G.size > 1 else ""), Ns, ys))
+                lines.append(
+                    (f"τ/α = {_power_label(t)}" + (f", Exp_g = {gi:g}" if G.size > 1 else ""), Ns, ys)
+                )
         else:
             for n in Ns:
-                label = f"N = {n:g}" + (f", τ/α = {t:g}" if len(tas) > 1 else "")
+                label = f"N = {_power_label(n)}" + (f", τ/α = {_power_label(t)}" if len(tas) > 1 else "")
                 lines.append((label, G, exp_of_gaussian_exponent(G, n, t)))
     cols = ("figure", "tau_over_alpha", "N", "Exp_g", "Exp", "Exp_exact", "ratio")
     meta = make_meta(
