@@ -189,6 +189,18 @@ def _rise_span(lines: list[tuple[str, np.ndarray, np.ndarray]], y_floor: float) 
     return (float(lo), float(hi)) if lo < hi else None
 
 
+def zoom_rise(ax: Axes, lines: list[tuple[str, np.ndarray, np.ndarray]], ylim: tuple[float, float]) -> bool:
+    """Add :func:`_rise_inset` to a jamming panel (lines as in :func:`jamming_figure`) whose curves rise
+    within ZOOM_BELOW of its width, in its left half. Returns whether it did (the legend then belongs at
+    the lower right)."""
+    rise = _rise_span(lines, ylim[0])
+    x0, x1 = ax.get_xlim()
+    if rise is None or rise[1] - rise[0] >= ZOOM_BELOW * (x1 - x0) or rise[1] >= x0 + 0.5 * (x1 - x0):
+        return False
+    _rise_inset(ax, lines, rise, ylim)
+    return True
+
+
 def _rise_inset(ax: Axes, lines: list[tuple[str, np.ndarray, np.ndarray]], rise: tuple[float, float],
                 ylim: tuple[float, float]) -> None:  # fmt: skip
     """A zoom on the span where the curves rise (a few dB of a panel a hundred wide), right of that span (in
@@ -239,10 +251,7 @@ def jamming_figure(
         ax.set_xlabel(r"$10\log_{10}\,J/(P_0 B\tau)$ [dB]")
         ax.set_ylabel(ylabel)
         ax.grid(alpha=0.3, which="both")
-        rise = _rise_span(lines, ylim[0])
-        x0, x1 = ax.get_xlim()
-        if rise is not None and rise[1] - rise[0] < ZOOM_BELOW * (x1 - x0) and rise[1] < x0 + 0.5 * (x1 - x0):
-            _rise_inset(ax, lines, rise, ylim)
+        if zoom_rise(ax, lines, ylim):
             ax.legend(fontsize="small", loc="lower right")  # the inset sits above the middle, clear of it
         else:
             ax.legend(fontsize="small", loc="best")

@@ -23,6 +23,7 @@ from scipy.special import erf, erfinv
 from scipy.stats import binom
 
 from motionsig_cli.experiments import jamming as exp
+from motionsig_cli.plotting import zoom_rise
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.surveillance.jamming import (
     JammingDesign,
@@ -213,9 +214,11 @@ fig = Figure(figsize=(13, 26), layout="constrained")
 axes = fig.subplots(8, 2).ravel()
 for ax, (name, pre) in zip(axes, exp.FIGURES.items(), strict=True):
     x = exp.x_grid(*pre.x_range, 0.05)
+    lines = []
     for c in exp.curves(pre.quantity, exp.designs_for(pre.K, pre.pdl, pre.t), x, S):
         label = f"P_DL={c.pdl:g}" if pre.K == 1 else f"t={c.design.t:g}, p_d={c.design.p_d:.3f}"
         ax.semilogy(x, np.exp(np.maximum(c.log_value, -690)), lw=1.2, label=label)
+        lines.append((label, x, c.log_value / LN10))
     level = 0.9 if pre.quantity == "nfl" else 0.01
     ax.axhline(level, color="0.4", ls=":", lw=1)
     ax.set_ylim(1e-6, 1.5)
@@ -226,7 +229,8 @@ for ax, (name, pre) in zip(axes, exp.FIGURES.items(), strict=True):
     )
     ax.set_xlabel("10 log10 J/(P0 B τ) [dB]", fontsize=8)
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=6, loc="best")
+    zoomed = zoom_rise(ax, lines, (1e-6, 1.5))  # the same zoom as `--plot` where the curves rise in a few dB
+    ax.legend(fontsize=6, loc="lower right" if zoomed else "best")
 fig
 
 # %% [markdown]
