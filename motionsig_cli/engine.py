@@ -623,8 +623,9 @@ def _run_pool(
     answered it, keeps one task in flight per worker, taking the next pending task each time one finishes.
     So a run shorter than that never pays for a pool, the pool's start-up (≈ 0.35 s of a core per worker
     on an idle machine) overlaps with work here, a run that ends while its workers start waits for none of
-    them (they are stopped), and no task waits in a queue behind a busy worker while another is idle. Results from the pool are handed to ``finish`` here, between
-    this process's own tasks. Which process runs a task never changes what it computes.
+    them (they are stopped), and no task waits in a queue behind a busy worker while another is idle.
+    Results from the pool are handed to ``finish`` here, between this process's own tasks. Which process
+    runs a task never changes what it computes.
     """
     delay = pool_min_seconds()
     here = delay > 0  # this process computes too

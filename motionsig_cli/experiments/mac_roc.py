@@ -728,8 +728,8 @@ class Outcome:
 
 
 def _power_label(v: float) -> str:
-    """v as a figure label in powers of ten (mathtext): 1e5 → 10⁵, 2e5 → 2·10⁵, 1e-06 → 10⁻⁶; other values
-    (no more than three significant digits before the power) as ``g`` does."""
+    """v as a figure label in powers of ten (mathtext) where it is a whole number times 10^e with |e| ≥ 3:
+    1e5 → 10⁵, 2e5 → 2·10⁵, 1e-06 → 10⁻⁶; other values (0.5, 100, 2.5e5) as ``g`` writes them."""
     if v <= 0 or not math.isfinite(v):
         return f"{v:g}"
     e = math.floor(math.log10(v))

@@ -685,3 +685,16 @@ def test_registry_refuses_an_unknown_density_and_a_code_built_one_from_b():
         density("psk", 0.1)
     assert info.value.field == "density"
     assert sorted(DENSITY_OF_FIGURE) == ["3.3", "3.4", "3.5", "3.6"]
+
+
+def test_power_label_of_the_exponent_figures() -> None:
+    """The legends of Figs 3.9/3.10 (`mac-roc exponent --plot`) wrote `N = 100000` next to `N = 1e+06`;
+    whole multiples of a power of ten with |e| ≥ 3 are written as powers, the rest as `g` does."""
+    from motionsig_cli.experiments.mac_roc import _power_label
+
+    assert _power_label(1e5) == "$10^{5}$"
+    assert _power_label(2e5) == r"$2\cdot10^{5}$"
+    assert _power_label(1e-6) == "$10^{-6}$"
+    assert _power_label(3e-5) == r"$3\cdot10^{-5}$"
+    for v in (0.5, 100.0, 2.5e5, 0.0):
+        assert _power_label(v) == f"{v:g}"
