@@ -8,7 +8,10 @@ The scaled unscented transform (Julier 2002; Van der Merwe's parametrisation, th
     ŷ = Σ W^m_i h(χ_i),  S = Σ W^c_i e_i e_iᵀ + R,  P_xy = Σ W^c_i (χ_i − x) e_iᵀ,  e_i = h(χ_i) − ŷ
 
 Angular measurement components are averaged about the central point, ŷ = h(χ_0) + Σ W^m_i
-wrap(h(χ_i) − h(χ_0)), and every residual is wrapped to (−π, π].
+wrap(h(χ_i) − h(χ_0)), and every residual is wrapped to (−π, π]. With d_i = wrap(h(χ_i) − h(χ_0)) and
+μ = ŷ − h(χ_0) = Σ W^m_i d_i, e_i = d_i − μ needs no wrap while every angular |d_i| and |μ| is at most
+π/2, and then S − R = W_j Σ_{i≥1} d_i d_iᵀ + (β − α²) μ μᵀ (e_0 = −μ; the weights give the coefficient);
+the bank uses this form, and the residuals point by point otherwise.
 
 **The reduction that makes the bank fast (exact, not an approximation).** If h reads only the leading
 p state components, the sigma points χ_{±j} with j > p move no component h reads (columns j > p of
@@ -283,6 +286,21 @@ def _wrap_rows(d: np.ndarray, angular: np.ndarray) -> np.ndarray:
     return d
 
 
+def _wrap_rows_max(d: np.ndarray, angular: np.ndarray) -> float:
+    """:func:`_wrap_rows` that also returns the largest |entry| of the angular rows after wrapping (0.0
+    without angles): one reduction instead of the comparison and test, the same work when nothing wraps."""
+    top = 0.0
+    for a in np.flatnonzero(angular):
+        row = d[a]
+        big = float(np.abs(row).max())
+        if big > math.pi:
+            out = np.abs(row) > math.pi
+            row[out] = wrap_angle(row[out])
+            big = float(np.abs(row).max())
+        top = max(top, big)
+    return top
+
+
 def _left_cholesky(A: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
     """First p columns of the lower Cholesky factor of A (n, n, ...) by left-looking elimination.
 
@@ -291,6 +309,16 @@ def _left_cholesky(A: np.ndarray, p: int) -> tuple[np.ndarray, np.ndarray]:
         the affected entries of L are then meaningless).
     """
     n = A.shape[0]
+    if n == p == 2:  # a range/bearing S: the same steps written out, half the array operations
+        L = np.empty((2, 2, *A.shape[2:]))
+        d0 = A[0, 0]
+        s0 = 1.0 / np.sqrt(np.where(d0 > 0, d0, np.inf))
+        np.multiply(d0, s0, out=L[0, 0])
+        np.multiply(A[1, 0], s0, out=L[1, 0])
+        d1 = A[1, 1] - L[1, 0] * L[1, 0]
+        np.multiply(d1, 1.0 / np.sqrt(np.where(d1 > 0, d1, np.inf)), out=L[1, 1])
+        L[0, 1] = 0.0
+        return L, np.minimum(d0, d1)
     L = np.zeros((n, p, *A.shape[2:]))
     min_piv = np.full(A.shape[2:], np.inf)
     for j in range(p):
@@ -417,6 +445,17 @@ class _Packed:
         return self.index[:, self.perm]
 
     @cached_property
+    def row_runs(self) -> tuple[tuple[tuple[slice, slice], ...], ...]:
+        """:attr:`rows` as runs of evenly spaced packed rows: row_runs[i] = ((dst, src), …) with
+        ``Ppk[dst]`` the entries of row i at positions ``src`` (basic slices: views, no gather/scatter)."""
+        return tuple(_slice_runs(r) for r in self.rows)
+
+    def unit_row(self, j: int) -> bool:
+        """Row j of F_0 is e_jᵀ (j lies in a component on which F_0 is the identity: the bank's
+        amplitudes); then (F_0 P F_0ᵀ)[:, j] = F_0 P[:, j]."""
+        return any(Fg is None and s <= self.pos[j] < e for s, e, Fg in self.comps)
+
+    @cached_property
     def max_block(self) -> int:
         return max(hi - lo for lo, hi, *_ in self.blocks)
 
@@ -452,6 +491,25 @@ class _Packed:
     def unpack(self, Ppk: np.ndarray) -> np.ndarray:
         """Packed (n(n+1)/2, ...) → full symmetric (n, n, ...)."""
         return Ppk[self.index]
+
+
+def _slice_runs(idx: np.ndarray) -> tuple[tuple[slice, slice], ...]:
+    """Split ``dst = idx[src]`` (src = 0, 1, …) into runs where both advance by a constant step."""
+    runs: list[tuple[slice, slice]] = []
+    a, n = 0, len(idx)
+    while a < n:
+        b = a + 1
+        if b < n and idx[b] != idx[a]:
+            step = int(idx[b] - idx[a])
+            while b + 1 < n and idx[b + 1] - idx[b] == step:
+                b += 1
+            b += 1
+            stop = int(idx[b - 1]) + (1 if step > 0 else -1)
+            runs.append((slice(int(idx[a]), None if stop < 0 else stop, step), slice(a, b)))
+        else:
+            runs.append((slice(int(idx[a]), int(idx[a]) + 1), slice(a, a + 1)))
+        a = b
+    return tuple(runs)
 
 
 def _packed_layout(F0: np.ndarray) -> _Packed:
@@ -513,9 +571,8 @@ def _lead_cholesky(Ppk: np.ndarray, lay: _Packed, p: int, Lc: np.ndarray, tmp: n
         v = Lc[j]
         np.take(Ppk, lay.columns[j], axis=0, out=v, mode="clip")  # column j of P, rows by position
         pj = lay.pos[j]
-        for q in range(j):
-            np.multiply(Lc[q], Lc[q, pj], out=t)
-            v -= t  # (the rows of states above j are not needed: they are zeroed below)
+        if j:  # (the rows of states above j are not needed: they are zeroed below)
+            v -= np.einsum("qi...,q...->i...", Lc[:j], Lc[:j, pj], out=t)  # Σ_{q<j} L_q L_q[j]
         d = v[pj].copy()
         np.minimum(min_piv, d, out=min_piv)
         v *= 1.0 / np.sqrt(np.where(d > 0, d, np.inf))  # a failed pivot gives a zero column
@@ -546,25 +603,20 @@ def _packed_downdate(
     """Ppk ← Ppk − Σ_a W_a W_aᵀ in place (W (m, n, ...) by position; tmp scratch (≥ max_block, ...)), on
     every block or on ``block`` only.
 
-    Segment by segment (a row of a diagonal block, or a whole off-diagonal block), each component a in
-    turn, so each segment is read once while it is in cache; P[i, j] − W_a[i] W_a[j] element by element.
+    Segment by segment (a row of a diagonal block, or a whole off-diagonal block), so each segment is read
+    once while it is in cache; Σ_a W_a[i] W_a[j] as one einsum pass, then subtracted.
     """
-    m = W.shape[0]
     segments = lay.segments if block is None else lay.block_segments[block]
     for lo, hi, i, ws, we in segments:
         seg = Ppk[lo:hi]
         if i >= 0:  # row i of a diagonal block: entries (i, ws..we − 1)
-            t = tmp[: hi - lo]
-            for a in range(m):
-                np.multiply(W[a, i], W[a, ws:we], out=t)
-                seg -= t
+            seg -= np.einsum("a...,aj...->j...", W[:, i], W[:, ws:we], out=tmp[: hi - lo])
         else:  # off-diagonal block (rows ws..we − 1) × (columns of the other component)
             s2, e2 = -i - 1, -i - 1 + (hi - lo) // (we - ws)
             blk = seg.reshape(we - ws, e2 - s2, *seg.shape[1:])
-            t = tmp[: hi - lo].reshape(blk.shape)
-            for a in range(m):
-                np.multiply(W[a, ws:we, None], W[a, None, s2:e2], out=t)
-                blk -= t
+            blk -= np.einsum(
+                "ar...,ac...->rc...", W[:, ws:we], W[:, s2:e2], out=tmp[: hi - lo].reshape(blk.shape)
+            )
 
 
 BLAS_ONE_THREAD = 1 << 18  # OpenBLAS runs a product of m·n·k ≤ 2^18 on one thread
@@ -637,22 +689,31 @@ def _packed_predict(
             blk[...] = out
         elif Pn is not None:
             Pn[lo:hi] = Ppk[lo:hi]
+    # Where row j_r of F_0 is e_jᵀ for every r (the amplitudes), u_r = F_0 P[:, j_r] is column j_r of the
+    # product just formed, and P[j_r, j_s] its entry j_s: no second product, no copy taken before it.
+    direct = Pn is not None and all(lay.unit_row(j) for _, j in ents)
     if Pn is not None:  # Ppk now holds P − Σ W_a W_aᵀ: its columns as they are
-        cols = [np.take(Ppk, lay.columns[j], axis=0, mode="clip") for _, j in ents]
+        cols = [np.take(Pn if direct else Ppk, lay.columns[j], axis=0, mode="clip") for _, j in ents]
         Ppk = Pn
     if ents:
         u = tmp[:n]
-        gk = [trans.g[:, k, r][:, None] for r in range(len(ents))]  # (C, 1): broadcasts over the records
+        # g_r of every filter spread over the records, (C, B): a (C, 1) factor against (…, C, B) would
+        # broadcast in inner loops of B elements only (measured: a tenth of the prediction's time)
+        gk = [np.repeat(trans.g[:, k, r, None], x.shape[-1], axis=1) for r in range(len(ents))]
         for r, (i, j) in enumerate(ents):
             xn[lay.pos[i]] += gk[r] * x[lay.pos[j]]  # G_k x
-            for s, e, Fg in lay.comps:  # u_r = F_0 P[:, j]
-                if Fg is None:
-                    u[s:e] = cols[r][s:e]
-                else:
-                    _thin_matmul(Fg, cols[r][s:e].reshape(e - s, CB), u[s:e].reshape(e - s, CB))
-            u *= gk[r]
+            if direct:
+                np.multiply(cols[r], gk[r], out=u)
+            else:
+                for s, e, Fg in lay.comps:  # u_r = F_0 P[:, j]
+                    if Fg is None:
+                        u[s:e] = cols[r][s:e]
+                    else:
+                        _thin_matmul(Fg, cols[r][s:e].reshape(e - s, CB), u[s:e].reshape(e - s, CB))
+                u *= gk[r]
             u[lay.pos[i]] *= 2.0  # the diagonal entry (i, i) gets both terms
-            Ppk[lay.rows[i]] += u  # g_r (e_i u_rᵀ + u_r e_iᵀ)
+            for dst, src in lay.row_runs[i]:
+                Ppk[dst] += u[src]  # g_r (e_i u_rᵀ + u_r e_iᵀ)
         for r, (ir, _) in enumerate(ents):
             for s, (is_, js) in enumerate(ents):
                 if ir >= is_:  # each stored entry (i_r, i_s) once
@@ -750,6 +811,7 @@ def ukf_bank_costs(
     rep_P = rep_S = 0
     half_log2pi = 0.5 * m * math.log(2 * math.pi)
     w_e0 = wc0 + 2 * (n - p) * wj  # χ_0 and the 2(n − p) points that move nothing h reads
+    c_mu = w_e0 + 2 * p * wj - 2.0  # = β − α²: the weight of μ μᵀ in S from the d_i
     tick = step_reporter(progress, N)
     some_missing = missing.any(axis=0)  # (N,)
     none_present = ~present.any(axis=0)
@@ -774,15 +836,30 @@ def ukf_bank_costs(
             np.add(xl, step, out=X[:, 1 : p + 1])
             np.subtract(xl, step, out=X[:, p + 1 :])
             Y = meas.h(X)  # (m, 2p + 1, C, B): h(χ_0), h(χ_{+j}), h(χ_{−j})
-            D = _wrap_rows(Y[:, 1:] - Y[:, :1], ang)
-            y_hat = _wrap_rows(Y[:, 0] + wj * D.sum(1), ang)  # Σ W^m_i h(χ_i), angles about χ_0
-            E = _wrap_rows(Y - y_hat[:, None], ang)  # e_i = h(χ_i) − ŷ
+            D = Y[:, 1:] - Y[:, :1]  # d_i = h(χ_i) − h(χ_0), i = 1 … 2p
+            turn = _wrap_rows_max(D, ang)  # angles wrapped; the largest |d_i| of an angle
+            mu = wj * D.sum(1)  # μ = ŷ − h(χ_0) = Σ W^m_i d_i (angles averaged about χ_0)
+            y_hat = _wrap_rows(Y[:, 0] + mu, ang)  # Σ W^m_i h(χ_i)
             S = np.empty((m, m, C, B))
-            for a in range(m):
-                for b in range(a + 1):
-                    Eab = E[a] * E[b]
-                    S[a, b] = w_e0 * Eab[0] + wj * Eab[1:].sum(0)
-                    S[b, a] = S[a, b]
+            if turn <= 0.5 * math.pi and not np.any(np.abs(mu[ang]) > 0.5 * math.pi):
+                # e_i = h(χ_i) − ŷ = d_i − μ needs no wrap (|d_i − μ| < π), and e_0 = −μ, so with
+                # Σ_i W^m_i d_i = μ: S − R = Σ W^c_i e_i e_iᵀ = W_j Σ_{i≥1} d_i d_iᵀ + (β − α²) μ μᵀ
+                for a in range(m):
+                    for b in range(a + 1):
+                        Sab = np.einsum("icb,icb->cb", D[a], D[b], out=S[a, b])  # one pass, measured
+                        Sab *= wj
+                        Sab += c_mu * mu[a] * mu[b]
+                        S[b, a] = Sab
+                dpm = D[:, :p] - D[:, p:]  # e_{+j} − e_{−j} = d_{+j} − d_{−j}
+            else:  # a bearing spread over more than a quarter turn: e_i = wrap(h(χ_i) − ŷ), as FilterPy
+                E = _wrap_rows(Y - y_hat[:, None], ang)
+                for a in range(m):
+                    for b in range(a + 1):
+                        Sab = np.einsum("icb,icb->cb", E[a, 1:], E[b, 1:], out=S[a, b])
+                        Sab *= wj
+                        Sab += w_e0 * E[a, 0] * E[b, 0]
+                        S[b, a] = Sab
+                dpm = E[:, 1 : p + 1] - E[:, p + 1 :]
             S += Rm  # S = Σ W^c_i e_i e_iᵀ + R
             if pk is not None:
                 S = np.where(pk, S, Rm)  # a missing record's S is never used: keep it out of the repairs
@@ -798,17 +875,13 @@ def ukf_bank_costs(
             LD += ld if pk is None else np.where(pk, ld, 0.0)
             # P_xy = Σ W^c_i (χ_i − x) e_iᵀ = W c Σ_j L_j (e_{+j} − e_{−j})ᵀ = L_{:p} Dᵀ, so the gain's
             # square root W = P_xy L_S⁻ᵀ = L_{:p} (L_S⁻¹ D)ᵀ: G = L_S⁻¹ D is m × p, W[a] = Σ_j G[a, j] L_j
-            G = _forward(Ls[:, :, None], (wj * c) * (E[:, 1 : p + 1] - E[:, p + 1 :]))  # (m, p, C, B)
+            G = _forward(Ls[:, :, None], (wj * c) * dpm)  # (m, p, C, B)
             if pk is not None:
                 G = np.where(pk, G, 0.0)  # no gain: x and P carry over
-            for a in range(m):
-                Wa = W[a]
-                np.multiply(Lc[0], G[a, 0], out=Wa)
-                for j in range(1, p):
-                    np.multiply(Lc[j], G[a, j], out=tmp[:n])
-                    Wa += tmp[:n]
-                np.multiply(Wa, u[a], out=tmp[:n])
-                x += tmp[:n]  # x + K ν with K = P_xy S⁻¹ = W L_S⁻¹
+            # (one einsum pass for each sum of products: a third fewer passes than a multiply and an add
+            # per term, measured)
+            np.einsum("jicb,ajcb->aicb", Lc, G, out=W)  # W[a] = Σ_j G[a, j] L_j
+            x += np.einsum("aicb,acb->icb", W, u, out=tmp[:n])  # x + K ν with K = P_xy S⁻¹ = W L_S⁻¹
             if k + 1 == N:
                 _packed_downdate(Ppk, lay, W, tmp)  # P − K S Kᵀ = P − W Wᵀ
         if k + 1 in read_at:

@@ -127,6 +127,40 @@ def test_bank_equals_oracle_ukf(params):
                 )
 
 
+@pytest.mark.parametrize(
+    ("params", "seed", "start", "p0"),
+    [(PARAMS[0], 1, (0.05, 0.02), 0.5), (PARAMS[1], 0, (0.4, 0.3), 2.0)],  # found by a search: wraps matter
+)
+def test_bank_equals_oracle_when_the_bearings_spread_over_a_quarter_turn(
+    params, seed, start, p0, monkeypatch
+):
+    """A target beside the radar, its sigma points on all sides of it: the bearing differences d_i pass
+    ±π/2 and the bank takes e_i = wrap(h(χ_i) − ŷ) point by point (the closed form in the d_i assumes
+    |d_i − μ| < π). It must equal the oracle; forcing the closed form must not (the test can fail)."""
+    rng = np.random.default_rng(seed)
+    N = 12
+    tr, Q, meas, _, _, _, R = _radar_bank(rng, 2, N, params)
+    x0 = prior_mean_2d(start, True)
+    P0 = p0 * np.eye(10)
+    pos = x0[[0, 2]] + 0.3 * np.cumsum(rng.normal(size=(2, N, 2)), axis=1)
+    y = np.stack([np.hypot(pos[..., 0], pos[..., 1]), np.arctan2(pos[..., 1], pos[..., 0])], axis=-1)
+    seen = []
+    real = U._wrap_rows_max
+    monkeypatch.setattr(U, "_wrap_rows_max", lambda d, a: seen.append(real(d, a)) or seen[-1])
+    res = U.ukf_bank_costs(tr, Q, meas, x0, P0, y, [N], params)
+    assert max(seen) > 0.5 * np.pi  # the branch under test ran
+    monkeypatch.setattr(U, "_wrap_rows_max", lambda d, a: real(d, a) * 0.0)  # closed form everywhere
+    forced = U.ukf_bank_costs(tr, Q, meas, x0, P0, y, [N], params)
+    for c in range(2):
+        Fs = [tr.dense(k)[c] for k in range(N)]
+        for b in range(2):
+            o = O.ukf_run(Fs, Q, O.range_bearing, R, x0, P0, y[b], params.alpha, params.beta,
+                          params.kappa, (False, True))  # fmt: skip
+            assert res.J[c, b, 0] == pytest.approx(o["J"][N - 1], rel=1e-9)
+            assert -(res.J[c, b, 0] + res.half_logdet[c, b, 0]) == pytest.approx(o["loglik"][N - 1], rel=1e-9)
+    assert not np.allclose(forced.J, res.J, rtol=1e-6)
+
+
 def test_structured_prediction_equals_dense():
     rng = np.random.default_rng(8)
     C, B, n = 4, 3, 10

@@ -85,3 +85,44 @@ def test_lead_cholesky_equals_numpy():
     ref = np.linalg.cholesky(np.moveaxis(P, (0, 1), (-2, -1)))[..., :3]  # (C, B, n, p)
     np.testing.assert_allclose(np.moveaxis(Lc[:, lay.pos], (0, 1), (-1, -2)), ref, rtol=1e-12, atol=1e-14)
     assert np.all(piv > 0)
+
+
+def test_slice_runs_cover_every_index_with_views():
+    """The row updates' runs of slices address exactly ``dst = idx[src]``, in any order of idx (the packed
+    rows of a state's row rise, fall and jump), and the layout's runs are those of its rows."""
+    rng = np.random.default_rng(5)
+    cases = [np.arange(7), np.arange(7)[::-1], np.array([3]), np.array([0, 2, 4, 9, 8, 7, 1])]
+    cases += [rng.permutation(12) for _ in range(20)]
+    for idx in cases:
+        runs = U._slice_runs(idx)
+        dst = np.concatenate([np.arange(60)[d] for d, _ in runs])
+        src = np.concatenate([np.arange(len(idx))[s] for _, s in runs])
+        assert np.array_equal(np.sort(src), np.arange(len(idx)))
+        assert np.array_equal(dst, idx[src])
+    F0, _, _ = next(_cases())
+    lay = U._packed_layout(F0)
+    for i in range(F0.shape[0]):
+        A = np.arange(lay.size, dtype=float)
+        got = np.concatenate([A[d] for d, _ in lay.row_runs[i]])
+        want = A[lay.rows[i]][np.concatenate([np.arange(F0.shape[0])[s_] for _, s_ in lay.row_runs[i]])]
+        assert np.array_equal(got, want)
+
+
+def test_two_by_two_cholesky_is_the_general_one():
+    """The written-out 2 × 2 factor of an innovation covariance equals numpy's, and marks the same matrices
+    failed (pivot ≤ 0, zero column) as the general left-looking loop run on a 3 × 3 embedding."""
+    rng = np.random.default_rng(6)
+    A = _spd_bank(rng, 2, 5, 4)
+    A[:, :, 0, 0] = [[1.0, 2.0], [2.0, 1.0]]  # indefinite: second pivot −3
+    A[:, :, 1, 0] = [[-1.0, 0.0], [0.0, 2.0]]  # first pivot ≤ 0
+    L, piv = U._left_cholesky(A, 2)
+    big = np.zeros((3, 3, 5, 4))
+    big[:2, :2] = A
+    big[2, 2] = 1.0
+    Lg, pg = U._left_cholesky(big, 2)
+    np.testing.assert_array_equal(L[:, :, ok := piv > 0], Lg[:2, :, ok])  # the same operations
+    np.testing.assert_array_equal(piv, pg)
+    assert ok.sum() == 18 and not ok[0, 0] and not ok[1, 0]
+    ref = np.linalg.cholesky(np.moveaxis(A[..., ok], -1, 0))
+    np.testing.assert_allclose(np.moveaxis(L[..., ok], -1, 0), ref, rtol=1e-13)
+    assert np.all(L[:, 0, 1, 0] == 0.0)  # the failed first pivot gives a zero column
