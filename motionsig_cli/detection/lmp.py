@@ -656,23 +656,27 @@ def lmp_detect_radar(
     cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg.as_grid)
     meas = radar_measurement(vehicle, cfg.c_r)
 
-    def bank(
-        trans: StructuredTransition, Q: tuple[float, ...], h1: bool, progress: Progress = None
-    ) -> BankCosts:
-        """The costs of the H0 filter (8 states) or the H1 bank (10: the two amplitudes appended)."""
-        x0, P0 = prior_mean_2d(vehicle.start, h1), cfg.P0 * np.eye(10 if h1 else 8)
-        return ukf_bank_costs(trans, np.diag(Q), meas, x0, P0, y, hz, cfg.sigma, progress=progress)
-
-    c0 = bank(StructuredTransition.constant(transition_h0_2d(vehicle.T, vehicle.K), N), cfg.Q0, False)
     z_cos, z_sin, zd_cos, zd_sin = replica_bank(
         chips, cands.mode, cands.tau, cands.f_c, vehicle.T, m_rho, N, cfg.zdot
     )
     k1, k2 = vehicle.K
     g = vehicle.T * (k1 * np.concatenate([z_cos, z_sin]) + k2 * np.concatenate([zd_cos, zd_sin]))  # (2C, N)
-    trans1 = StructuredTransition(
-        transition_h1_2d_base(vehicle.T, vehicle.K), AMPLITUDE_ENTRIES_2D, np.repeat(g[:, :, None], 2, axis=2)
-    )
-    c1 = bank(trans1, cfg.Q1, True, progress)
+    F1 = transition_h1_2d_base(vehicle.T, vehicle.K)
+    x0 = prior_mean_2d(vehicle.start, True)
+    # One bank: the H0 filter (8 states of eq 61) as filter 0, its amplitudes padding (F1 restricted to
+    # the first 8 states is F^H0, no entry for it, Q and P0 zero on the padding), then the 2C H1 filters
+    if not (np.array_equal(F1[:8, :8], transition_h0_2d(vehicle.T, vehicle.K))
+            and np.array_equal(x0[:8], prior_mean_2d(vehicle.start, False))):  # fmt: skip
+        raise AssertionError("the H1 model no longer extends the H0 model")
+    gh = np.concatenate([np.zeros((1, N)), g])
+    Q = np.stack([np.diag([*cfg.Q0, 0.0, 0.0])] + [np.diag(cfg.Q1)] * g.shape[0])
+    costs = ukf_bank_costs(
+        StructuredTransition(F1, AMPLITUDE_ENTRIES_2D, np.repeat(gh[:, :, None], 2, axis=2)),
+        Q, meas, x0, cfg.P0 * np.eye(10), y, hz, cfg.sigma, progress=progress,
+        states=[8] + [10] * g.shape[0],
+    )  # fmt: skip
+    c0 = BankCosts(costs.J[:1], costs.half_logdet[:1], costs.repairs_P, costs.repairs_S)
+    c1 = BankCosts(costs.J[1:], costs.half_logdet[1:], 0, 0)
     return _assemble(cands, hz, c0, c1, cfg.include_logdet)
 
 

@@ -755,6 +755,7 @@ def ukf_bank_costs(
     params: SigmaPointParams,
     *,
     progress: Progress = None,
+    states: Sequence[int] | None = None,
 ) -> BankCosts:
     """Run C unscented filters on B records at once and read their innovation costs at the horizons.
 
@@ -762,9 +763,16 @@ def ukf_bank_costs(
     with F_0 to k = 1, and so on (the convention of :mod:`motionsig_cli.filters.kalman`). The covariances
     are kept packed (:class:`_Packed`); the prediction is :func:`_packed_predict`.
 
+    **Smaller filters in the same bank** (``states``): filter c may have n_c ≤ n states, the others
+    padding that nothing couples to them (F_0, that filter's time-varying entries, Q and P0 zero between
+    the two sets). Its lead Cholesky columns are then zero on the padding, so only its weights differ:
+    the UT of an n_c-state filter (λ, c and the centre weight from n_c), computed exactly. The radar
+    detector runs its 8-state H0 filter this way beside the 10-state H1 filters: one bank, not a second
+    bank of one filter whose time goes to per-step overheads.
+
     Args:
         trans: The bank's transitions (C filters, N ≥ number of samples).
-        Q: Process noise (n, n), symmetric.
+        Q: Process noise (n, n), symmetric, or one per filter (C, n, n).
         meas: Measurement model (m components).
         x0: Prior mean (n,).  P0: Prior covariance (n, n).
         y: Records (B, N) for m = 1 or (B, N, m); a NaN sample (every component) is missing: predict-only.
@@ -772,6 +780,7 @@ def ukf_bank_costs(
         params: Sigma-point parameters.
         progress: Called with the number of time steps done, once per block of steps (see
             :func:`motionsig_cli.filters.kalman.step_reporter`).
+        states: The number of states of each filter, C values in lead … n (default: n for all).
     """
     y = np.asarray(y, dtype=float)
     if y.ndim == 2:
@@ -787,14 +796,20 @@ def ukf_bank_costs(
     hz = np.asarray(horizons, dtype=int)
     if hz.size == 0 or hz.min() < 1 or hz.max() > N:
         raise ValueError(f"horizons must lie in 1..{N} samples")
-    _, wc0, wj, c = params.weights(n)  # W^m_0 drops out: ŷ is taken about χ_0
+    Q = np.asarray(Q, float)
+    n_c = _checked_states(states, trans, Q, np.asarray(P0, float), p)
+    wc0, wj, c = _bank_weights(params, n_c, B)  # W^m_0 drops out: ŷ is taken about χ_0
     ang = np.asarray(meas.angular, bool)
     Rm = np.asarray(meas.R, float)[:, :, None, None]
-    Q = np.asarray(Q, float)
     lay = _packed_layout(np.asarray(trans.F0, float))
-    Qpk = lay.pack(Q)
-    q_rows = np.flatnonzero(Qpk)
-    q_vals = Qpk[q_rows]
+    if Q.ndim == 3:  # one Q per filter: its entries spread over the records, (rows, C, B)
+        Qpk = lay.pack(np.moveaxis(Q, 0, -1))  # (size, C)
+        q_rows = np.flatnonzero(np.any(Qpk != 0, axis=1))
+        q_vals = np.repeat(Qpk[q_rows][:, :, None], B, axis=2)
+    else:
+        Qpk = lay.pack(Q)
+        q_rows = np.flatnonzero(Qpk)
+        q_vals = Qpk[q_rows]
     yk_all = np.ascontiguousarray(np.moveaxis(y, 0, -1))[:, :, None, :]  # (N, m, 1, B)
     x = np.broadcast_to(np.asarray(x0, float)[lay.perm, None, None], (n, C, B)).copy()  # by position
     Ppk = np.broadcast_to(lay.pack(np.asarray(P0, float))[:, None, None], (lay.size, C, B)).copy()
@@ -810,7 +825,8 @@ def ukf_bank_costs(
     read_at = {int(h): np.flatnonzero(hz == h) for h in np.unique(hz)}
     rep_P = rep_S = 0
     half_log2pi = 0.5 * m * math.log(2 * math.pi)
-    w_e0 = wc0 + 2 * (n - p) * wj  # χ_0 and the 2(n − p) points that move nothing h reads
+    n_w = n_c if np.ndim(wj) else int(n_c[0, 0])  # the filters' sizes, or the one size
+    w_e0 = wc0 + 2 * (n_w - p) * wj  # χ_0 and the 2(n_c − p) points that move nothing h reads
     c_mu = w_e0 + 2 * p * wj - 2.0  # = β − α²: the weight of μ μᵀ in S from the d_i
     tick = step_reporter(progress, N)
     some_missing = missing.any(axis=0)  # (N,)
@@ -898,6 +914,44 @@ def ukf_bank_costs(
     return BankCosts(
         J_out, LD_out, rep_P, rep_S, np.moveaxis(x[lay.pos], 0, -1), np.moveaxis(P_full, (0, 1), (-2, -1))
     )
+
+
+def _checked_states(
+    states: Sequence[int] | None, trans: StructuredTransition, Q: np.ndarray, P0: np.ndarray, p: int
+) -> np.ndarray:
+    """The filters' state counts (C,), refused (ValueError) unless each filter's padding is uncoupled."""
+    n, C = trans.F0.shape[0], trans.n_filters
+    if Q.shape not in ((n, n), (C, n, n)):
+        raise ValueError(f"Q must be (n, n) or (C, n, n) = ({C}, {n}, {n}), not {Q.shape}")
+    if states is None:
+        return np.full((C, 1), n)
+    n_c = np.asarray(states, dtype=int).reshape(-1)
+    if n_c.shape != (C,) or n_c.min() < p or n_c.max() > n:
+        raise ValueError(f"states must be {C} numbers in {p}..{n}")
+    F0 = np.asarray(trans.F0, float)
+    for k in np.unique(n_c[n_c < n]):
+        pad = np.arange(n) >= k
+        cross = np.ix_(~pad, pad)
+        Qs = Q[n_c == k] if Q.ndim == 3 else Q[None]
+        touched = [r for r, (i, j) in enumerate(trans.entries) if pad[i] != pad[j]]
+        if (
+            np.any(F0[cross]) or np.any(F0.T[cross]) or np.any(P0[cross]) or np.any(Qs[:, ~pad][:, :, pad])
+            or np.any(trans.g[np.ix_(n_c == k, np.arange(trans.g.shape[1]), touched)])
+        ):  # fmt: skip
+            raise ValueError(f"the filters of {k} states are coupled to their padding states {k}..{n - 1}")
+    return n_c[:, None]
+
+
+def _bank_weights(params: SigmaPointParams, n_c: np.ndarray, B: int) -> tuple[Any, Any, Any]:
+    """(W^c_0, W_j, c) for filters of n_c states (C, 1): numbers where all filters have the same size, else
+    (C, B) arrays (spread over the records: a (C, 1) factor would broadcast in short inner loops)."""
+    sizes = np.unique(n_c)
+    if sizes.size == 1:
+        _, wc0, wj, c = params.weights(int(sizes[0]))
+        return wc0, wj, c
+    table = {int(k): params.weights(int(k)) for k in sizes}
+    out = [np.array([table[int(k)][i] for k in n_c[:, 0]]) for i in (1, 2, 3)]
+    return tuple(np.repeat(w[:, None], B, axis=1) for w in out)  # type: ignore[return-value]
 
 
 def linear_measurement(H: np.ndarray, R: np.ndarray) -> SigmaMeasurement:

@@ -247,3 +247,48 @@ def test_wrap_rows_wraps_only_the_angular_entries_out_of_range():
     assert np.all((w > -np.pi) & (w <= np.pi))
     turns = (before[1][moved] - w) / (2 * np.pi)
     np.testing.assert_allclose(turns, np.round(turns), atol=1e-12)
+
+
+@pytest.mark.parametrize("params", PARAMS)
+def test_smaller_filter_in_the_bank_equals_its_own_bank(params):
+    """An 8-state filter run as filter 0 of a 10-state bank (its two extra states padding: uncoupled,
+    no time-varying entry, its own Q) gives the costs of the 8-state bank run alone, with the UT weights
+    of 8 states; the 10-state filters beside it are unchanged; and missing samples go through it too."""
+    rng = np.random.default_rng(12)
+    N = 60
+    tr, Q1, meas, x0, P0, y, _ = _radar_bank(rng, 3, N, params)
+    y[1, 7:10] = np.nan
+    Q0 = np.diag(rng.uniform(0.01, 1.0, size=8))
+    alone = U.ukf_bank_costs(U.StructuredTransition.constant(tr.F0[:8, :8], N), Q0, meas, x0[:8], P0[:8, :8],
+                             y, [20, N], params)  # fmt: skip
+    h1 = U.ukf_bank_costs(tr, Q1, meas, x0, P0, y, [20, N], params)
+    Qpad = np.zeros((10, 10))
+    Qpad[:8, :8] = Q0
+    g = np.concatenate([np.zeros((1, N, 2)), tr.g])
+    both = U.ukf_bank_costs(U.StructuredTransition(tr.F0, tr.entries, g), np.stack([Qpad, Q1, Q1, Q1]), meas,
+                            x0, P0, y, [20, N], params, states=[8, 10, 10, 10])  # fmt: skip
+    np.testing.assert_allclose(both.J[:1], alone.J, rtol=1e-12)
+    np.testing.assert_allclose(both.half_logdet[:1], alone.half_logdet, rtol=1e-12)
+    np.testing.assert_allclose(both.J[1:], h1.J, rtol=1e-12)
+    np.testing.assert_allclose(both.half_logdet[1:], h1.half_logdet, rtol=1e-12)
+    ten = U.ukf_bank_costs(U.StructuredTransition(tr.F0, tr.entries, g[:1]), Qpad, meas, x0, P0, y, [20, N],
+                           params)  # fmt: skip
+    assert not np.allclose(ten.J, alone.J, rtol=1e-10)  # padded but weighted as 10 states: not the same
+
+
+def test_padding_coupled_to_a_smaller_filter_is_refused():
+    rng = np.random.default_rng(13)
+    tr, Q, meas, x0, P0, y, _ = _radar_bank(rng, 2, 10, U.SigmaPointParams())
+    with pytest.raises(ValueError, match="coupled to their padding"):  # filter 0's amplitude entries g ≠ 0
+        U.ukf_bank_costs(tr, Q, meas, x0, P0, y, [10], U.SigmaPointParams(), states=[8, 10])
+    g = tr.g.copy()
+    g[0] = 0.0
+    P0c = P0.copy()
+    P0c[0, 9] = P0c[9, 0] = 0.1
+    with pytest.raises(ValueError, match="coupled to their padding"):
+        U.ukf_bank_costs(U.StructuredTransition(tr.F0, tr.entries, g), Q, meas, x0, P0c, y, [10],
+                         U.SigmaPointParams(), states=[8, 10])  # fmt: skip
+    with pytest.raises(ValueError, match=r"states must be 2 numbers in 3\.\.10"):
+        U.ukf_bank_costs(tr, Q, meas, x0, P0, y, [10], U.SigmaPointParams(), states=[2, 10])
+    with pytest.raises(ValueError, match="Q must be"):
+        U.ukf_bank_costs(tr, np.stack([Q] * 3), meas, x0, P0, y, [10], U.SigmaPointParams())
