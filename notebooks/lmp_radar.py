@@ -688,7 +688,7 @@ assert sing.repairs_P >= 1
 # With a linear measurement $y = (x, y) + v$ and $Q_a = 0$ nothing is approximated: the projection
 # must equal the bank to rounding. On the radar the benchmark `bench_radar_fast` measured, on the Fig 7
 # workload, the same argmax in 234 of the 234 (trial, horizon) pairs of its 10-trial slice where the bank
-# is right, at 30× the bank's speed (3.6 s against ~107 s of CPU, one process, a loaded 2-core machine). Below, a
+# is right, at 21× the bank's speed (1.7 s against 36 s of CPU, one process, an idle 2-core machine). Below, a
 # small check of both claims.
 
 # %%

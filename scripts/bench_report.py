@@ -40,6 +40,7 @@ ENV_KEYS = ("machine", "cores", "python", "numpy", "scipy", "filterpy", "dask", 
 TITLES = {
     "bench_kf_bank": "Kalman filter bank (Fig 4 of the mode-signature paper)",
     "bench_ukf_bank": "Sigma-point (UKF) bank, radar (Fig 7 of the mode-signature paper)",
+    "bench_ukf_history": "Sigma-point bank today against the bank as first published",
     "bench_fft": "FFT fast path of the 1-D LMP detector (Fig 4 workload, Q_a = 0)",
     "bench_imm": "IMM and GLR tracker (the Monte Carlo of Yao, Teng & Wu)",
     "bench_engine": "Monte Carlo engine: 1 worker, 2 workers, Dask",
@@ -49,6 +50,7 @@ TITLES = {
 ORDER = [
     "bench_kf_bank",
     "bench_ukf_bank",
+    "bench_ukf_history",
     "bench_fft",
     "bench_imm",
     "bench_engine",
