@@ -566,6 +566,9 @@ def _worker_init(parent: int | None, fn: Callable[[Any], Any]) -> None:
 PROBE = -1
 """The index under which a worker's probe (:func:`_ready`) is in flight."""
 
+QUEUED_PER_WORKER = 1
+"""Tasks sent to a pool worker beyond the one it runs while at least 2 × workers tasks are left."""
+
 
 def _ready() -> bool:
     """A pool worker's first call: it returns once the worker has started (imports and job included), so
@@ -620,10 +623,12 @@ def _run_pool(
 
     This process computes tasks from the start; a feeder thread waits :func:`pool_min_seconds`, then
     (if tasks are left) spawns the pool, sends each worker a probe (:func:`_ready`) and, once a worker has
-    answered it, keeps one task in flight per worker, taking the next pending task each time one finishes.
+    answered it, keeps two tasks in flight per worker (one, near the end: :data:`QUEUED_PER_WORKER`),
+    taking the next pending task each time one finishes.
     So a run shorter than that never pays for a pool, the pool's start-up (≈ 0.35 s of a core per worker
     on an idle machine) overlaps with work here, a run that ends while its workers start waits for none of
-    them (they are stopped), and no task waits in a queue behind a busy worker while another is idle.
+    them (they are stopped), and near the end no task waits in a queue behind a busy worker while another
+    is idle.
     Results from the pool are handed to ``finish`` here, between this process's own tasks. Which process
     runs a task never changes what it computes.
     """
@@ -657,15 +662,29 @@ def _run_pool(
                 with _children_ignore_sigint(), _blas_single_thread():  # processes spawn on these submits
                     for _ in range(n_pool):  # a probe per worker: it returns once the worker is up
                         inflight[pool.submit(_ready)] = PROBE
+            ready = 0  # workers whose probe has returned
             while inflight:
                 if shared.left() == 0 and all(i == PROBE for i in inflight.values()):
                     return  # every task was taken here while the workers started: the pool has no work
                 finished, _ = wait(inflight, timeout=0.05, return_when=FIRST_COMPLETED)
+                failed = False
                 for fut in sorted(finished, key=inflight.__getitem__):
-                    done.put((inflight.pop(fut), fut))
-                    if fut.exception() is None and not stop.is_set() and (i := shared.take()) is not None:
-                        inflight[pool.submit(_call, tasks[i])] = i
-                        used.set()
+                    i = inflight.pop(fut)
+                    done.put((i, fut))
+                    failed |= fut.exception() is not None
+                    ready += i == PROBE and not failed
+                # a task per ready worker, and one queued behind it while many are left (it then starts
+                # as soon as the one before ends, not once this thread gets the interpreter back: the
+                # round trip idled the worker 3 % of its time, measured), so that no worker waits
+                depth = 1 + QUEUED_PER_WORKER * (shared.left() >= 2 * workers)
+                while (
+                    not (failed or stop.is_set())
+                    and sum(v != PROBE for v in inflight.values()) < ready * depth
+                ):
+                    if (i := shared.take()) is None:
+                        break
+                    inflight[pool.submit(_call, tasks[i])] = i
+                    used.set()
                 if stop.is_set() and not finished:
                     return
         except BaseException as exc:  # reported in the main thread
