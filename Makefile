@@ -110,7 +110,7 @@ $(MATHJAX): scripts/fetch_mathjax.sh
 
 ## bench: side-by-side timing of the LMP filter banks, the FFT path and the IMM against FilterPy, and of the
 ## Monte Carlo engine (1 worker, 2 workers, Dask) and the start-up of the command line; results in benchmarks/results/, copied with a figure to
-## docs/performance/ and the Performance page (not part of the tests; ~13 minutes on 2 cores). Where JAX imports
+## docs/performance/ and the Performance page (not part of the tests; ~9 minutes on 2 cores). Where JAX imports
 ## (optional: pip install -e '.[bench-jax]'), bench_kf_bank.py also times the bank against JAX on one core; without it, that part is skipped
 bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench,dask]'
