@@ -37,6 +37,9 @@ def test_layout_packs_every_entry_once_and_round_trips():
     assert np.array_equal(lay.index, lay.index.T)
     comps = [sorted(lay.perm[s:e].tolist()) for s, e, _ in lay.comps]
     assert comps == [[0, 1, 4, 5], [2, 3, 6, 7], [8], [9]]  # the x and y chains, each amplitude alone
+    assert lay.unit_rows == {8, 9}  # F_0 leaves the amplitudes alone: their product columns are F_0 P[:, j]
+    other = U._packed_layout(list(_cases())[1][0])
+    assert other.unit_rows == {4}  # state 2 is alone too, but F_0[2, 2] = 0.9
     P = _spd_bank(np.random.default_rng(2), n, 3, 2)
     assert np.array_equal(lay.unpack(lay.pack(P)), P)
 
@@ -106,23 +109,3 @@ def test_slice_runs_cover_every_index_with_views():
         got = np.concatenate([A[d] for d, _ in lay.row_runs[i]])
         want = A[lay.rows[i]][np.concatenate([np.arange(F0.shape[0])[s_] for _, s_ in lay.row_runs[i]])]
         assert np.array_equal(got, want)
-
-
-def test_two_by_two_cholesky_is_the_general_one():
-    """The written-out 2 × 2 factor of an innovation covariance equals numpy's, and marks the same matrices
-    failed (pivot ≤ 0, zero column) as the general left-looking loop run on a 3 × 3 embedding."""
-    rng = np.random.default_rng(6)
-    A = _spd_bank(rng, 2, 5, 4)
-    A[:, :, 0, 0] = [[1.0, 2.0], [2.0, 1.0]]  # indefinite: second pivot −3
-    A[:, :, 1, 0] = [[-1.0, 0.0], [0.0, 2.0]]  # first pivot ≤ 0
-    L, piv = U._left_cholesky(A, 2)
-    big = np.zeros((3, 3, 5, 4))
-    big[:2, :2] = A
-    big[2, 2] = 1.0
-    Lg, pg = U._left_cholesky(big, 2)
-    np.testing.assert_array_equal(L[:, :, ok := piv > 0], Lg[:2, :, ok])  # the same operations
-    np.testing.assert_array_equal(piv, pg)
-    assert ok.sum() == 18 and not ok[0, 0] and not ok[1, 0]
-    ref = np.linalg.cholesky(np.moveaxis(A[..., ok], -1, 0))
-    np.testing.assert_allclose(np.moveaxis(L[..., ok], -1, 0), ref, rtol=1e-13)
-    assert np.all(L[:, 0, 1, 0] == 0.0)  # the failed first pivot gives a zero column
