@@ -40,8 +40,8 @@ from benchlib import cores, write_results
 from motionsig_cli.cache import clear_all
 from motionsig_cli.detection.lmp import LMPConfig
 from motionsig_cli.engine import Engine, run_job
-from motionsig_cli.experiments.lmp1d import LmpJob, MCCell
 from motionsig_cli.models.vehicle import Vehicle1D
+from motionsig_cli.modesig.lmp1d import LmpJob, MCCell
 from motionsig_cli.rng import DEFAULT_SEED
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes

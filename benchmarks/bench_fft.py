@@ -34,9 +34,9 @@ from benchlib import RESULTS, best_of, environment_line, filterpy_row, gate, mea
 
 from motionsig_cli.detection.lmp import LMPConfig, lmp_detect
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft, lmp_detect_projection
-from motionsig_cli.experiments.lmp1d import simulate_trials
 from motionsig_cli.filters.kalman import innovation_costs, riccati
 from motionsig_cli.models.vehicle import Vehicle1D
+from motionsig_cli.modesig.lmp1d import simulate_trials
 
 REPEATS = 3  # best of 3 on every side (the machine is shared; minima are the least disturbed)
 HORIZONS = [200 * j for j in range(1, 9)]  # 10, 20, …, 80 s

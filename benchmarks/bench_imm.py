@@ -29,14 +29,9 @@ import resource
 import numpy as np
 from benchlib import best_of, filterpy_row, gate, measured_row, publish
 
-from motionsig_cli.experiments.maneuver import (
-    FIRST_SCAN,
-    ManeuverScenario,
-    TrackerConfig,
-    measurements,
-    track,
-)
 from motionsig_cli.filters.imm import imm_filter
+from motionsig_cli.maneuver.scenario import FIRST_SCAN, ManeuverScenario
+from motionsig_cli.maneuver.study import TrackerConfig, measurements, track
 from motionsig_cli.models.motion import H_POS6, ModelSet, imm_models, two_point_init
 from motionsig_cli.rng import DEFAULT_SEED
 

@@ -34,9 +34,9 @@ import numpy as np
 from benchlib import best_of, filterpy_row, gate, measured_row, publish
 
 from motionsig_cli.detection.lmp import LMPConfig, candidate_grid, lmp_detect
-from motionsig_cli.experiments.lmp1d import simulate_trials
 from motionsig_cli.filters.kalman import innovation_costs, riccati
 from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column, transition_h0
+from motionsig_cli.modesig.lmp1d import simulate_trials
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
 from motionsig_cli.signals.signature import replica_bank

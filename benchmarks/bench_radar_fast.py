@@ -33,8 +33,6 @@ from benchlib import best_of, gate, measured_row, write_results
 
 from motionsig_cli.detection.lmp import RadarLMPConfig, _assemble, lmp_detect_radar
 from motionsig_cli.detection.lmp_linearised import H_POSITION, lmp_detect_radar_linearised
-from motionsig_cli.experiments.lmp1d import table1_chips
-from motionsig_cli.experiments.lmp2d import simulate_trials_2d
 from motionsig_cli.filters.unscented import StructuredTransition, linear_measurement, ukf_bank_costs
 from motionsig_cli.models.vehicle2d import (
     AMPLITUDE_ENTRIES_2D,
@@ -45,6 +43,8 @@ from motionsig_cli.models.vehicle2d import (
     transition_h0_2d,
     transition_h1_2d_base,
 )
+from motionsig_cli.modesig.lmp1d import table1_chips
+from motionsig_cli.modesig.lmp2d import simulate_trials_2d
 from motionsig_cli.signals.signature import replica_bank
 
 TRIALS = int(os.environ.get("BENCH_RADAR_TRIALS", 50))

@@ -27,7 +27,7 @@ import numpy as np
 from benchlib import best_of, gate, measured_row, publish
 
 from motionsig_cli.detection.track_existence import ALL_METHODS, FUSION_METHODS, run_methods
-from motionsig_cli.experiments import slrt
+from motionsig_cli.existence import slrt
 from motionsig_cli.rng import DEFAULT_SEED
 
 RUNS = 500

@@ -33,7 +33,6 @@ import numpy as np
 from benchlib import best_of, filterpy_row, gate, measured_row, publish
 
 from motionsig_cli.detection.lmp import RadarLMPConfig, candidate_grid, lmp_detect_radar, radar_measurement
-from motionsig_cli.experiments.lmp2d import simulate_trials_2d
 from motionsig_cli.filters.unscented import StructuredTransition, ukf_bank_costs
 from motionsig_cli.models.vehicle2d import (
     AMPLITUDE_ENTRIES_2D,
@@ -43,6 +42,7 @@ from motionsig_cli.models.vehicle2d import (
     prior_mean_2d,
     transition_h1_2d_base,
 )
+from motionsig_cli.modesig.lmp2d import simulate_trials_2d
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
 from motionsig_cli.signals.signature import replica_bank

@@ -35,7 +35,7 @@ import numpy as np
 import motionsig_cli
 assert motionsig_cli.__file__.startswith(sys.argv[1]), motionsig_cli.__file__
 from motionsig_cli.detection.lmp import RadarLMPConfig, lmp_detect_radar
-from motionsig_cli.experiments.lmp2d import simulate_trials_2d
+from motionsig_cli.modesig.lmp2d import simulate_trials_2d
 from motionsig_cli.models.vehicle2d import Vehicle2D, anr_pair_variances
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes

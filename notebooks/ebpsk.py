@@ -23,9 +23,9 @@ from IPython.display import Markdown
 
 from motionsig_cli.detection.cfar import CFARConfig, ca_cfar, ca_cfar_alpha
 from motionsig_cli.engine import run_job
-from motionsig_cli.experiments import ebpsk_tracking as et
-from motionsig_cli.experiments import maneuver as mv
-from motionsig_cli.experiments.ebpsk_radar import EbpskRadarConfig, EbpskRadarJob, locate
+from motionsig_cli.maneuver import ebpsk_tracking as et
+from motionsig_cli.maneuver import study as mv
+from motionsig_cli.maneuver.ebpsk_radar import EbpskRadarConfig, EbpskRadarJob, locate
 from motionsig_cli.plotting import ebpsk_front_end_figure
 from motionsig_cli.signals.ebpsk import (
     EBPSKConfig,

@@ -22,7 +22,7 @@ from scipy.optimize import minimize_scalar
 from scipy.special import erf, erfinv
 from scipy.stats import binom
 
-from motionsig_cli.experiments import jamming as exp
+from motionsig_cli.atc10 import jamming as exp
 from motionsig_cli.plotting import zoom_rise
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.surveillance.jamming import (

@@ -19,15 +19,15 @@ from scipy.integrate import quad
 
 from motionsig_cli.detection.lmp import LMPConfig, lmp_detect
 from motionsig_cli.engine import run_job
-from motionsig_cli.experiments.lmp1d import (
+from motionsig_cli.filters.kalman import innovation_costs, riccati
+from motionsig_cli.models.vehicle import Vehicle1D, nominal_reference, simulate_1d
+from motionsig_cli.modesig.lmp1d import (
     SEED_ANR_LABELS,
     LmpJob,
     anr_db,
     signature_batch,
     simulate_trials,
 )
-from motionsig_cli.filters.kalman import innovation_costs, riccati
-from motionsig_cli.models.vehicle import Vehicle1D, nominal_reference, simulate_1d
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
@@ -468,7 +468,7 @@ for j, h in enumerate(hzF):
 # rate on *fresh* null trials (another seed).
 
 # %%
-from motionsig_cli.experiments.lmp1d import CalibrationJob, roc_curve
+from motionsig_cli.modesig.lmp1d import CalibrationJob, roc_curve
 
 cal = run_job(
     CalibrationJob(cfg0, (0.01,), (1.0, 10.0), (5.0, 20.0), trials=200, null_trials=600, pfa=0.05, seed=21,
@@ -544,9 +544,9 @@ from motionsig_cli.detection.estimate_correlate import (
     estimate_correlate_detect,
 )
 from motionsig_cli.detection.lmp import candidate_grid
-from motionsig_cli.experiments.baseline_roc import DETECTORS, BaselineRocJob
-from motionsig_cli.experiments.lmp1d import table1_chips
 from motionsig_cli.models.vehicle import Q0_DIAG, transition_h0
+from motionsig_cli.modesig.baseline_roc import DETECTORS, BaselineRocJob
+from motionsig_cli.modesig.lmp1d import table1_chips
 
 chips_b = table1_chips()
 veh_b = Vehicle1D(R=1e-3)
@@ -679,7 +679,7 @@ fig
 #
 # Sections 6–8 ran one reading of what the paper leaves open. Is there another reading under which its
 # five claims about Figs 3–7 hold? `scripts/reproduce_lmp_search.py` (part of `make reproduce`) scores
-# a designed list of setups (`motionsig_cli.experiments.lmp_search.design`) against the claims and
+# a designed list of setups (`motionsig_cli.modesig.lmp_search.design`) against the claims and
 # writes the table `data/lmp_search.csv`. A setup fixes every open quantity:
 #
 # * $T \in \{0.01, 0.05, 0.1, 0.2\}$ s with $m_\rho = 1/T$ (one chip = one carrier cycle at
@@ -878,7 +878,7 @@ print("setups with ≈ 80 % at 2.2 and their Fig 4 ceiling:",
 from dataclasses import replace
 
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft as _fft
-from motionsig_cli.experiments.lmp1d import trial_signatures
+from motionsig_cli.modesig.lmp1d import trial_signatures
 
 nB, nN = 4, 1600
 drw, zz, zzd = trial_signatures(CHIPS, m_rho, 1.0, 0.05, nN, 2008, list(range(nB)))
@@ -945,7 +945,7 @@ assert leak[("known", 1.0, 10.0)] < 1e-6
 # The radar example has its own process noise (eqs 61–62) and states no $c_r$, $T$ or $m_\rho$. Of the
 # 1-D readings, these transfer: $c_r$, the printed exponents with lost minus signs (eq 61's $10^{+4}$ on the
 # reference velocities, eq 62's $10^{+1}$–$10^{+3}$), and $T$ or $m_\rho$
-# (`motionsig_cli.experiments.lmp_search.design_radar`). Each setup runs the linearised fast path at
+# (`motionsig_cli.modesig.lmp_search.design_radar`). Each setup runs the linearised fast path at
 # 50 trials per pair. The sigma-point bank runs at 10 trials as a cross-check, and for the readings that
 # the fast path cannot run: eq 62's last entry read as 100 (the fast path ignores the amplitudes' random
 # walk), and $T = 0.2$ s, where its covariance does not factor. The claim holds when the best pair is at

@@ -28,8 +28,6 @@ from motionsig_cli.detection.lmp import (
     radar_measurement,
 )
 from motionsig_cli.engine import run_job
-from motionsig_cli.experiments.lmp1d import signature_batch, simulate_trials
-from motionsig_cli.experiments.lmp2d import RadarLmpJob, simulate_trials_2d
 from motionsig_cli.filters.unscented import (
     SigmaPointParams,
     StructuredTransition,
@@ -52,6 +50,8 @@ from motionsig_cli.models.vehicle2d import (
     transition_h0_2d,
     transition_h1_2d_base,
 )
+from motionsig_cli.modesig.lmp1d import signature_batch, simulate_trials
+from motionsig_cli.modesig.lmp2d import RadarLmpJob, simulate_trials_2d
 from motionsig_cli.plotting import montecarlo_figure, radar_trajectory_figure, statistic_figure
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes

@@ -30,7 +30,7 @@ from scipy.optimize import minimize_scalar
 from scipy.special import expit
 from scipy.stats import binom, norm
 
-from motionsig_cli.experiments import mac_roc as ex
+from motionsig_cli.atc10 import mac_roc as ex
 from motionsig_cli.plotting import (
     autocorrelation_figure,
     density_figure,
@@ -41,15 +41,8 @@ from motionsig_cli.plotting import (
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.signals.gold import gold_family
 from motionsig_cli.surveillance import time_bandwidth as tb
-from motionsig_cli.surveillance.amplitude import (
-    DENSITIES,
-    Discrete,
-    Gaussian,
-    TwoPoint,
-    b_of_ell,
-    density,
-    ell_of_b,
-)
+from motionsig_cli.surveillance.amplitude import Discrete, Gaussian, TwoPoint, b_of_ell, ell_of_b
+from motionsig_cli.surveillance.densities import DENSITIES, density
 from motionsig_cli.surveillance.gaussian_roc import gaussian_power, gaussian_roc
 from motionsig_cli.surveillance.multiple_access import MANModel
 from motionsig_cli.surveillance.psk_amplitude import PSKAmplitude
@@ -150,7 +143,7 @@ assert np.max(np.abs(z_k)) < 4 and abs(z_mean) < 4 and abs(z_pow) < 4
 
 # %% [markdown]
 # **Check 1b, the power at the report's parameters.** The package's Level-A Monte Carlo
-# (`experiments.mac_roc.monte_carlo`) draws $K \sim \mathrm{Bin}(M, q)$ and $K$ amplitudes per trial. Its
+# (`atc10.mac_roc.monte_carlo`) draws $K \sim \mathrm{Bin}(M, q)$ and $K$ amplitudes per trial. Its
 # sample power must match $P = (N-1)qb$ within 4 standard errors for every density ($2\cdot10^5$ trials,
 # fixed seed, $\ell = 8$).
 

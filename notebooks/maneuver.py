@@ -24,8 +24,8 @@ from matplotlib.figure import Figure
 from scipy import integrate, stats
 
 from motionsig_cli.detection.glr import CHI2_2_999, GLRConfig, InputModel, input_tracker
-from motionsig_cli.experiments import maneuver as mv
 from motionsig_cli.filters.imm import imm_filter
+from motionsig_cli.maneuver import study as mv
 from motionsig_cli.models.motion import H_POS4, H_POS6, ModelSet, cv_input_model, imm_models, two_point_init
 from motionsig_cli.plotting import maneuver_comparison_figure, maneuver_figure
 from motionsig_cli.rng import trial_rng

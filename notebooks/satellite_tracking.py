@@ -23,14 +23,14 @@ import numpy as np
 from IPython.display import Markdown
 from scipy.spatial.transform import Rotation
 
-from motionsig_cli.engine import run_job
-from motionsig_cli.experiments import satellite_tracking as st
-from motionsig_cli.experiments.satellite_tracking import (
+from motionsig_cli.atc10 import satellite_tracking as st
+from motionsig_cli.atc10.satellite_tracking import (
     ConstellationParams,
     Convention,
     ParamSource,
     Timeline,
 )
+from motionsig_cli.engine import run_job
 from motionsig_cli.plotting import psi_figure, rms_error_figure
 from motionsig_cli.rng import trial_rng
 from motionsig_cli.surveillance.clock import (

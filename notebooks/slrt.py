@@ -37,7 +37,7 @@ from motionsig_cli.detection.track_existence import (
     run_methods,
 )
 from motionsig_cli.engine import run_job
-from motionsig_cli.experiments import slrt
+from motionsig_cli.existence import slrt
 from motionsig_cli.filters.pda import local_update
 from motionsig_cli.models.radar import MeasurementModel
 from motionsig_cli.plotting import slrt_scan_figure

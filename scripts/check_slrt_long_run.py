@@ -9,7 +9,7 @@ import time
 
 import numpy as np
 
-from motionsig_cli.experiments import slrt
+from motionsig_cli.existence import slrt
 
 
 def main(scans: int = 100_000) -> int:

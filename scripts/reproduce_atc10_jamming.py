@@ -11,7 +11,7 @@ from pathlib import Path
 
 from reproducelib import motionsig, numbered, plot_and_csv, to_csv
 
-from motionsig_cli.experiments.jamming import FIGURES
+from motionsig_cli.atc10.jamming import FIGURES
 
 OUT = Path("results/atc10_jamming")
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from reproducelib import motionsig, numbered, plot_and_csv, to_csv
 
-from motionsig_cli.experiments.mac_roc import DENSITY_OF_FIGURE
+from motionsig_cli.atc10.mac_roc import DENSITY_OF_FIGURE
 
 OUT = Path("results/atc10_mac")
 # Fig 3.8 (ROC_g), Figs 3.9–3.10 (Exp against N and Exp_g), Figs 3.2 and 3.7 (densities)

@@ -2,7 +2,7 @@
 (the mode-signature paper, 47th IEEE CDC, Cancún, 2008, §I), into
 results/mode_signature/baseline_roc.csv and results/mode_signature/baseline_roc.png.
 
-Three runs of :class:`motionsig_cli.experiments.baseline_roc.BaselineRocJob` on the Monte Carlo engine:
+Three runs of :class:`motionsig_cli.modesig.baseline_roc.BaselineRocJob` on the Monte Carlo engine:
 
 1. 1-D, R = 1e-3, f_r = 0.01 Hz: P_D at P_FA = 0.01 (2000 null records) vs a_sig 0.01 … 2, horizons 10–80 s,
    200 signature records per amplitude;
@@ -33,8 +33,8 @@ from matplotlib.ticker import NullFormatter
 
 from motionsig_cli.detection.lmp import LMPConfig
 from motionsig_cli.engine import Engine, default_workers, run_job
-from motionsig_cli.experiments.baseline_roc import DETECTORS, BaselineRoc, BaselineRocJob, RocCell
 from motionsig_cli.models.vehicle import Vehicle1D
+from motionsig_cli.modesig.baseline_roc import DETECTORS, BaselineRoc, BaselineRocJob, RocCell
 from motionsig_cli.tables import Table, format_csv, make_meta
 
 OUT = Path("results/mode_signature")

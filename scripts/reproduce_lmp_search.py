@@ -1,8 +1,8 @@
 """`make reproduce`: the search for the regime of the mode-signature paper's Figs 3–6 (47th IEEE CDC, Cancún, 2008) — every setup of
-:func:`motionsig_cli.experiments.lmp_search.design` scored against the paper's claims, into
+:func:`motionsig_cli.modesig.lmp_search.design` scored against the paper's claims, into
 data/lmp_search.csv (one row per setup: its fields, each claim's score with its Monte Carlo standard error,
 and the deterministic predictors); and the radar example's Fig 7 (claim 5): every setup of
-:func:`motionsig_cli.experiments.lmp_search.design_radar` into data/lmp_search_radar.csv.
+:func:`motionsig_cli.modesig.lmp_search.design_radar` into data/lmp_search_radar.csv.
 
 Usage: ``python scripts/reproduce_lmp_search.py [--part 1d|radar|both] [--trials N] [--workers W] [--seed S]
 [--out PATH] [--radar-out PATH]`` (default both parts, 50 trials per cell, 2 workers: 9 minutes for the 1-D
@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 from motionsig_cli.engine import Engine, run_job
-from motionsig_cli.experiments.lmp_search import RadarSearchJob, SearchJob, design, design_radar, predictors
+from motionsig_cli.modesig.lmp_search import RadarSearchJob, SearchJob, design, design_radar, predictors
 from motionsig_cli.rng import DEFAULT_SEED
 from motionsig_cli.tables import Table, format_csv
 

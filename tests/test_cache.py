@@ -8,8 +8,8 @@ from motionsig_cli import cache
 from motionsig_cli.cache import BytesLRU, clear_all, freeze, key_of
 from motionsig_cli.detection import lmp
 from motionsig_cli.detection.lmp import LMPConfig, lmp_detect, progress_steps
-from motionsig_cli.experiments.lmp1d import simulate_trials
 from motionsig_cli.models.vehicle import Vehicle1D
+from motionsig_cli.modesig.lmp1d import simulate_trials
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
 

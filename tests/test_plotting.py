@@ -132,7 +132,7 @@ def test_correlations_of_three_gps_codes_one_panel_per_pair() -> None:
     """`encode gps --prn 1-3 | encode correlations - --plot`: 1023 lags × 6 pairs, once one unreadable block.
     Now one panel per pair, the side lobes at −65, −1, 63 visible (the limits stay within 1.5 t(n) = 97.5)
     and the cut autocorrelation peak R[0] = 1023 written in its panel."""
-    from motionsig_cli.experiments.spreading_codes import CodeSet, correlation_curves
+    from motionsig_cli.signals.code_sets import CodeSet, correlation_curves
     from motionsig_cli.signals.gps import ca_codes
 
     codes = CodeSet(["PRN1", "PRN2", "PRN3"], 1 - 2 * ca_codes([1, 2, 3]).astype(np.int64), {})  # bits → ±1
@@ -161,7 +161,7 @@ def test_statistic_title_of_the_2d_example_is_wrapped() -> None:
 
 def test_slrt_threshold_labels_apart() -> None:
     """slrt's "log B (confirm)" and "log A (delete)" overprinted wherever the panel's scale is large."""
-    from motionsig_cli.experiments.slrt import SlrtStudy
+    from motionsig_cli.existence.slrt import SlrtStudy
 
     thresholds = SlrtStudy().thresholds  # Wald's (log A, log B) = (−2.30, 6.80) at α = 1e-3, β = 0.1
     k = np.arange(1, 31.0)
@@ -181,7 +181,7 @@ def test_slrt_threshold_labels_apart() -> None:
 
 def test_signature_legend_clear_of_the_waveform() -> None:
     """`encode signature --mode 1 --theta random --seed 7 --plot`: the legend covered z_k."""
-    from motionsig_cli.experiments.spreading_codes import resolve_theta, signature_table
+    from motionsig_cli.signals.code_sets import resolve_theta, signature_table
     from motionsig_cli.signals.signature import SignatureConfig
 
     _, sig = signature_table(1, "corrected", SignatureConfig(), seed=7, theta_option="random")
@@ -191,7 +191,7 @@ def test_signature_legend_clear_of_the_waveform() -> None:
 
 def test_psi_labels_inside_the_axes() -> None:
     """`track-sat psi --plot`: the "II, σ0=5" label at ψ ≈ 0.04 ran below the axes."""
-    from motionsig_cli.experiments.satellite_tracking import PsiConfig, psi_report
+    from motionsig_cli.atc10.satellite_tracking import PsiConfig, psi_report
 
     fig = plotting.psi_figure(**psi_report(PsiConfig()).figure)
     labels = [t for t in fig.axes[0].texts if t.get_text().startswith("II, σ0=5")]
@@ -217,7 +217,7 @@ def test_slrt_scan_legend_hides_no_point() -> None:
 
 
 def _jamming(figure: str) -> Figure:
-    from motionsig_cli.experiments.jamming import CurvesConfig, curves_table
+    from motionsig_cli.atc10.jamming import CurvesConfig, curves_table
 
     result = curves_table(CurvesConfig(figure=figure))
     return plotting.jamming_figure(result.panels, title=result.title)

@@ -3,10 +3,10 @@ study of Figs 4–6 (``--montecarlo``), its threshold calibration (``--calibrate
 Fig 7 (:mod:`motionsig_cli.cli.detect_radar`).
 
 The command parses the options, reads the record
-(:func:`motionsig_cli.experiments.record_reading.read_vehicle_record`: its columns, units, missing samples,
+(:func:`motionsig_cli.modesig.record_reading.read_vehicle_record`: its columns, units, missing samples,
 and the model the filters assume: each quantity from the option of simulate's name, else the record's
 metadata, else simulate's default), builds the detector's configuration and one run of
-:mod:`motionsig_cli.experiments.lmp1d` (a record's :class:`~motionsig_cli.experiments.lmp1d.RecordDetection`,
+:mod:`motionsig_cli.modesig.lmp1d` (a record's :class:`~motionsig_cli.modesig.lmp1d.RecordDetection`,
 or a Monte Carlo job), and writes its table and figure. Every range is checked by those configurations.
 """
 
@@ -31,8 +31,8 @@ from motionsig_cli.cli.simulate import CODES_HELP, DbConvention, FdOpt, Feedback
 
 if TYPE_CHECKING:
     from motionsig_cli.engine import Engine
-    from motionsig_cli.experiments.record_reading import VehicleRecord
     from motionsig_cli.filters.unscented import SigmaPointParams
+    from motionsig_cli.modesig.record_reading import VehicleRecord
 
 R_LIST_DEFAULT = "1e-1,1e-2,1e-3,1e-5"
 ANR_PAIRS_DEFAULT = "1,2,3,4"
@@ -608,7 +608,7 @@ def _read_record(
 ) -> VehicleRecord:
     """The record named by SOURCE, with the model the filters assume (``record``: the record options by
     field; the metadata, or the columns, say which example it is; --example forces it)."""
-    from motionsig_cli.experiments.record_reading import ModelOptions, read_vehicle_record
+    from motionsig_cli.modesig.record_reading import ModelOptions, read_vehicle_record
 
     fields = {k: v for k, v in record.items() if k not in ("columns", "units")}
     fields |= dict(
@@ -667,7 +667,7 @@ def _record(
     (pfa, null trials, seed) at a threshold calibrated on null records first."""
     from motionsig_cli.cli.records import emit_record, with_null_threshold
     from motionsig_cli.detection.lmp import LMPConfig
-    from motionsig_cli.experiments.lmp1d import RecordDetection
+    from motionsig_cli.modesig.lmp1d import RecordDetection
 
     assert rec is not None
     cfg = LMPConfig(**{"fc_grid": (rec.f_c,), **lmp})
@@ -686,7 +686,7 @@ def _montecarlo(
 ) -> None:  # fmt: skip
     """Figs 4–6: % correct (i, τ) vs horizon and ANR."""
     from motionsig_cli.detection.lmp import LMPConfig
-    from motionsig_cli.experiments.lmp1d import LmpJob
+    from motionsig_cli.modesig.lmp1d import LmpJob
 
     if filter_ is FilterKind.ukf:
         raise typer.BadParameter(
@@ -710,12 +710,12 @@ def _calibrate(
     null_trials: int | None, pfa: float, model: dict[str, Any], detector: Any = None,
 ) -> None:  # fmt: skip
     """The threshold of max Λ for a false-alarm probability, and P_D at it (ROC curves with --plot); with
-    ``detector`` estimate-correlate, the baseline's (:mod:`motionsig_cli.experiments.baseline_calibration`)."""
+    ``detector`` estimate-correlate, the baseline's (:mod:`motionsig_cli.modesig.baseline_calibration`)."""
     from motionsig_cli.detection.lmp import LMPConfig
-    from motionsig_cli.experiments.lmp1d import CalibrationJob
+    from motionsig_cli.modesig.lmp1d import CalibrationJob
 
     if detector is Detector.estimate_correlate:
-        from motionsig_cli.experiments.baseline_calibration import baseline_calibration_job
+        from motionsig_cli.modesig.baseline_calibration import baseline_calibration_job
 
         job: Any = baseline_calibration_job(lmp, frs, Rs, hs, trials, null_trials, pfa, seed, model)
     else:

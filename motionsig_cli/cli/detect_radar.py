@@ -2,13 +2,14 @@
 mode-signature paper, 47th IEEE CDC, Cancún, 2008, §IV.B, eqs 59–62).
 
 :func:`detect_radar` builds the detector's configuration and one run of
-:mod:`motionsig_cli.experiments.lmp2d` (a record's
-:class:`~motionsig_cli.experiments.lmp2d.RadarRecordDetection` or the job
-:class:`~motionsig_cli.experiments.lmp2d.RadarLmpJob`) and writes its table and figure.
+:mod:`motionsig_cli.modesig.lmp2d` (a record's
+:class:`~motionsig_cli.modesig.lmp2d.RadarRecordDetection` or the job
+:class:`~motionsig_cli.modesig.lmp2d.RadarLmpJob`) and writes its table and figure.
 """
 
 from __future__ import annotations
 
+from enum import StrEnum
 from typing import TYPE_CHECKING, Any
 
 import typer
@@ -16,13 +17,12 @@ import typer
 from motionsig_cli.cli.common import Output, checked, int_list, progress_bar, run_job
 
 if TYPE_CHECKING:
-    from motionsig_cli.cli.detect import FilterKind
     from motionsig_cli.engine import Engine
-    from motionsig_cli.experiments.record_reading import VehicleRecord
+    from motionsig_cli.modesig.record_reading import VehicleRecord
 
 
 def detect_radar(
-    output: Output, engine: Engine, rec: VehicleRecord | None, montecarlo: bool, filter_: FilterKind,
+    output: Output, engine: Engine, rec: VehicleRecord | None, montecarlo: bool, filter_: StrEnum,
     radar: dict[str, Any], hs: tuple[float, ...] | None, threshold: float | None, candidates: bool,
     frs: tuple[float, ...] | None, anr_pairs: str, trials: int, seed: int, signature: bool,
     calibration: tuple[float, int | None, int] | None = None, *, method: str = "bank", center: str = "none",
@@ -79,7 +79,7 @@ def _record(
     its time steps."""
     from motionsig_cli.cli.records import emit_record, with_null_threshold
     from motionsig_cli.detection.lmp import RadarLMPConfig
-    from motionsig_cli.experiments.lmp2d import RadarRecordDetection
+    from motionsig_cli.modesig.lmp2d import RadarRecordDetection
 
     cfg = RadarLMPConfig(**{"fc_grid": (rec.f_c,), **radar})
     run = RadarRecordDetection(rec, cfg, hs, threshold, candidates, method=method, center=center)
@@ -96,11 +96,11 @@ def _record(
 def _linearised_null_threshold(
     run: Any, calibration: tuple[float, int | None, int], engine: Engine, output: Output
 ) -> Any:
-    """``run`` (a linearised :class:`~motionsig_cli.experiments.lmp2d.RadarRecordDetection`) at the thresholds
+    """``run`` (a linearised :class:`~motionsig_cli.modesig.lmp2d.RadarRecordDetection`) at the thresholds
     that null records of its model, through the same path and centring, exceed with probability P_FA."""
     import dataclasses
 
-    from motionsig_cli.experiments.record_calibration import RecordNullJob
+    from motionsig_cli.modesig.record_calibration import RecordNullJob
 
     pfa, null_trials, seed = calibration
     job = RecordNullJob(run.record, run.cfg, "linearised", "ukf", run.cfg.sigma, run.horizons, pfa, null_trials,
@@ -119,7 +119,7 @@ def _montecarlo(
 ) -> None:  # fmt: skip
     """Fig 7: % correct (i, τ) vs horizon for Fig 7's (angle, range) ANR pairs."""
     from motionsig_cli.detection.lmp import RadarLMPConfig
-    from motionsig_cli.experiments.lmp2d import RadarLmpJob
+    from motionsig_cli.modesig.lmp2d import RadarLmpJob
 
     cfg = RadarLMPConfig(**radar)
     if method == "bank":  # the job as before (its identity and outputs unchanged)
@@ -143,7 +143,7 @@ def _calibrate(
     """The threshold of max Λ for a false-alarm probability per Fig 7 pair and horizon, and P_D at it (ROC
     curves with --plot)."""
     from motionsig_cli.detection.lmp import RadarLMPConfig
-    from motionsig_cli.experiments.lmp2d import RadarCalibrationJob
+    from motionsig_cli.modesig.lmp2d import RadarCalibrationJob
 
     job = RadarCalibrationJob(
         RadarLMPConfig(**radar), frs or (0.01,), pairs, hs, trials, null_trials, pfa, seed, method, center

@@ -1,10 +1,10 @@
 """``motionsig encode``: m-sequences, preferred pairs, Gold families, GPS C/A, Table I, correlations,
 signature waveforms (§II.A, eqs 1–3 and Table I of the mode-signature paper, 47th IEEE CDC, Cancún, 2008), and the EBPSK waveform, impacting filter and BER of Yao, Teng & Wu's
-joint radar–communication front end (``encode ebpsk``; :mod:`motionsig_cli.experiments.ebpsk_link`).
+joint radar–communication front end (``encode ebpsk``; :mod:`motionsig_cli.maneuver.ebpsk_link`).
 
 Every code-producing command writes the same long table ``code,chip,value`` (plus descriptive
 columns), so any of them can be piped into ``motionsig encode correlations -``. The tables are built by
-:mod:`motionsig_cli.experiments.spreading_codes`, imported when a command runs (NumPy, no SciPy).
+:mod:`motionsig_cli.signals.code_sets`, imported when a command runs (NumPy, no SciPy).
 """
 
 from __future__ import annotations
@@ -63,7 +63,7 @@ def mseq(
       # -> 1000010010110011111000110111010 (MATLAB comm.PNSequence)
     """
     output.check()
-    from motionsig_cli.experiments.spreading_codes import mseq_table
+    from motionsig_cli.signals.code_sets import mseq_table
     from motionsig_cli.signals.lfsr import MSequenceConfig
 
     output.emit(mseq_table(MSequenceConfig(poly, init, shift), chips.value))
@@ -84,7 +84,7 @@ def check_pair(
       motionsig encode check-pair --poly1 45 --poly2 51    # reciprocal pair: 6 values
     """
     output.check()
-    from motionsig_cli.experiments.spreading_codes import pair_check_table
+    from motionsig_cli.signals.code_sets import pair_check_table
     from motionsig_cli.signals.gold import GoldConfig
 
     table, verdict = pair_check_table(GoldConfig(poly1, poly2, preferred=False))
@@ -117,7 +117,7 @@ def pairs(
     """
     output.check()
     degrees = common.checked("--degree", _degrees, degree)
-    from motionsig_cli.experiments.spreading_codes import pairs_table
+    from motionsig_cli.signals.code_sets import pairs_table
 
     with common.progress_bar("preferred pairs", len(degrees), output.quiet) as advance:
         table, summary = pairs_table(degrees, advance)
@@ -167,7 +167,7 @@ def gold_cmd(
     output.check()
     if all_members and (index is not None or shift is not None):
         raise typer.BadParameter("--all lists every member; drop --index/--shift", param_hint="--all")
-    from motionsig_cli.experiments.spreading_codes import gold_table
+    from motionsig_cli.signals.code_sets import gold_table
     from motionsig_cli.signals.gold import GoldConfig
 
     config = GoldConfig(poly1, poly2, init1, init2, preferred=not unchecked)
@@ -194,7 +194,7 @@ def gps_cmd(
     """
     output.check()
     prns = common.checked("--prn", common.int_list, prn, what="PRN", max_count=32)
-    from motionsig_cli.experiments.spreading_codes import gps_table
+    from motionsig_cli.signals.code_sets import gps_table
 
     output.emit(gps_table(prns, summary, chips.value))
 
@@ -224,7 +224,7 @@ def table1(
       motionsig encode table1 --codes printed | motionsig encode correlations -
     """
     output.check()
-    from motionsig_cli.experiments.spreading_codes import table1_table
+    from motionsig_cli.signals.code_sets import table1_table
 
     table, warning = table1_table(codes.value, view.value, chips.value)
     output.emit(table)
@@ -255,7 +255,7 @@ def correlations(
       motionsig encode gold --all | motionsig encode correlations - --view values
     """
     output.check()
-    from motionsig_cli.experiments.spreading_codes import correlation_curves, correlations_table, load_codes
+    from motionsig_cli.signals.code_sets import correlation_curves, correlations_table, load_codes
 
     codes = load_codes(source)
     table, summary = correlations_table(codes, source, view.value)
@@ -304,7 +304,7 @@ def signature(
       motionsig encode signature --mode 2 --tau 40 --theta random --seed 7 | head
     """
     output.check()
-    from motionsig_cli.experiments.spreading_codes import resolve_theta, signature_table
+    from motionsig_cli.signals.code_sets import resolve_theta, signature_table
     from motionsig_cli.signals.signature import SignatureConfig
 
     th = resolve_theta(theta, seed)
@@ -453,7 +453,7 @@ def ebpsk_cmd(
     if given:
         raise typer.BadParameter("applies with --ber only", param_hint=given[0])
     sent, source = _ebpsk_bits(bits, code)
-    from motionsig_cli.experiments.ebpsk_link import waveform_table
+    from motionsig_cli.maneuver.ebpsk_link import waveform_table
     from motionsig_cli.signals.ebpsk import check_bits
 
     arr = check_bits(sent)
@@ -491,7 +491,7 @@ def _ebpsk_ber(
     output: Output,
     parallel: Parallel,
 ) -> None:
-    from motionsig_cli.experiments.ebpsk_link import DEFAULT_EBN0_DB, BerJob
+    from motionsig_cli.maneuver.ebpsk_link import DEFAULT_EBN0_DB, BerJob
 
     values = (
         DEFAULT_EBN0_DB

@@ -7,7 +7,7 @@ All outputs are fractions of the aircraft population N_T (the report never gives
 ``--convention report`` uses the misprinted ½√(P₀Bτ/J) of eqs 2.8.1/2.8.3 for N̄_FL with K > 1, the
 only place the report prints it (a 3.01 dB shift; no table depends on it).
 
-Each command parses its options, builds the configurations of :mod:`motionsig_cli.experiments.jamming`
+Each command parses its options, builds the configurations of :mod:`motionsig_cli.atc10.jamming`
 (which check every value), calls one function there and writes the table it returns. NumPy and SciPy are
 imported only when a command runs, matplotlib only when a figure is asked for.
 """
@@ -24,7 +24,7 @@ import typer
 from motionsig_cli.cli.common import Output, checked, choices, command, float_list
 
 if TYPE_CHECKING:
-    from motionsig_cli.experiments.jamming import JamResult
+    from motionsig_cli.atc10.jamming import JamResult
 
 app = typer.Typer(
     help="Jamming bounds of the air-to-satellite-to-ground surveillance link (ATC-10 §2): "
@@ -126,7 +126,7 @@ def system_options(fn: Callable[..., None]) -> Callable[..., None]:
 
     @functools.wraps(fn)
     def wrapper(**kwargs: Any) -> None:
-        from motionsig_cli.experiments.jamming import PF_FORM
+        from motionsig_cli.atc10.jamming import PF_FORM
         from motionsig_cli.surveillance.jamming import JammingSystem
 
         v = {name: kwargs.pop(name) for name in _SYSTEM}
@@ -228,7 +228,7 @@ def curves(
     One row per (quantity, design, x). log10_value is exact even where the value underflows a
     double (value is then empty): the bounds reach 10^-222 and below.
     """
-    from motionsig_cli.experiments import jamming as exp
+    from motionsig_cli.atc10 import jamming as exp
 
     output.check()
     config = exp.CurvesConfig(
@@ -271,7 +271,7 @@ def threshold(
     attainable = false when the level is at or above the bound's supremum: no jammer power reaches it
     (the report's "> 130 dBW"). ill_conditioned = true when p_f* > 0.9 p_d (K = 1000).
     """
-    from motionsig_cli.experiments import jamming as exp
+    from motionsig_cli.atc10 import jamming as exp
 
     output.check()
     config = exp.ThresholdConfig(
@@ -303,7 +303,7 @@ def table(
 ) -> None:
     """Tables 2.1 and 1.1 recomputed, with the printed values, the deviation in dB and the report's
     internal inconsistencies flagged (t = 0 curves, N̄_ADL = 0.01 N_T)."""
-    from motionsig_cli.experiments import jamming as exp
+    from motionsig_cli.atc10 import jamming as exp
     from motionsig_cli.surveillance.antenna import DishAntenna
 
     output.check()
@@ -328,7 +328,7 @@ def design(
 
     Also the Chernoff parameter ν* = ln[q(1−t)/(t(1−q))] and the exponent E(t, q) = D(t‖q), q = p_d^4.
     """
-    from motionsig_cli.experiments import jamming as exp
+    from motionsig_cli.atc10 import jamming as exp
 
     output.check()
     _write(output, exp.design_table(K, pdl, pd, t))
@@ -349,7 +349,7 @@ def antenna(
     output: Output,
 ) -> None:
     """The jammer's dish: from the ERP and one of rf power or diameter, the rest (Table 1.1 columns)."""
-    from motionsig_cli.experiments import jamming as exp
+    from motionsig_cli.atc10 import jamming as exp
     from motionsig_cli.surveillance.antenna import DishAntenna
 
     output.check()

@@ -6,7 +6,7 @@ N aircraft send unit-energy signatures of duration τ once per period α; at the
 of them the other N − 1 overlap the window with probability q = 2τ/α, each adding an amplitude from a
 density C of second moment b = 1/(3ℓ²). The detector compares y = (signal 1 or 0) + n with θ ∈ (0, 1).
 
-Each command parses its options into a configuration of :mod:`motionsig_cli.experiments.mac_roc` (which
+Each command parses its options into a configuration of :mod:`motionsig_cli.atc10.mac_roc` (which
 checks every value), calls one function there and writes its outcome.
 """
 
@@ -25,7 +25,7 @@ from motionsig_cli.cli import common
 from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
 
 if TYPE_CHECKING:
-    from motionsig_cli.experiments.mac_roc import Codes, Outcome
+    from motionsig_cli.atc10.mac_roc import Codes, Outcome
 
 app = typer.Typer(
     help="Detection under multiple-access noise (ATC-10 §3): ROC bounds (3.5.13)-(3.5.14), the exact and "
@@ -33,7 +33,7 @@ app = typer.Typer(
     no_args_is_help=True,
 )
 
-# option defaults (the core's values: experiments.mac_roc REPORT_TAU_OVER_ALPHA and FIG32_B; a test checks)
+# option defaults (the core's values: atc10.mac_roc REPORT_TAU_OVER_ALPHA and FIG32_B; a test checks)
 REPORT_TAU_OVER_ALPHA = 2e-5
 FIG32_B = 1.0 / 3.0
 CODE_OPTIONS = {"ref": "--code", "family": "--code"}  # the psk density's codes come from --code
@@ -81,7 +81,7 @@ def _thetas(text: str) -> tuple[float, ...]:
     """``start:stop:step`` (the core builds the grid) or a comma-separated list."""
     if ":" not in text:
         return _numbers(text, "--theta")
-    from motionsig_cli.experiments.mac_roc import theta_grid
+    from motionsig_cli.atc10.mac_roc import theta_grid
 
     parts = text.split(":")
     if len(parts) != 3:
@@ -97,7 +97,7 @@ def _grid(text: str | None, name: str, *, log: bool) -> tuple[float, ...] | None
     option = "--" + name.replace("_", "-")
     if ":" not in text:
         return _numbers(text, option)
-    from motionsig_cli.experiments.mac_roc import value_grid
+    from motionsig_cli.atc10.mac_roc import value_grid
 
     parts = text.split(":")
     if len(parts) != 3:
@@ -113,7 +113,7 @@ def _grid(text: str | None, name: str, *, log: bool) -> tuple[float, ...] | None
 def _code_files(specs: list[str]) -> tuple[tuple[str, Codes], ...]:
     """The codes of each ``file:PATH`` (or ``file:-``) code: a ``code,chip,value`` table written by
     ``motionsig encode``, read once (stdin cannot be read twice)."""
-    from motionsig_cli.experiments.spreading_codes import load_codes
+    from motionsig_cli.signals.code_sets import load_codes
 
     out: dict[str, Codes] = {}
     for spec in specs:
@@ -133,8 +133,8 @@ def _contours(
     code: str = "mseq31",
     interferers: Interferers = Interferers.random,
 ) -> dict[str, Any]:
-    """The fields of :class:`~motionsig_cli.experiments.mac_roc.Contours` (``theta`` None: no grid)."""
-    from motionsig_cli.surveillance.amplitude import density_kind
+    """The fields of :class:`~motionsig_cli.atc10.mac_roc.Contours` (``theta`` None: no grid)."""
+    from motionsig_cli.surveillance.densities import density_kind
 
     chip_level = density is not None and density_kind(density).chip_level
     fields: dict[str, Any] = dict(
@@ -295,7 +295,7 @@ def bounds(
             "runs only the --montecarlo overlay; add --montecarlo N",
             param_hint="--scheduler" if parallel.scheduler is not None else "--checkpoint",
         )
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     cfg = exp.BoundsConfig(
         figure=figure,
@@ -335,7 +335,7 @@ def exact(
     inside = true when LB <= exact <= UB for both p_f and p_m (to 1e-9 relative).
     """
     output.check()
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     cfg = exp.ExactConfig(lower_variant=lower_variant.value, **_contours(**contour))
     _write(output, exp.exact(cfg))
@@ -370,7 +370,7 @@ def montecarlo(
     """
     output.check()
     engine = parallel.engine()
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     cfg = exp.MonteCarloConfig(
         trials=_number(trials, "--trials"),
@@ -400,7 +400,7 @@ def gaussian(
     The power depends only on b (ℓ), not on the density's shape.
     """
     output.check()
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     cfg = exp.GaussianConfig(
         figure=figure,
@@ -433,7 +433,7 @@ def exponent(
     Exp is the report's form (3.8.16); Exp_exact the closed form (3.7.24) without approximation.
     """
     output.check()
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     cfg = exp.ExponentConfig(
         figure=figure,
@@ -458,7 +458,7 @@ def densities(
 ) -> None:
     """Fig. 3.2: C₁ … C₄ at equal second moment (impulses as weights); Fig. 3.7: n_ij(t) for C*."""
     output.check()
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     _write(output, exp.densities(exp.DensitiesConfig(figure=figure, b=b)))
 
@@ -484,7 +484,7 @@ def bandwidth(
     """Sec. 3.9 / App. F: Zakai bandwidth W of each code (numerical, the report's (3.9.3), ideal 3/(4τ_c)),
     b for random-code interferers, E n² = (N−1)/(4αW) and the peak signal-to-interference ratio."""
     output.check()
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     specs = code.split(";")
     cfg = exp.BandwidthConfig(
@@ -503,6 +503,6 @@ def bandwidth(
 def report(*, output: Output) -> None:
     """The numbers printed in ATC-10 §3 beside ours, with the deviation and the reason for each difference."""
     output.check()
-    from motionsig_cli.experiments import mac_roc as exp
+    from motionsig_cli.atc10 import mac_roc as exp
 
     _write(output, exp.report())

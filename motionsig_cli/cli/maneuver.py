@@ -8,15 +8,15 @@ error per phase, false alarms, detection of each change — the comparison table
 simulated records, to pipe into ``--input``) and, with ``--input``, the per-scan track of one record: a CSV or
 JSON export with a time (seconds or ISO 8601) and/or scan column and the positions x, y (``--columns``,
 ``--units``); missed scans are predict-only steps, σ is given, in the metadata or estimated
-(:mod:`motionsig_cli.experiments.maneuver_record`).
+(:mod:`motionsig_cli.maneuver.record`).
 
 Front ends: ``gaussian`` (default: the paper's positions with σ per axis) or ``ebpsk`` (positions located by the
 EBPSK radar, with their covariance per scan and missed detections,
-:mod:`motionsig_cli.experiments.ebpsk_tracking`; ``--view front-end`` tabulates what it delivers along the
+:mod:`motionsig_cli.maneuver.ebpsk_tracking`; ``--view front-end`` tabulates what it delivers along the
 track).
 
 The command parses the options and writes the results; the configurations of
-:mod:`motionsig_cli.experiments.maneuver` check every value, and its :class:`ManeuverJob` is the Monte Carlo.
+:mod:`motionsig_cli.maneuver.study` check every value, and its :class:`ManeuverJob` is the Monte Carlo.
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from motionsig_cli.cli import common
 from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
 
 if TYPE_CHECKING:
-    from motionsig_cli.experiments import maneuver as exp
+    from motionsig_cli.maneuver import study as exp
 
 CHI2_2_999 = -2.0 * math.log(1e-3)
 """The default GLR threshold, the 0.999 quantile of χ²₂ (``detection.glr.CHI2_2_999``, which needs NumPy)."""
@@ -43,7 +43,7 @@ OPTIONS = {"sigmas": "--sigma", "methods": "--method", "Pi": "--transition", "g2
 
 
 G2 = choices("G2", "Form of G₂ = G₃ (``models.motion.G2_FORMS``).", "paper-fixed", "standard")
-Preset = choices("Preset", "Trajectory preset (``experiments.maneuver.PRESETS``).", "literal", "turn90")
+Preset = choices("Preset", "Trajectory preset (``maneuver.scenario.PRESETS``).", "literal", "turn90")
 View = choices("View", "What the table holds.", "scans", "events", "summary", "measurements", "front-end")
 FrontEnd = choices("FrontEnd", "Where the trackers' measurements come from.", "gaussian", "ebpsk")
 Level = choices("Level", "How the EBPSK front end is simulated.", "detector", "samples")
@@ -264,7 +264,7 @@ def maneuver(
     --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary); the
     measurements view and --input run no Monte Carlo and ignore them.
     """
-    from motionsig_cli.experiments import maneuver as exp
+    from motionsig_cli.maneuver import study as exp
 
     output.check(plot_compare=plot_compare)
     engine = parallel.engine()
@@ -342,8 +342,8 @@ def _front_end(
 ) -> Any:  # fmt: skip
     """The EBPSK front end of the options (defaults: those of the radar modules), checked against the track."""
     from motionsig_cli.config import in_range
-    from motionsig_cli.experiments import ebpsk_radar as er
-    from motionsig_cli.experiments import ebpsk_tracking as et
+    from motionsig_cli.maneuver import ebpsk_radar as er
+    from motionsig_cli.maneuver import ebpsk_tracking as et
     from motionsig_cli.models.radar_equation import RadarEquation
 
     eq_args = {k: v for k, v in (("p_t", p_t), ("g_t_db", gain_db), ("g_r_db", gain_db), ("rcs", rcs),
@@ -370,7 +370,7 @@ def _ebpsk_source(
 ) -> tuple[Any, tuple[float, ...]]:
     """The ebpsk source: P_t calibrated to each --sigma (the median position σ along the track), or the radar
     as given by --p-t (its median σ is then the table's σ)."""
-    from motionsig_cli.experiments import ebpsk_tracking as et
+    from motionsig_cli.maneuver import ebpsk_tracking as et
 
     if p_t is None:
         for s in sigmas:
@@ -392,7 +392,7 @@ def _front_end_view(sc: exp.ManeuverScenario, fe: Any, sigmas: Any, calibrate: b
     the median position σ the first --sigma) and the power that would give each σ."""
     import numpy as np
 
-    from motionsig_cli.experiments import ebpsk_tracking as et
+    from motionsig_cli.maneuver import ebpsk_tracking as et
 
     if calibrate:
         fe = fe.calibrated(sc.truth(), sigmas[0])
@@ -418,7 +418,7 @@ def _track_record(
     columns: str | None, units: str | None, view: View, plot_compare: Path | None, output: Output,
 ) -> None:  # fmt: skip
     """Track one measurement record with every requested method (and draw it with --plot)."""
-    from motionsig_cli.experiments import maneuver_record as mr
+    from motionsig_cli.maneuver import record as mr
 
     if view is not View.scans:
         raise typer.BadParameter(

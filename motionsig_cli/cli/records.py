@@ -3,8 +3,8 @@ the threshold calibrated for the record (``--pfa``), and writing the per-record 
 figure, summary line).
 
 What is not input/output lives in the core: the checks of a record's contents and its reading back
-(:mod:`motionsig_cli.experiments.record_reading`) and the result table
-(:mod:`motionsig_cli.experiments.lmp_record`). Their functions are reachable here under their old names
+(:mod:`motionsig_cli.modesig.record_reading`) and the result table
+(:mod:`motionsig_cli.modesig.lmp_record`). Their functions are reachable here under their old names
 (``finite_column``, ``uniform_times``, ``truth_of``, ``sigma_meta``), imported on first use.
 """
 
@@ -21,17 +21,17 @@ from motionsig_cli.config import ConfigError
 
 if TYPE_CHECKING:
     from motionsig_cli.engine import Engine
-    from motionsig_cli.experiments.lmp1d import RecordDetection
-    from motionsig_cli.experiments.lmp2d import RadarRecordDetection
-    from motionsig_cli.experiments.lmp_record import RecordResult, sigma_meta
-    from motionsig_cli.experiments.record_reading import finite_column, truth_of, uniform_times
     from motionsig_cli.filters.unscented import SigmaPointParams
+    from motionsig_cli.modesig.lmp1d import RecordDetection
+    from motionsig_cli.modesig.lmp2d import RadarRecordDetection
+    from motionsig_cli.modesig.lmp_record import RecordResult, sigma_meta
+    from motionsig_cli.modesig.record_reading import finite_column, truth_of, uniform_times
 
 _MOVED = {
-    "finite_column": "motionsig_cli.experiments.record_reading",
-    "uniform_times": "motionsig_cli.experiments.record_reading",
-    "truth_of": "motionsig_cli.experiments.record_reading",
-    "sigma_meta": "motionsig_cli.experiments.lmp_record",
+    "finite_column": "motionsig_cli.modesig.record_reading",
+    "uniform_times": "motionsig_cli.modesig.record_reading",
+    "truth_of": "motionsig_cli.modesig.record_reading",
+    "sigma_meta": "motionsig_cli.modesig.lmp_record",
 }
 
 __all__ = [
@@ -58,7 +58,7 @@ def __getattr__(name: str) -> Any:
 def parse_horizons(text: str | None, duration: float, T: float) -> list[float]:
     """--horizons in seconds (default every 10 s of the record), each within the record; a bad value is a
     usage error naming --horizons."""
-    from motionsig_cli.experiments.record_reading import record_horizons
+    from motionsig_cli.modesig.record_reading import record_horizons
 
     hs = None if text is None else checked("--horizons", float_list, text, what="horizon")
     try:
@@ -75,15 +75,15 @@ def with_null_threshold(
     seed: int, engine: Engine, output: Output,
 ) -> RunT:  # fmt: skip
     """``run`` at the threshold (one per horizon) that null records of its model exceed with probability
-    ``pfa``: :class:`~motionsig_cli.experiments.record_calibration.RecordNullJob` on the engine, with a
+    ``pfa``: :class:`~motionsig_cli.modesig.record_calibration.RecordNullJob` on the engine, with a
     progress bar of its null trials (and a note when they are too few for ``pfa``)."""
     if method == "fft":
         run.missing_checked("the FFT path cannot skip a missing sample: use --method bank")
     try:
-        from motionsig_cli.experiments.record_calibration import RecordNullJob
+        from motionsig_cli.modesig.record_calibration import RecordNullJob
     except ImportError:  # the calibration of one record is not part of this installation
         raise typer.BadParameter(
-            "needs motionsig_cli.experiments.record_calibration, which this installation lacks; use "
+            "needs motionsig_cli.modesig.record_calibration, which this installation lacks; use "
             "--threshold X",
             param_hint="--pfa",
         ) from None
@@ -118,11 +118,11 @@ def emit_record_result(
 ) -> None:
     """Write the argmax per horizon (or the whole candidate table), the Fig 3-style plot, a summary line.
 
-    ``args``: the positional arguments of :func:`~motionsig_cli.experiments.lmp_record.record_result`
+    ``args``: the positional arguments of :func:`~motionsig_cli.modesig.lmp_record.record_result`
     (``res, hs, hz, truth, params, chips_shape, m_rho``), then the figure's title. ``output`` (the
     command's output options) or, for older callers, ``plot``, ``fmt``, ``out``, ``quiet``.
     """
-    from motionsig_cli.experiments.lmp_record import record_result
+    from motionsig_cli.modesig.lmp_record import record_result
 
     *fields, title = args
     result = record_result(*fields, candidates=candidates, threshold=threshold)

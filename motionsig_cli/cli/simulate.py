@@ -2,7 +2,7 @@
 the mode-signature paper (47th IEEE CDC, Cancún, 2008).
 
 The command parses the options, builds the vehicle and record configurations (which check every value)
-and writes the table of :func:`motionsig_cli.experiments.vehicle_record.simulate_record`.
+and writes the table of :func:`motionsig_cli.modesig.vehicle_record.simulate_record`.
 """
 
 from __future__ import annotations
@@ -204,9 +204,9 @@ def simulate(
         planar = None if start == DEFAULT_START and sig_axes is SigAxes.both else start
         only_2d = {"--R-range": R_range, "--R-bearing": R_bearing, "--anr-pair": anr_pair}
         _only_for("--example 2d only", {**only_2d, "--start/--sig-axes": planar})
-    from motionsig_cli.experiments.vehicle_record import RecordConfig, simulate_record
     from motionsig_cli.models.vehicle import Vehicle1D, measurement_variance, pole_placement_gain
     from motionsig_cli.models.vehicle2d import Vehicle2D, radar_noise
+    from motionsig_cli.modesig.vehicle_record import RecordConfig, simulate_record
 
     gains = pole_placement_gain(T, pole_wn, pole_zeta) if K is None else _numbers("--K", K, "gain")
     loop = dict(T=T, K=gains, a_sig=a_sig, a_r=a_r, f_r=f_r, sigma_a=sigma_a)

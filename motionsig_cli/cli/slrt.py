@@ -6,12 +6,12 @@ help and options are read from there; default CKF, FKF, LKF) score the same Mont
 cases at several detection probabilities, for a constant-velocity or an agile target or both, and a
 no-target case; the output is, per scan, the mean, median and 5–95 % band of log LR, Wald's decisions, or
 the study's comparison (rates with standard errors against Wald's bounds, ASN). Every value is checked by
-the experiment (:class:`~motionsig_cli.experiments.slrt.SlrtStudy`), not here; the fusion options
+the experiment (:class:`~motionsig_cli.existence.slrt.SlrtStudy`), not here; the fusion options
 (``--gate-pg``, ``--feedback-every``, ``--ldf-prior``, ``--ldf-weights``, ``--lkf-mean``) are the fields of
 :class:`~motionsig_cli.detection.track_existence.FusionOptions`.
 
 With ``--input DETECTIONS --sensor-table SENSORS`` the methods score the user's own record instead
-(:mod:`motionsig_cli.experiments.slrt_record`: the files' format and rules); ``--view detections`` and
+(:mod:`motionsig_cli.existence.slrt_record`: the files' format and rules); ``--view detections`` and
 ``--view sensors`` write run 0 of the first simulated case as such files.
 """
 
@@ -34,7 +34,7 @@ from motionsig_cli.cli.common import (
 from motionsig_cli.detection.track_existence import FUSION_METHODS, METHODS
 
 if TYPE_CHECKING:
-    from motionsig_cli.experiments import slrt as exp
+    from motionsig_cli.existence import slrt as exp
 
 View = choices(
     "View",
@@ -319,7 +319,7 @@ def slrt(
       motionsig slrt --view detections -o dets.csv; motionsig slrt --view sensors -o sensors.csv
       motionsig slrt --input dets.csv --sensor-table sensors.csv   # the same run's scores, from the files
     """
-    from motionsig_cli.experiments import slrt as exp
+    from motionsig_cli.existence import slrt as exp
 
     output.check(plot_scan=plot_scan)
     method_names = tuple(dict.fromkeys(m.strip() for m in methods.split(",") if m.strip()))
@@ -422,7 +422,7 @@ def _values(option: str, text: str) -> tuple[float, ...]:
 
 def _write_run(output: Output, study: exp.SlrtStudy, view: View, plot_scan: Path | None) -> None:
     """``--view detections|sensors``: run 0 of the first case as an input file."""
-    from motionsig_cli.experiments import slrt_record
+    from motionsig_cli.existence import slrt_record
 
     for name, path in (("--plot", output.plot), ("--plot-scan", plot_scan)):
         if path is not None:
@@ -442,7 +442,7 @@ def _score_record(
     fusion: dict[str, object],
 ) -> None:  # fmt: skip
     """``--input``: score the user's detections with every method."""
-    from motionsig_cli.experiments import slrt_record as rec
+    from motionsig_cli.existence import slrt_record as rec
 
     for option, (name, instead) in SIMULATION_ONLY.items():
         if _given(name):

@@ -15,7 +15,7 @@ positions in km: the default for Table 4.1 and ``--sats``) or ``--units si`` (me
 with ``--receivers``).
 
 The commands parse their options into the configurations of
-:mod:`motionsig_cli.experiments.satellite_tracking`, which check every field, and write what its
+:mod:`motionsig_cli.atc10.satellite_tracking`, which check every field, and write what its
 ``*_report`` functions return.
 """
 
@@ -32,7 +32,7 @@ from motionsig_cli.cli import common
 from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
 
 if TYPE_CHECKING:
-    from motionsig_cli.experiments.satellite_tracking import Constellation, Geometry, Orbit, Report
+    from motionsig_cli.atc10.satellite_tracking import Constellation, Geometry, Orbit, Report
 
 app = typer.Typer(
     help="Satellite multilateration with clock tracking (ATC-10 §4): constellation constants, "
@@ -205,8 +205,8 @@ def _user_sats(path: Path) -> tuple[tuple[float, ...], tuple[float, ...], tuple[
     """Satellites from a CSV with latitude_deg, longitude_deg (and optionally satellite) columns. A bad
     point, or one that repeats an earlier one, is an error naming the file and line; the constellation
     checks the rest (count, labels)."""
+    from motionsig_cli.atc10.satellite_tracking import MAX_LON_DEG
     from motionsig_cli.cli.io import InputError, read_table
-    from motionsig_cli.experiments.satellite_tracking import MAX_LON_DEG
 
     t = read_table(path, required=("latitude_deg", "longitude_deg"))
     lat, lon = t.numeric("latitude_deg"), t.numeric("longitude_deg")
@@ -294,9 +294,9 @@ def _receivers(
     a snapshot fix."""
     import numpy as np
 
+    from motionsig_cli.atc10 import satellite_tracking as exp
+    from motionsig_cli.atc10.receivers import read_receivers
     from motionsig_cli.errors import InputError
-    from motionsig_cli.experiments import satellite_tracking as exp
-    from motionsig_cli.experiments.receivers import read_receivers
 
     rx = read_receivers(
         path,
@@ -358,7 +358,7 @@ def _constellation(
     example: Example, orbit: Orbit, outage_sats: str, *, sats: Path | None = None, aircraft: str | None = None
 ) -> Constellation:
     """The constellation of the options (Table 4.1 or ``--sats``; the configuration checks the values)."""
-    from motionsig_cli.experiments import satellite_tracking as exp
+    from motionsig_cli.atc10 import satellite_tracking as exp
 
     if sats is not None:
         lat, lon, labels = _user_sats(sats)
@@ -451,7 +451,7 @@ def constellation(
       motionsig track-sat constellation --sats my_sats.csv --aircraft 40,-100,10 --view satellites
       motionsig track-sat constellation --receivers stations.csv --aircraft 48.35,11.79,3 --view satellites
     """
-    from motionsig_cli.experiments import satellite_tracking as exp
+    from motionsig_cli.atc10 import satellite_tracking as exp
 
     output.check()
     _exclusive(receivers, **{"--sats": sats is not None, "--example": _given("example")})
@@ -509,7 +509,7 @@ def table(
       motionsig track-sat table --which 4.2    # printed, report (9.235 R_E), corrected
       motionsig track-sat table                # Table 4.3 in both conventions
     """
-    from motionsig_cli.experiments import satellite_tracking as exp
+    from motionsig_cli.atc10 import satellite_tracking as exp
 
     output.check()
     _write(
@@ -549,7 +549,7 @@ def psi_cmd(
       motionsig track-sat psi --alpha 1.61e-4,1.61e-2,1.61   # Table 4.3, Example I: 0.0993, 0.4020, 0.9267
       motionsig track-sat psi --plot fig4_1.png
     """
-    from motionsig_cli.experiments import satellite_tracking as exp
+    from motionsig_cli.atc10 import satellite_tracking as exp
 
     output.check()
     if alpha is not None:
@@ -605,7 +605,7 @@ def rms(
       motionsig track-sat rms --example I --sigma0 5 --outage-length 300 --epochs 400
       motionsig track-sat rms --receivers stations.csv --aircraft 48.35,11.79,3 --sigma 10 --units si
     """
-    from motionsig_cli.experiments import satellite_tracking as exp
+    from motionsig_cli.atc10 import satellite_tracking as exp
 
     output.check()
     _exclusive(receivers, **{"--figure": figure is not None, "--example": _given("example")})
@@ -716,7 +716,7 @@ def simulate(
       motionsig track-sat simulate --runs 20000 --workers 8 --checkpoint ckpt/   # resumable, same result
       motionsig track-sat simulate --receivers stations.csv --aircraft 48.35,11.79,3 --sigma 10 --sigma0 5
     """
-    from motionsig_cli.experiments import satellite_tracking as exp
+    from motionsig_cli.atc10 import satellite_tracking as exp
 
     output.check()
     engine = parallel.engine()
@@ -759,7 +759,7 @@ def simulate(
 
 
 # ``track-sat solve`` lives in its own module, which imports only typer and the command layer; the core
-# (motionsig_cli.experiments.toa_solve) is imported when the command runs.
+# (motionsig_cli.atc10.toa_solve) is imported when the command runs.
 from motionsig_cli.cli.track_sat_solve import solve as _solve  # noqa: E402
 
 app.command("solve")(_solve)

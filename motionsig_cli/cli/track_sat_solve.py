@@ -3,7 +3,7 @@ epoch by epoch (weighted least squares) and with the clock tracked across epochs
 Stiglitz & Eckberg, MIT Lincoln Laboratory, 1972, §4.5).
 
 This module imports only typer and the command layer's helpers: the core
-(:mod:`motionsig_cli.experiments.toa_solve`) is imported when the command runs.
+(:mod:`motionsig_cli.atc10.toa_solve`) is imported when the command runs.
 """
 
 from __future__ import annotations
@@ -201,7 +201,7 @@ def solve(
       motionsig track-sat solve toa.csv --receivers stations.csv --clock track --sigma0 20 --sigma 10
       motionsig track-sat solve toa.csv --receivers stations.csv --view residuals --units report
     """
-    from motionsig_cli.experiments import toa_solve as ts
+    from motionsig_cli.atc10 import toa_solve as ts
 
     output.check()
     system, input_units = _units(units)

@@ -266,7 +266,7 @@ def _gps(text: str, rest: str) -> ModeCodes:
 
 
 def _file(path: str) -> ModeCodes:
-    from motionsig_cli.experiments.spreading_codes import load_codes
+    from motionsig_cli.signals.code_sets import load_codes
 
     if not path.strip() or path.strip() == "-":
         raise ConfigError("codes", path, "is not a file name (a code table cannot be read from stdin here)")

@@ -24,7 +24,7 @@ bit-1 symbol; a simple amplitude threshold then demodulates. The literature give
 on the unit circle at, or very near, the carrier; poles just inside it, near the carrier), not one
 coefficient set for our sampling; the placement used here is documented in :func:`impacting_filter`
 and its radii and offsets are **assumed** (chosen for the impact ratio and the BER measured in
-``tests/signals/test_ebpsk.py`` and ``tests/experiments/test_ebpsk_link.py``).
+``tests/signals/test_ebpsk.py`` and ``tests/maneuver/test_ebpsk_link.py``).
 
 Everything is vectorised over rows: ``modulate`` takes bits ``(..., n_bits)``, ``apply_filter`` and
 ``demodulate`` waveforms ``(..., n_samples)``.

@@ -9,7 +9,7 @@ S_k of k iid amplitudes from the common density C, so
 first k whose support reaches the level until the binomial terms fall 40 decades below the running sum.
 
 The tails of S_k are the densities' own ``log_tail`` (the registry member says whether a density has
-one: :attr:`~motionsig_cli.surveillance.amplitude.DensityKind.exact_roc`), all sums of positive terms
+one: :attr:`~motionsig_cli.surveillance.densities.DensityKind.exact_roc`), all sums of positive terms
 (no cancellation, relative accuracy ~k²ε down to 10⁻³⁰⁰):
 
 * gaussian   P(S_k ≥ x) = Q(x/√(kb)) (log_ndtr);
@@ -32,8 +32,8 @@ import numpy as np
 from scipy.stats import binom
 
 from motionsig_cli.config import ConfigError
-from motionsig_cli.surveillance.amplitude import DENSITIES, kind_of
 from motionsig_cli.surveillance.amplitude import irwin_hall_tail as irwin_hall_tail  # re-exported
+from motionsig_cli.surveillance.densities import DENSITIES, kind_of
 from motionsig_cli.surveillance.multiple_access import MANModel
 
 TAIL_DECADES = 40.0  # stop when the binomial weight is this many decades below the running sum

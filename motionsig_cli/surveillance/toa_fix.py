@@ -45,7 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from motionsig_cli.config import ConfigError, integer, one_of, positive
-from motionsig_cli.surveillance.geodesy import covariance_to_enu, ecef_to_geodetic, surface_point
+from motionsig_cli.geodesy import covariance_to_enu, ecef_to_geodetic, surface_point
 from motionsig_cli.surveillance.multilateration import COND_LIMIT, GeometryError, solve_upper, thin_qr
 
 __all__ = [
@@ -175,7 +175,7 @@ def _broadcast(receivers: np.ndarray, E: int, K: int) -> np.ndarray:
 
 def default_start(receivers: np.ndarray, used: np.ndarray, alt_m: float = START_ALT_M) -> np.ndarray:
     """The starting point of each epoch: the centroid of the receivers used, pushed along the ellipsoid's
-    normal to ``alt_m`` above it (:func:`~motionsig_cli.surveillance.geodesy.surface_point`)."""
+    normal to ``alt_m`` above it (:func:`~motionsig_cli.geodesy.surface_point`)."""
     w = used.astype(float)[..., None]
     c = np.sum(np.where(w > 0, receivers, 0.0), axis=-2) / np.maximum(np.sum(w, axis=-2), 1.0)
     return surface_point(c, alt_m)

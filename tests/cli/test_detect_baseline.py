@@ -1,4 +1,4 @@
-"""``detect --calibrate --detector lmp|estimate-correlate`` (experiments/baseline_calibration.py): the
+"""``detect --calibrate --detector lmp|estimate-correlate`` (modesig.baseline_calibration): the
 baseline's threshold calibration on the LMP's calibration records."""
 
 from dataclasses import replace
@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from motionsig_cli.engine import run_job
-from motionsig_cli.experiments.baseline_calibration import BaselineCalibrationJob
-from motionsig_cli.experiments.lmp1d import NULL_OFFSET, simulate_trials
+from motionsig_cli.modesig.baseline_calibration import BaselineCalibrationJob
+from motionsig_cli.modesig.lmp1d import NULL_OFFSET, simulate_trials
 from tests.cli.helpers import one_line_error, run, table
 
 SMALL = ("detect", "--calibrate", "--trials", "4", "--null-trials", "10", "--pfa", "0.2", "--R-list", "1e-3",

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from motionsig_cli.detection.lmp import LMPConfig
-from motionsig_cli.experiments.lmp1d import LmpJob, threshold_for
+from motionsig_cli.modesig.lmp1d import LmpJob, threshold_for
 from tests.cli.helpers import MC_1D, engine_outputs, one_line_error, run, table
 
 MC_2D = (

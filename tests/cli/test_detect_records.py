@@ -18,7 +18,7 @@ import warnings
 import numpy as np
 import pytest
 
-from motionsig_cli.experiments.lmp1d import table1_chips
+from motionsig_cli.modesig.lmp1d import table1_chips
 from motionsig_cli.tables import read_table
 from tests.cli.helpers import one_line_error, run, table
 

@@ -316,8 +316,8 @@ def test_monte_carlo_checkpoint_resumes_to_the_uninterrupted_result(capsys, tmp_
 
 
 def test_option_defaults_are_the_core_constants():
+    from motionsig_cli.atc10 import mac_roc as exp
     from motionsig_cli.cli import mac_roc as cli
-    from motionsig_cli.experiments import mac_roc as exp
 
     assert cli.REPORT_TAU_OVER_ALPHA == exp.REPORT_TAU_OVER_ALPHA and cli.FIG32_B == exp.FIG32_B
 
@@ -327,6 +327,6 @@ def test_the_command_module_imports_no_core_at_start():
     import subprocess
     import sys
 
-    code = "import sys, motionsig_cli.cli.mac_roc\nprint(any(m.startswith('scipy') or m.endswith('experiments.mac_roc') for m in sys.modules))"
+    code = "import sys, motionsig_cli.cli.mac_roc\nprint(any(m.startswith('scipy') or m.endswith('atc10.mac_roc') for m in sys.modules))"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"

@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 from motionsig_cli.engine import Engine
-from motionsig_cli.experiments import maneuver as ex
+from motionsig_cli.maneuver import study as ex
 from tests.cli.helpers import (
     bad_engine_options_test,
     checkpoint_resume,

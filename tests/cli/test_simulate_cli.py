@@ -42,7 +42,7 @@ def test_parse_horizons_is_a_usage_error_naming_horizons():
 
 def test_old_names_of_the_record_reader_still_work():
     from motionsig_cli.cli import records
-    from motionsig_cli.experiments import lmp_record, record_reading
+    from motionsig_cli.modesig import lmp_record, record_reading
 
     assert records.finite_column is record_reading.finite_column
     assert records.uniform_times is record_reading.uniform_times

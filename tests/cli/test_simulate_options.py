@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from motionsig_cli.experiments.record_reading import read_vehicle_record
+from motionsig_cli.modesig.record_reading import read_vehicle_record
 from motionsig_cli.signals.modes import table1_codes
 from tests.cli.helpers import one_line_error, run, table
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from motionsig_cli.detection.track_existence import FUSION_METHODS
-from motionsig_cli.experiments import slrt as exp
+from motionsig_cli.existence import slrt as exp
 from motionsig_cli.tables import read_table
 from tests.cli.helpers import (
     bad_engine_options_test,
@@ -152,7 +152,7 @@ def test_views_of_a_run_write_input_files(capsys, tmp_path):
 
 
 def test_an_independent_record_is_confirmed_and_clutter_alone_is_not(capsys, tmp_path):
-    from tests.experiments.test_slrt_record import INIT_XVY, write_detections, write_sensors
+    from tests.existence.test_slrt_record import INIT_XVY, write_detections, write_sensors
 
     s = tmp_path / "radars.csv"
     write_sensors(s)
@@ -178,7 +178,7 @@ def test_an_independent_record_is_confirmed_and_clutter_alone_is_not(capsys, tmp
 
 
 def test_one_sensor_says_the_methods_coincide(capsys, tmp_path):
-    from tests.experiments.test_slrt_record import INIT_XVY, SENSORS, write_detections, write_sensors
+    from tests.existence.test_slrt_record import INIT_XVY, SENSORS, write_detections, write_sensors
 
     d, s = tmp_path / "d.csv", tmp_path / "s.csv"
     write_detections(d, 3, sensors=SENSORS[:1])
@@ -249,7 +249,7 @@ def test_bad_records_are_one_line_naming_file_line_and_column(capsys, tmp_path, 
 def test_a_record_over_the_row_limit_is_refused(capsys, tmp_path, monkeypatch):
     from dataclasses import replace
 
-    from motionsig_cli.experiments import slrt_record
+    from motionsig_cli.existence import slrt_record
 
     monkeypatch.setattr(slrt_record, "DETECTION_SPEC", replace(slrt_record.DETECTION_SPEC, max_rows=5))
     d, s = tmp_path / "d.csv", tmp_path / "s.csv"

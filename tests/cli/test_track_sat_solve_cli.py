@@ -328,7 +328,7 @@ def test_bad_input_is_one_line_with_exit_code_2(capsys, tmp_path, plain, name):
 
 def test_too_many_rows_are_refused_while_reading(capsys, tmp_path, example):
     """A record beyond the row limit (10^6) is refused at the first row beyond it, before it is held."""
-    from motionsig_cli.experiments.toa_solve import MAX_MEASUREMENTS
+    from motionsig_cli.atc10.toa_solve import MAX_MEASUREMENTS
 
     d, _, _ = example
     m = tmp_path / "long.csv"

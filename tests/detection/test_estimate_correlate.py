@@ -19,10 +19,10 @@ from motionsig_cli.detection.estimate_correlate import (
     estimate_correlate_detect_radar,
 )
 from motionsig_cli.detection.lmp import candidate_grid
-from motionsig_cli.experiments.lmp1d import simulate_trials, table1_chips
-from motionsig_cli.experiments.lmp2d import simulate_trials_2d
 from motionsig_cli.models.vehicle import Q0_DIAG, Vehicle1D
 from motionsig_cli.models.vehicle2d import Q0_2D, Vehicle2D
+from motionsig_cli.modesig.lmp1d import simulate_trials, table1_chips
+from motionsig_cli.modesig.lmp2d import simulate_trials_2d
 from tests.filters import ukf_oracle
 
 CHIPS = table1_chips()

@@ -11,7 +11,7 @@ import pytest
 from motionsig_cli.detection.decision_fusion import ldf_score, naive_decisions, naive_score
 from motionsig_cli.detection.sprt import CONFIRM, DELETE, UNDECIDED, first_crossing
 from motionsig_cli.detection.track_existence import FusionOptions, local_scores, run_methods
-from motionsig_cli.experiments import slrt
+from motionsig_cli.existence import slrt
 
 LOG_A, LOG_B = -2.3, 6.8
 

@@ -10,7 +10,7 @@ import pytest
 from scipy.stats import chi2
 
 from motionsig_cli.detection.track_existence import FUSION_METHODS, FusionOptions, run_methods
-from motionsig_cli.experiments import slrt
+from motionsig_cli.existence import slrt
 from motionsig_cli.filters.pda import gate_threshold, local_update
 from motionsig_cli.models.radar import MeasurementModel
 

@@ -21,7 +21,7 @@ from motionsig_cli.detection.track_existence import (
     check_methods,
     run_methods,
 )
-from motionsig_cli.experiments import slrt
+from motionsig_cli.existence import slrt
 
 LINEAR = dict(meas_model="cartesian", pd_true=1.0, pd_filter=1.0, clutter_rate=0.0)
 """Where the exact DKF applies: linear sensors, p_D = 1, no clutter."""

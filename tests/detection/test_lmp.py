@@ -9,9 +9,9 @@ from scipy.stats import binom, chisquare
 
 from motionsig_cli.detection.lmp import LMPConfig
 from motionsig_cli.engine import run_job
-from motionsig_cli.experiments.lmp1d import LmpJob, simulate_trials
 from motionsig_cli.filters.kalman import innovation_costs, riccati
 from motionsig_cli.models.vehicle import Vehicle1D
+from motionsig_cli.modesig.lmp1d import LmpJob, simulate_trials
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
 

@@ -15,13 +15,13 @@ from motionsig_cli.detection.lmp import (
     lmp_detect_radar,
     progress_steps,
 )
-from motionsig_cli.experiments.lmp1d import CalibrationJob, LmpJob, RecordDetection, table1_chips
-from motionsig_cli.experiments.lmp2d import RadarLmpJob, RadarRecordDetection
-from motionsig_cli.experiments.record_reading import VehicleRecord
 from motionsig_cli.filters.kalman import step_reporter
 from motionsig_cli.filters.unscented import SigmaPointParams
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.models.vehicle2d import Vehicle2D
+from motionsig_cli.modesig.lmp1d import CalibrationJob, LmpJob, RecordDetection, table1_chips
+from motionsig_cli.modesig.lmp2d import RadarLmpJob, RadarRecordDetection
+from motionsig_cli.modesig.record_reading import VehicleRecord
 
 CHIPS = table1_chips()
 

@@ -19,8 +19,8 @@ from motionsig_cli.detection.lmp_fft import (
     steady_state,
     whitened_innovations,
 )
-from motionsig_cli.experiments.lmp1d import simulate_trials
 from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column
+from motionsig_cli.modesig.lmp1d import simulate_trials
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
 from motionsig_cli.signals.signature import replica_bank

@@ -13,9 +13,9 @@ import pytest
 
 from motionsig_cli.detection.lmp import LMPConfig, lmp_detect, progress_steps
 from motionsig_cli.detection.lmp_fft import MissingSamples, lmp_detect_fft, lmp_detect_projection
-from motionsig_cli.experiments.lmp1d import simulate_trials
 from motionsig_cli.filters.kalman import innovation_costs, riccati
 from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column, transition_h0
+from motionsig_cli.modesig.lmp1d import simulate_trials
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import corrected_codes
 from motionsig_cli.signals.signature import replica_bank

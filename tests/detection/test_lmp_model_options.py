@@ -22,8 +22,8 @@ from motionsig_cli.detection.lmp import (
     van_loan,
 )
 from motionsig_cli.detection.lmp_fft import lmp_detect_fft, lmp_detect_projection
-from motionsig_cli.experiments.lmp1d import simulate_trials, table1_chips
 from motionsig_cli.models.vehicle import Vehicle1D, amplitude_column, nominal_reference, transition_h0
+from motionsig_cli.modesig.lmp1d import simulate_trials, table1_chips
 from motionsig_cli.signals.signature import replica_bank
 
 CHIPS = table1_chips()

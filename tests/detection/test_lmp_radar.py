@@ -7,10 +7,10 @@ import pytest
 from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.lmp import LMPConfig, RadarLMPConfig, lmp_detect, lmp_detect_radar
 from motionsig_cli.engine import run_job
-from motionsig_cli.experiments.lmp1d import simulate_trials
-from motionsig_cli.experiments.lmp2d import RadarLmpJob, simulate_trials_2d
 from motionsig_cli.models.vehicle import Vehicle1D
 from motionsig_cli.models.vehicle2d import Q0_2D, Q1_2D, Vehicle2D, anr_pair_variances, prior_mean_2d
+from motionsig_cli.modesig.lmp1d import simulate_trials
+from motionsig_cli.modesig.lmp2d import RadarLmpJob, simulate_trials_2d
 from motionsig_cli.signals.correlation import to_bipolar
 from motionsig_cli.signals.modes import table1_codes
 from motionsig_cli.signals.signature import replica_bank

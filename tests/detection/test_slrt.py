@@ -18,7 +18,7 @@ from motionsig_cli.detection.track_existence import (
     log_product_constant,
     run_methods,
 )
-from motionsig_cli.experiments import slrt
+from motionsig_cli.existence import slrt
 from motionsig_cli.models.radar import cv_model, wrap_angle
 from tests.detection import slrt_oracle as orc
 

@@ -5,8 +5,9 @@ loop-based, linear-domain likelihoods: tests/filters/imm_oracle.py) and FilterPy
 import numpy as np
 import pytest
 
-from motionsig_cli.experiments.maneuver import ManeuverScenario, measurements
 from motionsig_cli.filters.imm import imm_filter, logsumexp
+from motionsig_cli.maneuver.scenario import ManeuverScenario
+from motionsig_cli.maneuver.study import measurements
 from motionsig_cli.models.motion import H_POS6, ModelSet, imm_models, two_point_init
 from tests.filters.imm_oracle import imm_oracle, kf_oracle
 

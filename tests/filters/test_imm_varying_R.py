@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from motionsig_cli.detection.glr import GLRConfig, InputModel, input_tracker
-from motionsig_cli.experiments import maneuver as ex
 from motionsig_cli.filters.imm import imm_filter
+from motionsig_cli.maneuver import study as ex
 from motionsig_cli.models.motion import H_POS4, H_POS6, ModelSet, cv_input_model, imm_models
 
 T = 1.0

@@ -12,8 +12,6 @@ import numpy as np
 import pytest
 
 from motionsig_cli.detection.lmp import RadarLMPConfig, lmp_detect_radar, radar_measurement
-from motionsig_cli.experiments.lmp1d import table1_chips
-from motionsig_cli.experiments.lmp2d import simulate_trials_2d
 from motionsig_cli.filters import unscented as U
 from motionsig_cli.filters.kalman import MissingSamples
 from motionsig_cli.models.vehicle2d import (
@@ -25,6 +23,8 @@ from motionsig_cli.models.vehicle2d import (
     transition_h0_2d,
     transition_h1_2d_base,
 )
+from motionsig_cli.modesig.lmp1d import table1_chips
+from motionsig_cli.modesig.lmp2d import simulate_trials_2d
 
 VEH = Vehicle2D(R_range=3e-4, R_bearing=5e-4)
 C_R = 1.0

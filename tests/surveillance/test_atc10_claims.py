@@ -9,9 +9,9 @@ K = 100, P_DL = 0.88 row: tests/surveillance/test_jamming_tables.py.)
 import numpy as np
 import pytest
 
-from motionsig_cli.experiments import mac_roc as mr
-from motionsig_cli.experiments import satellite_tracking as st
-from motionsig_cli.experiments.satellite_tracking import Convention, ParamSource, TableConfig, Timeline
+from motionsig_cli.atc10 import mac_roc as mr
+from motionsig_cli.atc10 import satellite_tracking as st
+from motionsig_cli.atc10.satellite_tracking import Convention, ParamSource, TableConfig, Timeline
 from motionsig_cli.surveillance.clock_tracking import table_4_3_values
 from motionsig_cli.surveillance.quasi_optimal import exp_of_gaussian_exponent
 

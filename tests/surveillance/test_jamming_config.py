@@ -5,8 +5,8 @@ import math
 
 import pytest
 
+from motionsig_cli.atc10 import jamming as exp
 from motionsig_cli.config import ConfigError
-from motionsig_cli.experiments import jamming as exp
 from motionsig_cli.surveillance.antenna import DishAntenna, jammer_antenna
 from motionsig_cli.surveillance.jamming import (
     JammingDesign,

@@ -13,7 +13,7 @@ import math
 import pytest
 
 from motionsig_cli import refdata
-from motionsig_cli.experiments import jamming as exp
+from motionsig_cli.atc10 import jamming as exp
 from motionsig_cli.surveillance.antenna import FOOT_M, DishAntenna, jammer_antenna
 
 

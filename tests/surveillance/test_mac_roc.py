@@ -13,8 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from motionsig_cli.config import ConfigError
-from motionsig_cli.experiments.mac_roc import (
+from motionsig_cli.atc10.mac_roc import (
     DENSITY_OF_FIGURE,
     REPORT_N,
     REPORT_TAU_OVER_ALPHA,
@@ -22,18 +21,10 @@ from motionsig_cli.experiments.mac_roc import (
     pf_at_pm,
     report_model,
 )
-from motionsig_cli.surveillance.amplitude import DENSITIES as REGISTRY
-from motionsig_cli.surveillance.amplitude import (
-    Discrete,
-    Laplace,
-    TwoPoint,
-    Uniform,
-    b_of_ell,
-    density,
-    density_kind,
-    ell_of_b,
-    kind_of,
-)
+from motionsig_cli.config import ConfigError
+from motionsig_cli.surveillance.amplitude import Discrete, Laplace, TwoPoint, Uniform, b_of_ell, ell_of_b
+from motionsig_cli.surveillance.densities import DENSITIES as REGISTRY
+from motionsig_cli.surveillance.densities import density, density_kind, kind_of
 from motionsig_cli.surveillance.gaussian_roc import gaussian_power, gaussian_roc
 from motionsig_cli.surveillance.multiple_access import MANModel
 from motionsig_cli.surveillance.psk_amplitude import PSKAmplitude, chip_correlation
@@ -690,7 +681,7 @@ def test_registry_refuses_an_unknown_density_and_a_code_built_one_from_b():
 def test_power_label_of_the_exponent_figures() -> None:
     """The legends of Figs 3.9/3.10 (`mac-roc exponent --plot`) wrote `N = 100000` next to `N = 1e+06`;
     whole multiples of a power of ten with |e| ≥ 3 are written as powers, the rest as `g` does."""
-    from motionsig_cli.experiments.mac_roc import _power_label
+    from motionsig_cli.atc10.mac_roc import _power_label
 
     assert _power_label(1e5) == "$10^{5}$"
     assert _power_label(2e5) == r"$2\cdot10^{5}$"

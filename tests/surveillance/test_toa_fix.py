@@ -7,7 +7,7 @@ import warnings
 import numpy as np
 import pytest
 
-from motionsig_cli.surveillance import geodesy as g
+from motionsig_cli import geodesy as g
 from motionsig_cli.surveillance import toa_fix as tf
 from motionsig_cli.surveillance.clock_tracking import pseudo_measurement
 from motionsig_cli.surveillance.multilateration import metrics

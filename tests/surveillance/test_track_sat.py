@@ -9,16 +9,16 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from motionsig_cli.config import ConfigError
-from motionsig_cli.engine import MonteCarloJob, run_job
-from motionsig_cli.experiments import satellite_tracking as st
-from motionsig_cli.experiments.satellite_tracking import (
+from motionsig_cli.atc10 import satellite_tracking as st
+from motionsig_cli.atc10.satellite_tracking import (
     ConstellationParams,
     Convention,
     ParamSource,
     Timeline,
     TrackSatJob,
 )
+from motionsig_cli.config import ConfigError
+from motionsig_cli.engine import MonteCarloJob, run_job
 from motionsig_cli.surveillance import clock
 from motionsig_cli.surveillance.clock import (
     ClockModel,

@@ -1,1 +1,0 @@
-"""Scenarios and Monte Carlo experiments (seeded per trial; results independent of batching)."""
