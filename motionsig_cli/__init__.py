@@ -1,17 +1,19 @@
 """motionsig: detection and tracking with signatures.
 
-Layers, each importing only those below it: the command layer :mod:`motionsig_cli.cli` (parsing, I/O,
-progress) → ``experiments`` (scenarios, Monte Carlo jobs, tables) → ``detection``, ``filters`` and
-``surveillance`` (estimators, detectors, the ATC-10 analyses) → ``signals`` and ``models``. Below the
-command layer nothing imports typer, rich or matplotlib; figures live in :mod:`motionsig_cli.plotting`.
-A bad parameter is a :class:`motionsig_cli.config.ConfigError` naming its field; every Monte Carlo is a
+Floors, each importing only those below it: the command layer :mod:`motionsig_cli.cli` (parsing, I/O,
+progress) and :mod:`motionsig_cli.plotting` → one package per source system (``modesig``, ``existence``,
+``maneuver``, ``atc10``: studies, Monte Carlo jobs, pipelines over a user's records; no system imports
+another) → ``detection``, ``filters`` and ``surveillance`` (estimators, detectors, the ATC-10
+mathematics) → ``signals`` and ``models`` → records, geodesy, tables, the engine, configuration. Below the
+command layer nothing imports typer, rich or matplotlib. A bad parameter is a
+:class:`motionsig_cli.config.ConfigError` naming its field; every Monte Carlo is a
 :class:`motionsig_cli.engine.MonteCarloJob`.
 
 The public Python API is the names in :data:`__all__`, importable from the package itself
 (``from motionsig_cli import gold_family``). They are loaded on first use, so that ``import
 motionsig_cli`` (and the command line's start-up) stays fast. Within the 0.x releases a public name
 keeps its meaning and the arguments it accepts; new keyword arguments with defaults may be added.
-Everything else — the modules' other functions, the experiments, the command layer — is internal and
+Everything else — the modules' other functions, the studies behind the commands, the command layer — is internal and
 may change in any release.
 """
 
