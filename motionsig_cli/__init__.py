@@ -48,7 +48,14 @@ _PUBLIC: dict[str, str] = {
     "lmp_detect_fft": "motionsig_cli.detection.lmp_fft",
     # filters and tests
     "imm_filter": "motionsig_cli.filters.imm",
+    "ModelSet": "motionsig_cli.models.motion",
+    "imm_models": "motionsig_cli.models.motion",
+    "two_point_init": "motionsig_cli.models.motion",
     "wald_thresholds": "motionsig_cli.detection.sprt",
+    # the manoeuvre trackers on a track
+    "TrackerConfig": "motionsig_cli.maneuver.study",
+    "TrackResult": "motionsig_cli.maneuver.tracking",
+    "track_positions": "motionsig_cli.maneuver.tracking",
     # records, Monte Carlo, errors
     "read_record": "motionsig_cli.records",
     "RecordSpec": "motionsig_cli.records",
