@@ -123,7 +123,7 @@ def imm_filter(
     Returns:
         The combined estimates, model probabilities and likelihoods of every scan.
 
-    Example:
+    Examples:
         The paper's three models (§IV) on a straight track, σ = 10 m, initialised on its first two scans:
 
         >>> import numpy as np

@@ -146,7 +146,7 @@ class TrackerConfig:
             noise is q_j G_j G_jᵀ (:func:`~motionsig_cli.models.motion.imm_models`); default the paper's
             Q₁ = 0, Q₂ = 0.001 I, Q₃ = 0.0144 I (§IV), each in :data:`IMM_Q_RANGE`.
 
-    Example:
+    Examples:
         >>> from motionsig_cli import ConfigError, TrackerConfig
         >>> TrackerConfig(window=5, glr_threshold=20.0).glr("glr").threshold
         20.0

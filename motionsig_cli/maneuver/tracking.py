@@ -63,12 +63,12 @@ class TrackResult:
 
     @property
     def position(self) -> np.ndarray:
-        """([B,] K, 2) estimated positions [x, y] [m]."""
+        """([B,] K, 2) estimated positions (x, y) [m]."""
         return self.state[..., [0, 2]]
 
     @property
     def velocity(self) -> np.ndarray:
-        """([B,] K, 2) estimated velocities [ẋ, ẏ] [m/s]."""
+        """([B,] K, 2) estimated velocities (ẋ, ẏ) [m/s]."""
         return self.state[..., [1, 3]]
 
 
@@ -154,7 +154,7 @@ def track_positions(
 
     Args:
         times: (N,) increasing measurement times [s].
-        positions: (N, 2) measured [x, y] [m] of one track, or (B, N, 2) of B tracks at the same times
+        positions: (N, 2) measured positions (x, y) [m] of one track, or (B, N, 2) of B tracks at the same times
             (their first two measured rows must be the same rows).
         sigma: measurement noise σ per axis [m]: one number (R = σ² I, eq 8), or (N,) one per row
             (R_k = σ_k² I). Give either ``sigma`` or ``cov``.
@@ -171,7 +171,7 @@ def track_positions(
         ConfigError: a bad argument, naming it (``times``, ``positions``, ``sigma``, ``cov``, ``method``,
             ``T``).
 
-    Example:
+    Examples:
         A target moving at 10 m/s east, measured every second without noise (σ = 1 m assumed):
 
         >>> import numpy as np

@@ -168,7 +168,7 @@ class ModelSet:
         mu0: (r,) model probabilities at the initialisation scan.
         names: one label per model.
 
-    Example:
+    Examples:
         Two scalar random-walk models of different noise, switching with probability 0.1:
 
         >>> import numpy as np
@@ -237,9 +237,10 @@ def imm_models(
         T: scan period [s].
         g2: ``paper-fixed`` (default) or ``standard`` form of G₂ = G₃.
         q: acceleration-increment variances (q₁, q₂, q₃); model j's noise is q_j G_j G_jᵀ.
-        Pi, mu0: transition matrix and initial model probabilities.
+        Pi: transition matrix, Pi[i, j] = P(model j at k | model i at k − 1).
+        mu0: initial model probabilities.
 
-    Example:
+    Examples:
         >>> from motionsig_cli import imm_models
         >>> ms = imm_models(2.0)  # T = 2 s, the paper's Q_j, Π and μ0
         >>> ms.r, ms.n, ms.names
@@ -270,12 +271,16 @@ def two_point_init(
     entry; fixed) and a zero acceleration block. ``n = 4`` gives the same for the state [x, ẋ, y, ẏ].
 
     Args:
-        z1, z2: (..., 2) measurements of scans 1 and 2.
+        z1: (..., 2) measurements of scan 1 [m].
+        z2: (..., 2) measurements of scan 2 [m].
+        T: scan period [s].
+        sigma: measurement noise σ per axis [m].
+        n: state dimension, 6 (the IMM's) or 4.
 
     Returns:
         x (..., n) and P (n, n).
 
-    Example:
+    Examples:
         >>> from motionsig_cli import two_point_init
         >>> x, P = two_point_init([0.0, 0.0], [10.0, 5.0], T=2.0, sigma=3.0, n=4)
         >>> x.tolist()  # [x, ẋ, y, ẏ]

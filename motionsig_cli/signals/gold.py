@@ -123,7 +123,7 @@ def preferred_pairs(n: int) -> list[tuple[int, int]]:
     15 400 pairs, well under a second). The polynomials are ``int`` bit masks; ``oct`` shows them in the
     command line's octal notation.
 
-    Example:
+    Examples:
         >>> from motionsig_cli import preferred_pairs
         >>> pairs = preferred_pairs(5)
         >>> len(pairs), (0o45, 0o75) in pairs  # the pair of the mode-signature paper's Table I
@@ -180,7 +180,7 @@ def gold_code(
     Returns:
         ``uint8`` bits of length 2ⁿ − 1.
 
-    Example:
+    Examples:
         Mode 1 of Table I of the mode-signature paper is member 9 at offset 8 of the pair 45, 75 (octal):
 
         >>> from motionsig_cli import gold_code
@@ -221,7 +221,7 @@ def gold_family(
     exponents), an ``int`` as the bit mask (``0o45``; the decimal ``45`` is another polynomial and is
     refused as not primitive or not preferred). ``verify=False`` skips the preferred-pair test.
 
-    Example:
+    Examples:
         >>> from motionsig_cli import gold_family
         >>> idx, codes = gold_family("45", "75")
         >>> codes.shape, idx[:3].tolist()

@@ -82,7 +82,7 @@ def m_sequence(poly: int | str, state: Sequence[int] | str | None = None, shift:
     Returns:
         ``uint8`` array of 0/1 of length 2ⁿ − 1.
 
-    Example:
+    Examples:
         >>> from motionsig_cli import m_sequence
         >>> m_sequence("45")[:10].tolist()  # x^5 + x^2 + 1, state 00001
         [1, 0, 0, 0, 0, 1, 0, 0, 1, 0]
