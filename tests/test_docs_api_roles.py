@@ -98,4 +98,6 @@ def test_built_api_page_has_no_raw_roles_and_links_documented_targets(tmp_path: 
     text = re.sub(r"<[^>]+>", "", html)
     assert not RAW_ROLE.search(text), RAW_ROLE.findall(text)[:5]
     # a role whose target the page documents is a link to it (gold_family's docstring names gold_code)
-    assert re.search(r'<a class="autorefs autorefs-internal"[^>]*href="#motionsig_cli\.signals\.gold\.gold_code"', html)
+    assert re.search(
+        r'<a class="autorefs autorefs-internal"[^>]*href="#motionsig_cli\.signals\.gold\.gold_code"', html
+    )
