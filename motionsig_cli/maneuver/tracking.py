@@ -47,6 +47,14 @@ class TrackResult:
         u_jump: ([B,] K, 2) the estimated input jump û at a declaration [m/s²] (0 elsewhere), else None.
         stat: ([B,] K) the detection statistic max_n ΔJ(n) (GLR, eq 5 corrected) or max_n J(n) (MLR, eq 6),
             −inf before any onset can be tested, else None.
+
+    Examples:
+        >>> import numpy as np
+        >>> from motionsig_cli import track_positions
+        >>> t = np.arange(10.0)
+        >>> res = track_positions(t, np.stack([5.0 * t, -2.0 * t], axis=1), 1.0, method="glr")
+        >>> res.method, res.state.shape, res.detected.shape, res.mu is None
+        ('glr', (8, 6), (8,), True)
     """
 
     method: str
