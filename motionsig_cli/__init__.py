@@ -46,6 +46,9 @@ _PUBLIC: dict[str, str] = {
     "lmp_detect": "motionsig_cli.detection.lmp",
     "lmp_detect_radar": "motionsig_cli.detection.lmp",
     "lmp_detect_fft": "motionsig_cli.detection.lmp_fft",
+    "ModeDetection": "motionsig_cli.modesig.array_record",
+    "detect_mode": "motionsig_cli.modesig.array_record",
+    "detect_mode_radar": "motionsig_cli.modesig.array_record",
     # filters and tests
     "imm_filter": "motionsig_cli.filters.imm",
     "ModelSet": "motionsig_cli.models.motion",
