@@ -59,6 +59,9 @@ _PUBLIC: dict[str, str] = {
     "TrackerConfig": "motionsig_cli.maneuver.study",
     "TrackResult": "motionsig_cli.maneuver.tracking",
     "track_positions": "motionsig_cli.maneuver.tracking",
+    # multilateration
+    "EpochFix": "motionsig_cli.atc10.epoch_fix",
+    "solve_epoch": "motionsig_cli.atc10.epoch_fix",
     # records, Monte Carlo, errors
     "read_record": "motionsig_cli.records",
     "RecordSpec": "motionsig_cli.records",
