@@ -59,6 +59,11 @@ _PUBLIC: dict[str, str] = {
     "TrackerConfig": "motionsig_cli.maneuver.study",
     "TrackResult": "motionsig_cli.maneuver.tracking",
     "track_positions": "motionsig_cli.maneuver.tracking",
+    # track existence (SLRT)
+    "Sensor": "motionsig_cli.existence.detection_scoring",
+    "ExistenceScores": "motionsig_cli.existence.detection_scoring",
+    "score_detections": "motionsig_cli.existence.detection_scoring",
+    "SlrtRecordConfig": "motionsig_cli.existence.slrt_record",
     # multilateration
     "EpochFix": "motionsig_cli.atc10.epoch_fix",
     "solve_epoch": "motionsig_cli.atc10.epoch_fix",
