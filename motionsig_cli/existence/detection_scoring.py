@@ -79,7 +79,7 @@ class ExistenceScores:
         log_lr: method -> (R, K) log likelihood ratio of existence of each of the R tracks after each scan.
         decision: method -> (R,) Wald's decision: +1 confirmed, −1 deleted, 0 undecided.
         decision_time: method -> (R,) the time of the decision [s] (NaN: undecided).
-        start: (R, 4) each track's initial state [x, ẋ, y, ẏ] [m, m/s].
+        start: (R, 4) each track's initial state (x, ẋ, y, ẏ) [m, m/s].
         thresholds: Wald's (log A, log B).
 
     Examples:
