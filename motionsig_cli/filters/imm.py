@@ -140,7 +140,7 @@ def imm_filter(
     z = np.asarray(z, dtype=float)
     if z.ndim == 2:  # one record (N, m): run it as a batch of one and drop the batch axis
         one = imm_filter(
-            z[None], H, R if np.ndim(R) < 4 else np.asarray(R)[None], models, x0, P0, keep_P=keep_P
+            z[None], H, np.asarray(R)[None] if np.ndim(R) == 3 else R, models, x0, P0, keep_P=keep_P
         )
         return IMMTrack(one.x[0], None if one.P is None else one.P[0], one.log_mu[0], one.loglik[0])
     if z.ndim != 3:

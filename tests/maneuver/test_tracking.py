@@ -101,3 +101,12 @@ def test_imm_filter_takes_one_record_and_a_scalar_R() -> None:
     ref = imm_filter(z[None, 2:], H_POS6, 2500.0 * np.eye(2), imm_models(1.0), x0[None], P0)
     assert one.x.shape == (8, 6) and one.P is not None and one.P.shape == (8, 6, 6)
     assert np.array_equal(one.x, ref.x[0]) and np.array_equal(one.log_mu, ref.log_mu[0])
+
+
+def test_imm_filter_takes_one_record_with_per_scan_R() -> None:
+    z = _track()[1][:10]
+    x0, P0 = two_point_init(z[0], z[1], 1.0, 50.0)
+    R = np.broadcast_to(2500.0 * np.eye(2), (8, 2, 2))
+    one = imm_filter(z[2:], H_POS6, R, imm_models(1.0), x0, P0)
+    ref = imm_filter(z[None, 2:], H_POS6, R[None], imm_models(1.0), x0[None], P0)
+    assert np.array_equal(one.x, ref.x[0])
