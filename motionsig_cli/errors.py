@@ -9,4 +9,10 @@ from __future__ import annotations
 
 
 class InputError(Exception):
-    """Bad input data (a file, a line, a column): reported as one line, exit code 2."""
+    """Bad input data (a file, a line, a column): reported as one line, exit code 2.
+
+    Examples:
+        >>> from motionsig_cli import InputError
+        >>> str(InputError("track.csv:3: column 'x': 'abc' is not a number"))
+        "track.csv:3: column 'x': 'abc' is not a number"
+    """
