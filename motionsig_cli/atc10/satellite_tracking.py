@@ -251,6 +251,35 @@ class Orbit:
         return default_rsat_km(Convention(self.convention)) if self.rsat_km is None else self.rsat_km
 
 
+def _check_aircraft(aircraft: Sequence[float]) -> None:
+    """Refuses an aircraft that is not (latitude [deg], longitude [deg], altitude [km]) within the bounds."""
+    if len(aircraft) != 3:
+        raise ConfigError("aircraft", tuple(aircraft), "is not (latitude, longitude, altitude km)")
+    in_range("aircraft", aircraft[0], -90.0, 90.0, unit="degrees (latitude)")
+    in_range("aircraft", aircraft[1], -MAX_LON_DEG, MAX_LON_DEG, unit="degrees (longitude)")
+    in_range("aircraft", aircraft[2], MIN_ALT_KM, MAX_ALT_KM, unit="km (altitude)")
+
+
+def _checked_fix_set(triplet: Sequence[int], labels: Sequence[str], K: int, noun: str) -> tuple[str, ...]:
+    """Checks the fixing triplet (three distinct 0-based indices below K) and the K labels of the
+    ``noun``s (satellites or receivers); returns the labels, "1" … "K" where none are given."""
+    t = tuple(triplet)
+    if len(t) != 3 or len(set(t)) != 3 or not all(isinstance(i, int | np.integer) and 0 <= i < K for i in t):
+        raise ConfigError(
+            "triplet",
+            ",".join(str(i + 1) for i in t),
+            f"is not three distinct {noun} numbers in 1..{K}",
+        )
+    if not labels:
+        return tuple(str(i + 1) for i in range(K))
+    if len(labels) != K:
+        raise ConfigError("labels", len(labels), f"labels for {K} {noun}s")
+    for v in labels:
+        if not v or labels.count(v) > 1:
+            raise ConfigError("labels", v, f"is not a distinct, non-empty {noun} label")
+    return labels
+
+
 @dataclass(frozen=True)
 class Constellation:
     """Sub-satellite points, orbit radius and aircraft (a snapshot geometry: our assumption, the satellites
@@ -288,31 +317,9 @@ class Constellation:
             in_range("lat_deg", lat, -90.0, 90.0, unit="degrees")
         for lon in self.lon_deg:
             in_range("lon_deg", lon, -MAX_LON_DEG, MAX_LON_DEG, unit="degrees")
-        if len(self.aircraft) != 3:
-            raise ConfigError("aircraft", tuple(self.aircraft), "is not (latitude, longitude, altitude km)")
-        in_range("aircraft", self.aircraft[0], -90.0, 90.0, unit="degrees (latitude)")
-        in_range("aircraft", self.aircraft[1], -MAX_LON_DEG, MAX_LON_DEG, unit="degrees (longitude)")
-        in_range("aircraft", self.aircraft[2], MIN_ALT_KM, MAX_ALT_KM, unit="km (altitude)")
+        _check_aircraft(self.aircraft)
         in_range("r_sat_km", self.r_sat_km, R_EARTH_KM + MAX_ALT_KM, MAX_RSAT_KM, lo_open=True, unit="km")
-        t = tuple(self.triplet)
-        if (
-            len(t) != 3
-            or len(set(t)) != 3
-            or not all(isinstance(i, int | np.integer) and 0 <= i < K for i in t)
-        ):
-            raise ConfigError(
-                "triplet",
-                ",".join(str(i + 1) for i in t),
-                f"is not three distinct satellite numbers in 1..{K}",
-            )
-        if self.labels:
-            if len(self.labels) != K:
-                raise ConfigError("labels", len(self.labels), f"labels for {K} satellites")
-            for v in self.labels:
-                if not v or self.labels.count(v) > 1:
-                    raise ConfigError("labels", v, "is not a distinct, non-empty satellite label")
-        else:
-            object.__setattr__(self, "labels", tuple(str(i + 1) for i in range(K)))
+        object.__setattr__(self, "labels", _checked_fix_set(self.triplet, self.labels, K, "satellite"))
 
     @property
     def K(self) -> int:
@@ -457,30 +464,8 @@ class ReceiverGeometry:
         object.__setattr__(self, "times_s", t)
         if t.shape != (E,) or not np.all(np.isfinite(t)) or t[0] != 0.0 or np.any(np.diff(t) <= 0):
             raise ConfigError("times_s", tuple(t.shape), f"are not {E} increasing epoch times from 0 s")
-        if len(self.aircraft) != 3:
-            raise ConfigError("aircraft", tuple(self.aircraft), "is not (latitude, longitude, altitude km)")
-        in_range("aircraft", self.aircraft[0], -90.0, 90.0, unit="degrees (latitude)")
-        in_range("aircraft", self.aircraft[1], -MAX_LON_DEG, MAX_LON_DEG, unit="degrees (longitude)")
-        in_range("aircraft", self.aircraft[2], MIN_ALT_KM, MAX_ALT_KM, unit="km (altitude)")
-        trip = tuple(self.triplet)
-        if (
-            len(trip) != 3
-            or len(set(trip)) != 3
-            or not all(isinstance(i, int | np.integer) and 0 <= i < K for i in trip)
-        ):
-            raise ConfigError(
-                "triplet",
-                ",".join(str(i + 1) for i in trip),
-                f"is not three distinct receiver numbers in 1..{K}",
-            )
-        if self.labels:
-            if len(self.labels) != K:
-                raise ConfigError("labels", len(self.labels), f"labels for {K} receivers")
-            for v in self.labels:
-                if not v or self.labels.count(v) > 1:
-                    raise ConfigError("labels", v, "is not a distinct, non-empty receiver label")
-        else:
-            object.__setattr__(self, "labels", tuple(str(i + 1) for i in range(K)))
+        _check_aircraft(self.aircraft)
+        object.__setattr__(self, "labels", _checked_fix_set(self.triplet, self.labels, K, "receiver"))
         lines = np.asarray(self.lines, dtype=np.int64)
         object.__setattr__(
             self, "lines", lines if lines.shape == (E, K) else np.zeros((E, K), dtype=np.int64)
