@@ -37,6 +37,7 @@ from motionsig_cli.modesig.lmp1d import (
     MAX_NULL_TRIALS,
     NULL_OFFSET,
     Codes,
+    DetectionRate,
     check_horizons,
     check_values,
     roc_curve,
@@ -65,7 +66,7 @@ class Outcomes:
 
 
 @dataclass(frozen=True)
-class RocCell:
+class RocCell(DetectionRate):
     """P_D at the threshold for ``pfa`` of one detector, amplitude and horizon."""
 
     detector: str
@@ -80,14 +81,6 @@ class RocCell:
     trials: int
     diff: float  # P_D(this) − P_D(other detector), same records
     se_diff: float  # its paired standard error
-
-    @property
-    def pd(self) -> float:
-        return self.detections / self.trials
-
-    @property
-    def pd_se(self) -> float:
-        return math.sqrt(self.pd * (1 - self.pd) / self.trials)
 
 
 @dataclass(frozen=True, eq=False)

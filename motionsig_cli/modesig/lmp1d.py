@@ -603,8 +603,23 @@ class LmpMonteCarlo(CorrectCurves["LmpJob", "MCCell"]):
 NULL_OFFSET = 1 << 40
 
 
+class DetectionRate:
+    """P_D = detections / trials of a cell and its binomial standard error √(P_D (1 − P_D) / trials)."""
+
+    detections: int
+    trials: int
+
+    @property
+    def pd(self) -> float:
+        return self.detections / self.trials
+
+    @property
+    def pd_se(self) -> float:
+        return math.sqrt(self.pd * (1 - self.pd) / self.trials)
+
+
 @dataclass(frozen=True)
-class CalibrationCell:
+class CalibrationCell(DetectionRate):
     """Threshold for a false-alarm probability and the detection probability at it, one (f_r, R, horizon).
 
     ``threshold`` is the order statistic of the null maxima λ* = max_c Λ(c) (no signature) that leaves
@@ -621,14 +636,6 @@ class CalibrationCell:
     trials: int
     detections: int  # signature trials with λ* > threshold
     detections_correct: int  # … and (i, τ) right
-
-    @property
-    def pd(self) -> float:
-        return self.detections / self.trials
-
-    @property
-    def pd_se(self) -> float:
-        return math.sqrt(self.pd * (1 - self.pd) / self.trials)
 
 
 def calibration_null_trials(pfa: float, null_trials: int | None) -> int | None:
