@@ -25,7 +25,7 @@ draws.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any, ClassVar
@@ -280,8 +280,45 @@ def _checked_fix_set(triplet: Sequence[int], labels: Sequence[str], K: int, noun
     return labels
 
 
+def _nearly_singular(
+    directions: Callable[[Sequence[int] | None], np.ndarray],
+    subsets: Sequence[tuple[str, Sequence[int] | None]],
+) -> list[str]:
+    """A warning for each labelled subset (None: all) whose direction matrix U has cond(U) > COND_WARN."""
+    out = []
+    for label, subset in subsets:
+        m = metrics(directions(subset))
+        if float(m.cond) > COND_WARN:
+            out.append(f"{label} are nearly singular (cond(U) = {float(m.cond):.3g}, tr = {float(m.tr):.3g})")
+    return out
+
+
+class _FixGeometry:
+    """What a constellation of satellites and a table of receivers both check: the horizon, the fix by all,
+    the fix by the outage triplet (each raises :class:`GeometryError`), then the warnings."""
+
+    def check_horizon(self) -> None:
+        raise NotImplementedError
+
+    def check_all(self) -> None:
+        raise NotImplementedError
+
+    def check_triplet(self) -> None:
+        raise NotImplementedError
+
+    def warnings(self) -> list[str]:
+        raise NotImplementedError
+
+    def check(self) -> list[str]:
+        """Observability errors (:class:`GeometryError`, raised) and warnings (returned)."""
+        self.check_horizon()
+        self.check_all()
+        self.check_triplet()
+        return self.warnings()
+
+
 @dataclass(frozen=True)
-class Constellation:
+class Constellation(_FixGeometry):
     """Sub-satellite points, orbit radius and aircraft (a snapshot geometry: our assumption, the satellites
     do not move during a run).
 
@@ -369,20 +406,8 @@ class Constellation:
         if wide:
             shown = ", ".join(wide[:5]) + (f" and {len(wide) - 5} more" if len(wide) > 5 else "")
             out.append(f"satellite(s) {shown} outside the {CONE_DEG:g} deg cone")
-        for label, subset in (("all satellites", None), ("the outage satellites", self.triplet)):
-            m = metrics(self.directions(subset))
-            if float(m.cond) > COND_WARN:
-                out.append(
-                    f"{label} are nearly singular (cond(U) = {float(m.cond):.3g}, tr = {float(m.tr):.3g})"
-                )
-        return out
-
-    def check(self) -> list[str]:
-        """Observability errors (:class:`GeometryError`, raised) and visibility warnings (returned)."""
-        self.check_horizon()
-        self.check_all()
-        self.check_triplet()
-        return self.warnings()
+        subsets = (("all satellites", None), ("the outage satellites", self.triplet))
+        return out + _nearly_singular(self.directions, subsets)
 
 
 def line_of_sight_blocked(receivers_m: np.ndarray, point_m: np.ndarray) -> np.ndarray:
@@ -404,7 +429,7 @@ def line_of_sight_blocked(receivers_m: np.ndarray, point_m: np.ndarray) -> np.nd
 
 
 @dataclass(frozen=True, eq=False)
-class ReceiverGeometry:
+class ReceiverGeometry(_FixGeometry):
     """Receivers at Earth-centred positions — ground stations, satellites, or both — and an aircraft on the
     WGS-84 ellipsoid: a user's receivers table (:func:`motionsig_cli.atc10.receivers.read_receivers`)
     in ECEF or WGS-84 geodetic form. (The report's form, sub-satellite points on one orbit radius about a
@@ -564,24 +589,10 @@ class ReceiverGeometry:
     def warnings(self) -> list[str]:
         """Legal but noteworthy geometry: nearly singular subsets (the report's 45° cone is a satellite
         visibility rule, not applied to a user's receivers)."""
-        out = []
-        trip = self.triplet if self.present[0, list(self.triplet)].all() else None
-        for label, subset in (("all receivers", None), ("the outage receivers", trip)):
-            if label != "all receivers" and subset is None:
-                continue
-            m = metrics(self.directions(subset))
-            if float(m.cond) > COND_WARN:
-                out.append(
-                    f"{label} are nearly singular (cond(U) = {float(m.cond):.3g}, tr = {float(m.tr):.3g})"
-                )
-        return out
-
-    def check(self) -> list[str]:
-        """Observability errors (:class:`GeometryError`, raised) and warnings (returned)."""
-        self.check_horizon()
-        self.check_all()
-        self.check_triplet()
-        return self.warnings()
+        subsets: list[tuple[str, Sequence[int] | None]] = [("all receivers", None)]
+        if self.present[0, list(self.triplet)].all():
+            subsets.append(("the outage receivers", self.triplet))
+        return _nearly_singular(self.directions, subsets)
 
     def track_m(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions (T, K, 3) [m] and presence (T, K) at ``times_s`` (within the table's epochs):
