@@ -38,6 +38,7 @@ from motionsig_cli.modesig.lmp1d import (
     NULL_OFFSET,
     Codes,
     DetectionRate,
+    JobHorizons,
     check_horizons,
     check_values,
     roc_curve,
@@ -84,7 +85,7 @@ class RocCell(DetectionRate):
 
 
 @dataclass(frozen=True, eq=False)
-class BaselineRocJob:
+class BaselineRocJob(JobHorizons):
     """P_D at equal P_FA of the LMP detector and the estimate-then-correlate baseline, per (a_sig, horizon).
 
     Attributes:
@@ -165,14 +166,6 @@ class BaselineRocJob:
     @property
     def chips(self) -> np.ndarray:
         return table1_chips(self.codes)
-
-    @property
-    def n_samples(self) -> int:
-        return round(max(self.horizons_s) / self.vehicle.T)
-
-    @property
-    def horizon_samples(self) -> list[int]:
-        return [round(h / self.vehicle.T) for h in self.horizons_s]
 
     def cost(self) -> tuple[float, float]:
         """(fixed, per trial) seconds of a task (2 cores, measured): the 1-D LMP bank's Riccati recursion and
