@@ -149,6 +149,26 @@ class EBPSKConfig:
                     f"puts a filter frequency at {f:g} Hz, outside (0, fs/2 = {nyq:g}) Hz",
                 )
 
+    def waveform_meta(self) -> dict[str, float]:
+        """The waveform's settings as metadata: N, K, theta, f_if, fs, f_carrier."""
+        return {
+            "N": self.N,
+            "K": self.K,
+            "theta": self.theta,
+            "f_if": self.f_if,
+            "fs": self.fs,
+            "f_carrier": self.f_carrier,
+        }
+
+    def filter_meta(self) -> dict[str, float]:
+        """The impacting filter's settings as metadata: filter_zero_radius, …, filter_pole_offset."""
+        return {
+            "filter_zero_radius": self.zero_radius,
+            "filter_zero_offset": self.zero_offset,
+            "filter_pole_radius": self.pole_radius,
+            "filter_pole_offset": self.pole_offset,
+        }
+
     @property
     def samples_per_cycle(self) -> float:
         """fs / f_if (10 for Table I)."""
