@@ -151,23 +151,12 @@ class EBPSKConfig:
 
     def waveform_meta(self) -> dict[str, float]:
         """The waveform's settings as metadata: N, K, theta, f_if, fs, f_carrier."""
-        return {
-            "N": self.N,
-            "K": self.K,
-            "theta": self.theta,
-            "f_if": self.f_if,
-            "fs": self.fs,
-            "f_carrier": self.f_carrier,
-        }
+        return {name: getattr(self, name) for name in ("N", "K", "theta", "f_if", "fs", "f_carrier")}
 
     def filter_meta(self) -> dict[str, float]:
         """The impacting filter's settings as metadata: filter_zero_radius, …, filter_pole_offset."""
-        return {
-            "filter_zero_radius": self.zero_radius,
-            "filter_zero_offset": self.zero_offset,
-            "filter_pole_radius": self.pole_radius,
-            "filter_pole_offset": self.pole_offset,
-        }
+        names = ("zero_radius", "zero_offset", "pole_radius", "pole_offset")
+        return {f"filter_{name}": getattr(self, name) for name in names}
 
     @property
     def samples_per_cycle(self) -> float:
