@@ -115,3 +115,16 @@ def test_maneuver_reads_file_stdin_and_the_old_input_option(capsys, tmp_path, mo
 def test_maneuver_help_shows_file_not_the_deprecated_option(capsys):
     rc, out, _ = run(capsys, "maneuver", "--help")
     assert rc == 0 and "FILE" in out and "-i, --input" not in out
+
+
+def test_slrt_reads_file_and_the_old_input_option(capsys, tmp_path):
+    dets, sensors = tmp_path / "dets.csv", tmp_path / "sensors.csv"
+    for view, path in (("detections", dets), ("sensors", sensors)):
+        rc, _, err = run(capsys, "slrt", "--view", view, "--runs", "1", "--scans", "8", "-o", str(path), "-q")
+        assert rc == 0, err
+    rc, by_file, err = run(capsys, "slrt", str(dets), "--sensor-table", str(sensors), "-q")
+    assert rc == 0, err
+    rc, by_option, err = run(capsys, "slrt", "--input", str(dets), "--sensor-table", str(sensors), "-q")
+    assert rc == 0 and by_option == by_file, err
+    err = one_line_error(capsys, "slrt", str(dets), "-i", str(dets), "--sensor-table", str(sensors))
+    assert "--input" in err and "not both" in err
