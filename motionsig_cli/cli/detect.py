@@ -734,12 +734,7 @@ def _montecarlo(
         )
     job = LmpJob(LMPConfig(**lmp), frs, Rs, hs, trials, seed, signature, method, **model)
     mc = common.run_job(job, engine, "Monte Carlo trials", output.quiet)
-    if output.plot is not None:
-        from motionsig_cli.plotting import montecarlo_figure
-
-        output.figure(montecarlo_figure(*mc.figure_data()))
-    output.emit(mc.table())
-    output.note(mc.summary())
+    output.result(mc, "montecarlo_figure")
 
 
 def _calibrate(
@@ -761,9 +756,4 @@ def _calibrate(
     if job.warning:
         output.note(job.warning)
     cal = common.run_job(job, engine, "Calibration trials (null + signature)", output.quiet)
-    if output.plot is not None:
-        from motionsig_cli.plotting import calibration_roc_figure
-
-        output.figure(calibration_roc_figure(*cal.figure_data()))
-    output.emit(cal.table())
-    output.note(cal.summary())
+    output.result(cal, "calibration_roc_figure")

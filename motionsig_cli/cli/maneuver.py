@@ -448,8 +448,7 @@ def _track_record(
             "compares Monte Carlo runs; with --input, --plot draws the record's tracks",
             param_hint="--plot-compare",
         )
-    if output.out is not None and path != "-" and Path(path).resolve() == output.out.resolve():
-        raise typer.BadParameter("is the --input file", param_hint="--out")
+    output.refuse_input(path, "the --input file")
     s: float | str | None = None
     if sigma is not None and sigma.strip().lower() == "estimate":
         s = "estimate"

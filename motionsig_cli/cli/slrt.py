@@ -485,10 +485,8 @@ def _score_record(
         raise typer.BadParameter(
             "is needed with --input (the sensors of the detections)", param_hint="--sensor-table"
         )
-    if output.out is not None:
-        for option, p in (("--input", None if path == "-" else Path(path)), ("--sensor-table", sensors)):
-            if p is not None and p.resolve() == output.out.resolve():
-                raise typer.BadParameter(f"is the {option} file", param_hint="--out")
+    output.refuse_input(path, "the --input file")
+    output.refuse_input(sensors, "the --sensor-table file")
     cfg = rec.SlrtRecordConfig(
         q=q, T=T, meas=meas.value.replace("-", "_") if _given("meas") else None,
         init=None if init is None else tuple(common.checked("--init", common.float_list, init, what="x,vx,y,vy")),

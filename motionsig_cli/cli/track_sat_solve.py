@@ -227,12 +227,7 @@ def solve(
 
     output.check()
     system, input_units = _units(units)
-    if (
-        output.out is not None
-        and measurements != "-"
-        and Path(measurements).resolve() == output.out.resolve()
-    ):
-        raise typer.BadParameter("is the measurement record", param_hint="--out")
+    output.refuse_input(measurements, "the measurement record")
     cfg = solver.config(system)
     meas = ts.read_measurements(
         measurements,
