@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
@@ -30,7 +29,7 @@ from motionsig_cli.cli.common import (
     progress_bar,  # by name: a test replaces detect.progress_bar
 )
 from motionsig_cli.cli.option_groups import options
-from motionsig_cli.cli.simulate import CODES_HELP, DbConvention, FdOpt, FeedbackOpt
+from motionsig_cli.cli.vehicle_options import vehicle_options
 
 if TYPE_CHECKING:
     from motionsig_cli.engine import Engine
@@ -96,122 +95,6 @@ UnitsOpt = Annotated[
         "--units",
         help="Record: units of its columns, role=unit,... (e.g. y=km, bearing=deg, time=ms); default the "
         "header's [unit], the metadata's, else m, rad, s.",
-    ),
-]
-_REC = "default the record's metadata, else"
-_MC = "--montecarlo/--calibrate: the simulated vehicle's and the filters'"
-TOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--T",
-        help=f"Sample interval [s]. A record: {_REC} estimated from the time column; {_MC}, default 0.05 "
-        "(assumed). The records' length is horizon / T samples.",
-    ),
-]
-MrhoOpt = Annotated[
-    int | None,
-    typer.Option(
-        "--mrho", help=f"Samples per chip (a record: {_REC} 20; --montecarlo/--calibrate: 20; assumed)."
-    ),
-]
-KOpt = Annotated[
-    str | None,
-    typer.Option(
-        "--K",
-        help="Feedback gain k1,k2 the filters assume (--montecarlo/--calibrate: the simulated vehicle's too); "
-        f"a record: {_REC} pole placement; default pole placement at T.",
-    ),
-]
-WnOpt = Annotated[
-    float | None,
-    typer.Option("--pole-wn", help="Pole placement for K at T, natural frequency [rad/s] (default 4 pi)."),
-]
-ZetaOpt = Annotated[
-    float | None,
-    typer.Option("--pole-zeta", help="Pole placement for K at T, damping ratio (default 0.7)."),
-]
-ROpt = Annotated[
-    float | None,
-    typer.Option("--R", help=f"1d record: measurement-noise variance [m^2] the filters assume; {_REC} 1e-5."),
-]
-AnrDbOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--anr-db", help="1d record: the ANR a_sig^2/(2R) in dB instead of --R (true decibels unless "
-        "--db-convention paper-ln).",
-    ),
-]  # fmt: skip
-DbConventionOpt = Annotated[
-    DbConvention,
-    typer.Option("--db-convention", help="How --anr-db is read: log10 (true decibels) or paper-ln (10*ln)."),
-]
-FcOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--fc",
-        help=f"The signature's carrier frequency f_c [Hz], the default carrier grid; a record: {_REC} 1; "
-        "--montecarlo/--calibrate: 1.",
-    ),
-]
-ASigOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--a-sig",
-        help=f"Signature amplitude (a record: for --anr-db, --anr-pair; {_REC} 0.5; --montecarlo/"
-        "--calibrate: the simulated signature's, 0.5).",
-    ),
-]
-CodesOpt = Annotated[
-    str | None,
-    typer.Option(
-        "--codes",
-        help=f"Record: {CODES_HELP[0].lower()}{CODES_HELP[1:]} Default the record's metadata, else "
-        "corrected.",
-    ),
-]
-RRangeOpt = Annotated[
-    float | None,
-    typer.Option("--R-range", help=f"2d record: range-noise variance [m^2]; {_REC} Fig 7 pair 4."),
-]
-RBearingOpt = Annotated[
-    float | None,
-    typer.Option("--R-bearing", help=f"2d record: bearing-noise variance [rad^2]; {_REC} Fig 7 pair 4."),
-]
-AnrPairOpt = Annotated[
-    int | None,
-    typer.Option(
-        "--anr-pair", help="2d record: both noise variances from Fig 7's (angle, range) ANR pair 1-4."
-    ),
-]
-_TRUTH = (
-    "The true vehicle's (--montecarlo/--calibrate: the simulated one's; a record: for the null records of "
-    "--pfa, and for --Ar known, which the filters assume it for)"
-)
-ARefOpt = Annotated[
-    float | None,
-    typer.Option("--a-r", help=f"{_TRUTH} nominal reference amplitude; a record: {_REC} 10; default 10."),
-]
-FrOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--f-r",
-        help="A record: the true vehicle's nominal reference frequency [Hz] (for the null records of --pfa, "
-        f"and for --Ar known, which the filters assume it for); {_REC} 0.01. --montecarlo/--calibrate: "
-        "--fr-list.",
-    ),
-]
-SigmaAOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--sigma-a", help=f"{_TRUTH} white-acceleration noise [m/s^2]; a record: {_REC} 0.01; default 0.01 "
-        "(assumed).",
-    ),
-]  # fmt: skip
-StartOpt = Annotated[
-    str | None,
-    typer.Option(
-        "--start",
-        help=f"2d record: the filters' initial position x,y [m]; {_REC} the first measured position.",
     ),
 ]
 CrOpt = Annotated[
@@ -379,39 +262,22 @@ NullTrialsOpt = Annotated[
 ]
 
 
-@dataclass(frozen=True)
-class RecordModel:
-    """The record's columns and the model the filters assume (None: the record's metadata, else simulate's
-    default); the 1d --montecarlo and --calibrate take the model options of :data:`MODEL_OPTIONS` too."""
+def _by_field(self: Any) -> dict[str, Any]:
+    """The options by the field of :data:`RECORD_OPTIONS` they set."""
+    values = dataclasses.asdict(self)
+    values["feedback"] = None if self.feedback is None else self.feedback.value
+    return {key: values[_PARAMETER.get(key, key)] for key in RECORD_OPTIONS.values()}
 
-    columns: ColumnsOpt = None
-    units: UnitsOpt = None
-    T: TOpt = None
-    mrho: MrhoOpt = None
-    K: KOpt = None
-    pole_wn: WnOpt = None
-    pole_zeta: ZetaOpt = None
-    R: ROpt = None
-    anr_db: AnrDbOpt = None
-    db_convention: DbConventionOpt = DbConvention.log10
-    fc: FcOpt = None
-    a_sig: ASigOpt = None
-    codes: CodesOpt = None
-    R_range: RRangeOpt = None
-    R_bearing: RBearingOpt = None
-    anr_pair: AnrPairOpt = None
-    start: StartOpt = None
-    a_r: ARefOpt = None
-    f_r: FrOpt = None
-    sigma_a: SigmaAOpt = None
-    f_d: FdOpt = None
-    feedback: FeedbackOpt = None
 
-    def by_field(self) -> dict[str, Any]:
-        """The options by the field of :data:`RECORD_OPTIONS` they set."""
-        values = dataclasses.asdict(self)
-        values["feedback"] = None if self.feedback is None else self.feedback.value
-        return {key: values[_PARAMETER.get(key, key)] for key in RECORD_OPTIONS.values()}
+RecordModel = vehicle_options(
+    "detect", "RecordModel", before=(("columns", ColumnsOpt, None), ("units", UnitsOpt, None)),
+    namespace={"by_field": _by_field},
+)  # fmt: skip
+"""The record's columns and the model the filters assume (None: the record's metadata, else simulate's
+default; :data:`~motionsig_cli.cli.vehicle_options.VEHICLE_OPTIONS`); the 1d --montecarlo and --calibrate
+take the model options of :data:`MODEL_OPTIONS` too."""
+NO_MODEL_OPTIONS = RecordModel()
+"""The group with no option given (the signature's placeholder: :func:`options` splices in the fields)."""
 
 
 _PARAMETER = {"m_rho": "mrho", "wn": "pole_wn", "zeta": "pole_zeta", "f_c": "fc"}
@@ -455,7 +321,7 @@ def detect(
     pfa: PfaOpt = None,
     null_trials: NullTrialsOpt = None,
     detector: DetectorOpt = Detector.lmp,
-    model: RecordModel = RecordModel(),
+    model: RecordModel = NO_MODEL_OPTIONS,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     *,
     output: Output,

@@ -8,13 +8,14 @@ and writes the table of :func:`motionsig_cli.modesig.vehicle_record.simulate_rec
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import TYPE_CHECKING, Annotated
 
 import typer
 
 from motionsig_cli.cli import common
 from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, SeedOpt, choices, command
+from motionsig_cli.cli.option_groups import options
+from motionsig_cli.cli.vehicle_options import vehicle_options
 
 if TYPE_CHECKING:
     from motionsig_cli.tables import Table
@@ -22,18 +23,6 @@ if TYPE_CHECKING:
 Example = choices("Example", "Which example of the mode-signature paper.", one_d="1d", two_d="2d")
 SigAxes = choices(
     "SigAxes", "Axes of the 2-D vehicle whose reference carries the signature.", "both", "x", "y"
-)
-Feedback = choices(
-    "Feedback",
-    "What the vehicle's controller feeds back (eq 5).",
-    "true",
-    "estimate",
-)
-DbConvention = choices(
-    "DbConvention",
-    "How an ANR (signature-amplitude-to-noise ratio) given in dB is read.",
-    "log10",
-    "paper-ln",
 )
 
 
@@ -53,85 +42,10 @@ TauChipsOpt = Annotated[
     int | None, typer.Option("--tau-chips", help="Code phase in chips (tau = chips * m_rho).")
 ]
 ThetaOpt = Annotated[str, typer.Option("--theta", help="Carrier phase [rad] or 'random' (from --seed).")]
-ASigOpt = Annotated[float, typer.Option("--a-sig", help="Signature amplitude a_sig (the paper: 0.5).")]
-AROpt = Annotated[float, typer.Option("--a-r", help="Nominal reference amplitude (the paper: 10).")]
-FROpt = Annotated[
-    float, typer.Option("--f-r", help="Nominal reference frequency [Hz] (the paper: 0.01, 0.1, 1).")
-]
-FcOpt = Annotated[float, typer.Option("--fc", help="Carrier frequency f_c [Hz].")]
-FdOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--f-d",
-        help="Carrier offset f_d [Hz] of the received signature (eq 3: cos(2 pi (f_c + f_d) t + theta)); "
-        "default 0, as in the paper. The detector does not assume it: search it with --fc-grid or --fd-grid.",
-    ),
-]
-FeedbackOpt = Annotated[
-    Feedback | None,
-    typer.Option(
-        "--feedback",
-        help="1d: the controller on the true state (true, eq 44; the default) or on the vehicle's own "
-        "estimate (estimate, eq 5: a Kalman filter of its own position sensor, noise R, assumed).",
-    ),
-]
-TOpt = Annotated[
-    float, typer.Option("--T", help="Sample interval [s] (assumed; the paper does not state it).")
-]
-MrhoOpt = Annotated[
-    int, typer.Option("--mrho", help="Samples per chip (assumed; the paper does not state it).")
-]
-KOpt = Annotated[str | None, typer.Option("--K", help="Feedback gain k1,k2; default pole placement.")]
-WnOpt = Annotated[float, typer.Option("--pole-wn", help="Pole-placement natural frequency [rad/s].")]
-ZetaOpt = Annotated[float, typer.Option("--pole-zeta", help="Pole-placement damping ratio.")]
-SigmaAOpt = Annotated[
-    float,
-    typer.Option(
-        "--sigma-a", help="True white-acceleration noise [m/s^2] (assumed; the paper does not state it)."
-    ),
-]
-ROpt = Annotated[float | None, typer.Option("--R", help="1d: measurement-noise variance (default 1e-5).")]
-RRangeOpt = Annotated[float | None, typer.Option("--R-range", help="2d: range-noise variance [m^2].")]
-RBearingOpt = Annotated[float | None, typer.Option("--R-bearing", help="2d: bearing-noise variance [rad^2].")]
-AnrPairOpt = Annotated[
-    int | None,
-    typer.Option(
-        "--anr-pair",
-        help="2d: Fig 7's (angle, range) ANR pair 1-4, in paper dB (10*ln) (9.2, 37.1) ... (101.3, 129.2); "
-        "default 4.",
-    ),
-]
-StartOpt = Annotated[
-    str, typer.Option("--start", help="2d: initial position x,y [m] (the paper: 70,-20); zero velocity.")
-]
 SigAxesOpt = Annotated[
     SigAxes, typer.Option("--sig-axes", help="2d: axes whose reference carries the signature.")
 ]
-AnrDbOpt = Annotated[
-    float | None,
-    typer.Option(
-        "--anr-db",
-        help="ANR (signature-amplitude-to-noise ratio a_sig^2/(2R)) in dB instead of --R; "
-        "true decibels unless --db-convention paper-ln.",
-    ),
-]
-DbConventionOpt = Annotated[
-    DbConvention,
-    typer.Option(
-        "--db-convention",
-        help="How --anr-db is read: log10, true decibels 10*log10(ANR); "
-        "paper-ln, the paper's labels 10*ln(ANR) (48.3 is R = 1e-3 at a_sig 0.5).",
-    ),
-]
 DurationOpt = Annotated[float, typer.Option("--duration", help="Record length [s].")]
-CODES_HELP = (
-    "The mode codes (mode i = code i): corrected or printed (Table I); gold:P1,P2 (the Gold family of a "
-    "preferred pair, octal as encode gold takes it, in encode gold --all order), gold:P1,P2:K (its first K "
-    "members) or gold:P1,P2:0,3,7 (members by --index; a-b ranges, u, v, k@a with start offset a); "
-    "mseq:P[,P...] (m-sequences); gps:1-3,7 (GPS C/A PRNs); or a code table file (code,chip,value as "
-    "encode writes it)."
-)
-CodesOpt = Annotated[str, typer.Option("--codes", help=CODES_HELP)]
 NoSignatureOpt = Annotated[bool, typer.Option("--no-signature", help="Simulate H0 (no signature).")]
 ZdotOpt = Annotated[
     str,
@@ -142,37 +56,23 @@ ZdotOpt = Annotated[
 
 OPTIONS = {"m_rho": "--mrho", "f_c": "--fc", "wn": "--pole-wn", "zeta": "--pole-zeta", "anr_db": "--anr-db"}
 DEFAULT_START = "70,-20"
+VehicleOptions = vehicle_options("simulate", "VehicleOptions")
+"""The true vehicle's model options (:data:`~motionsig_cli.cli.vehicle_options.VEHICLE_OPTIONS`)."""
+PAPER_VEHICLE = VehicleOptions()
+"""The options' defaults (the signature's placeholder: :func:`options` splices in the fields)."""
 
 
 @command(options=OPTIONS)
+@options(model=VehicleOptions)
 def simulate(
     example: ExampleOpt = Example.one_d,
     mode: ModeOpt = None,
     tau: TauOpt = None,
     tau_chips: TauChipsOpt = None,
     theta: ThetaOpt = "random",
-    a_sig: ASigOpt = 0.5,
-    a_r: AROpt = 10.0,
-    f_r: FROpt = 0.01,
-    fc: FcOpt = 1.0,
-    f_d: FdOpt = None,
-    feedback: FeedbackOpt = None,
-    T: TOpt = 0.05,
-    mrho: MrhoOpt = 20,
-    K: KOpt = None,
-    pole_wn: WnOpt = 4 * math.pi,
-    pole_zeta: ZetaOpt = 0.7,
-    sigma_a: SigmaAOpt = 0.01,
-    R: ROpt = None,
-    R_range: RRangeOpt = None,
-    R_bearing: RBearingOpt = None,
-    anr_pair: AnrPairOpt = None,
-    start: StartOpt = DEFAULT_START,
+    model: VehicleOptions = PAPER_VEHICLE,
     sig_axes: SigAxesOpt = SigAxes.both,
-    anr_db: AnrDbOpt = None,
-    db_convention: DbConventionOpt = DbConvention.log10,
     duration: DurationOpt = 80.0,
-    codes: CodesOpt = "corrected",
     no_signature: NoSignatureOpt = False,
     zdot: ZdotOpt = "analytic",
     seed: SeedOpt = DEFAULT_SEED_VALUE,
@@ -194,34 +94,39 @@ def simulate(
       motionsig simulate --feedback estimate --R 1e-3
     """
     output.check()
+    m = model
     two_d = example is Example.two_d
     if two_d:
         _only_for(
             "--example 1d; use --R-range/--R-bearing or --anr-pair",
-            {"--R": R, "--anr-db": anr_db, "--f-d": f_d, "--feedback": feedback},
+            {"--R": m.R, "--anr-db": m.anr_db, "--f-d": m.f_d, "--feedback": m.feedback},
         )
     else:
-        planar = None if start == DEFAULT_START and sig_axes is SigAxes.both else start
-        only_2d = {"--R-range": R_range, "--R-bearing": R_bearing, "--anr-pair": anr_pair}
+        planar = None if m.start == DEFAULT_START and sig_axes is SigAxes.both else m.start
+        only_2d = {"--R-range": m.R_range, "--R-bearing": m.R_bearing, "--anr-pair": m.anr_pair}
         _only_for("--example 2d only", {**only_2d, "--start/--sig-axes": planar})
     from motionsig_cli.models.vehicle import Vehicle1D, measurement_variance, pole_placement_gain
     from motionsig_cli.models.vehicle2d import Vehicle2D, radar_noise
     from motionsig_cli.modesig.vehicle_record import RecordConfig, simulate_record
 
-    gains = pole_placement_gain(T, pole_wn, pole_zeta) if K is None else _numbers("--K", K, "gain")
-    loop = dict(T=T, K=gains, a_sig=a_sig, a_r=a_r, f_r=f_r, sigma_a=sigma_a)
+    gains = pole_placement_gain(m.T, m.pole_wn, m.pole_zeta) if m.K is None else _numbers("--K", m.K, "gain")
+    loop = dict(T=m.T, K=gains, a_sig=m.a_sig, a_r=m.a_r, f_r=m.f_r, sigma_a=m.sigma_a)
     pair = None
     if two_d:
-        R_range, R_bearing, pair = radar_noise(anr_pair, R_range, R_bearing, a_sig)
-        xy = _numbers("--start", start, "coordinate")
+        R_range, R_bearing, pair = radar_noise(m.anr_pair, m.R_range, m.R_bearing, m.a_sig)
+        xy = _numbers("--start", m.start, "coordinate")
         vehicle = Vehicle2D(**loop, R_range=R_range, R_bearing=R_bearing, start=xy, sig_axes=sig_axes.value)
     else:
-        extra = dict(f_d=0.0 if f_d is None else f_d, feedback="true" if feedback is None else feedback.value)
-        vehicle = Vehicle1D(**loop, R=measurement_variance(R, anr_db, db_convention.value, a_sig), **extra)
+        extra = dict(
+            f_d=0.0 if m.f_d is None else m.f_d, feedback="true" if m.feedback is None else m.feedback.value
+        )
+        vehicle = Vehicle1D(
+            **loop, R=measurement_variance(m.R, m.anr_db, m.db_convention.value, m.a_sig), **extra
+        )
     theta_value = None if theta.strip().lower() == "random" else common.checked("--theta", float, theta)
     cfg = RecordConfig(
-        vehicle, mode=mode, tau=tau, tau_chips=tau_chips, theta=theta_value, f_c=fc, m_rho=mrho,
-        duration=duration, codes=codes, signature=not no_signature, zdot=zdot, seed=seed, anr_pair=pair,
+        vehicle, mode=mode, tau=tau, tau_chips=tau_chips, theta=theta_value, f_c=m.fc, m_rho=m.mrho,
+        duration=duration, codes=m.codes, signature=not no_signature, zdot=zdot, seed=seed, anr_pair=pair,
     )  # fmt: skip
     rec = simulate_record(cfg)
     if output.plot is not None:
@@ -232,7 +137,8 @@ def simulate(
             if rec.two_d
             else response_figure(rec.t, rec.x[:, 0], rec.r[:, 0], rec.combined_reference, rec.y)
         )
-    output.emit(rec.table if anr_db is None else _with_convention(rec.table, anr_db, db_convention.value))
+    table = rec.table if m.anr_db is None else _with_convention(rec.table, m.anr_db, m.db_convention.value)
+    output.emit(table)
     output.note(rec.summary)
 
 
