@@ -506,20 +506,18 @@ def run_job(
     number of trials of each finished task.
 
     Examples:
-        >>> from dataclasses import dataclass
-        >>> from motionsig_cli import MonteCarloJob, run_job, trial_rng
-        >>> @dataclass(frozen=True)
-        ... class Coins:  # a MonteCarloJob: 10 coin flips in tasks of 4, counting heads
-        ...     name = "coins"
-        ...     trials: int = 10
-        ...     seed: int = 0
-        ...     def identity(self): return {"trials": self.trials, "seed": self.seed}
-        ...     def tasks(self): return [range(i, min(i + 4, self.trials)) for i in range(0, self.trials, 4)]
-        ...     def task_size(self, task): return len(task)
-        ...     def run_task(self, task): return sum(int(trial_rng(self.seed, t).integers(2)) for t in task)
-        ...     def reduce(self, tasks, results): return sum(results)
-        >>> job: MonteCarloJob[int] = Coins()
-        >>> run_job(job) == sum(int(trial_rng(0, t).integers(2)) for t in range(10))  # however it is chunked
+        Govaers' SLRT study of three runs (a job of the ``existence`` system), in this process; the result
+        does not depend on the engine, since trial t draws from its own seed child:
+
+        >>> from motionsig_cli import Engine, run_job
+        >>> from motionsig_cli.existence.slrt import SlrtScenario, SlrtStudy
+        >>> job = SlrtStudy(SlrtScenario(), pd=(0.9,), no_target=False, runs=3).job()
+        >>> done = []
+        >>> first = run_job(job, Engine(workers=1), progress=done.append)
+        >>> sum(done)  # trials, counted as their tasks finish
+        3
+        >>> again = run_job(job)
+        >>> all((a[k] == b[k]).all() for a, b in zip(first, again) for k in a)  # log LR per method
         True
     """
     tasks = list(job.tasks())

@@ -190,14 +190,7 @@ def gold_code(
         >>> bool((code == gold_code(0o45, 0o75, 9, 8)).all())
         True
     """
-    poly1, poly2 = _polys(poly1, poly2)
-    if verify:
-        require_preferred(poly1, poly2)
-    else:
-        _same_degree(poly1, poly2)
-    u = m_sequence(poly1, state1)
-    v = m_sequence(poly2, state2)
-    return _member(u, v, index, shift)
+    return _member(*_pair_sequences(poly1, poly2, state1, state2, verify), index, shift)
 
 
 def _member(u: np.ndarray, v: np.ndarray, index: int, shift: int) -> np.ndarray:
@@ -229,12 +222,24 @@ def gold_family(
         >>> bool((gold_family(0o45, 0o75)[1] == codes).all())
         True
     """
+    return _family(*_pair_sequences(poly1, poly2, state1, state2, verify))
+
+
+def _pair_sequences(
+    poly1: int | str,
+    poly2: int | str,
+    state1: str | tuple[int, ...] | None,
+    state2: str | tuple[int, ...] | None,
+    verify: bool,
+) -> tuple[np.ndarray, np.ndarray]:
+    """The m-sequences u, v of a pair of polynomials (text read as octal), checked as a preferred pair
+    unless ``verify`` is False (then only of one degree)."""
     poly1, poly2 = _polys(poly1, poly2)
     if verify:
         require_preferred(poly1, poly2)
     else:
         _same_degree(poly1, poly2)
-    return _family(m_sequence(poly1, state1), m_sequence(poly2, state2))
+    return m_sequence(poly1, state1), m_sequence(poly2, state2)
 
 
 def _family(u: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
