@@ -6,10 +6,10 @@
 #
 # | system | function | command |
 # |---|---|---|
-# | manoeuvre trackers (IMM, GLR, MLR, CV) | `track_positions` | `motionsig maneuver --input` |
+# | manoeuvre trackers (IMM, GLR, MLR, CV) | `track_positions` | `motionsig maneuver FILE` |
 # | LMP mode detector | `detect_mode`, `detect_mode_radar` | `motionsig detect RECORD` |
 # | multilateration | `solve_epoch` | `motionsig track-sat solve` |
-# | track existence (SLRT) | `score_detections` | `motionsig slrt --input` |
+# | track existence (SLRT) | `score_detections` | `motionsig slrt FILE` |
 #
 # Each runs here on one record made in this notebook, and a numerical check follows each result. The whole
 # page runs in seconds.

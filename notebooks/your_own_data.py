@@ -151,7 +151,7 @@ assert all(v[2:4] == ("2", "70") and v[6] == "true" for v in verdicts if v[0] ==
 assert [v[6] for v in verdicts if v[0] == "quiet.csv"][-1] == "false"
 
 # %% [markdown]
-# ## 2. A manoeuvring target: `maneuver --input`
+# ## 2. A manoeuvring target: `maneuver FILE`
 #
 # A radar's track export: one row per scan with a time stamp, east and north positions in kilometres, and
 # a blank where the plot was missed. The target flies at 150 m/s for 200 s and then accelerates at 20 m/s²
@@ -221,7 +221,7 @@ for name in ("glr", "mlr"):
 assert abs(m["sigma"] / SIGMA - 1) < 3 * 0.056, m["sigma"]
 
 # %% [markdown]
-# ## 3. Is there a target? `slrt --input` on three radars' detections
+# ## 3. Is there a target? `slrt FILE` on three radars' detections
 #
 # Three radars report detections (range in metres, bearing in degrees, counter-clockwise from east), with
 # clutter, each with its own noise, detection probability and false-alarm rate. The sensors file says so;
