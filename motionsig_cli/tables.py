@@ -330,7 +330,7 @@ def _lines(stream: io.BufferedReader, name: str) -> Any:
             text = raw.decode("utf-8")
         except UnicodeDecodeError as exc:
             raise InputError(
-                f"{name}:{lineno + 1}:{len(raw[: exc.start].decode('utf-8')) + 1}: not UTF-8 text "
+                f"{name}:{lineno + 1}:{len(raw[: exc.start].decode('utf-8')) + 1}: not a UTF-8 text file "
                 f"(byte {raw[exc.start]:#04x})"
             ) from None
         pieces = _CR_LINES.findall(text) if "\r" in text.rstrip("\r\n") else (text,)
@@ -396,28 +396,29 @@ def read_table(
 
 def _read_stream(stream: io.BufferedReader, name: str, max_rows: int) -> Table:
     """CSV (line by line) or JSON from an open binary stream."""
-    first = ""
-    head: list[tuple[int, str]] = []
-    lines = _lines(stream, name)
-    for lineno, line in lines:
-        head.append((lineno, line))
-        if line.strip():
-            first = line.lstrip()[:1]
-            break
-    if first in "{[" and first:
-        data = stream.read(MAX_JSON_BYTES + 1)
-        text = "".join(t for _, t in head)
-        if len(text) + len(data) > MAX_JSON_BYTES:
+    start = stream.peek(1 << 16)[: 1 << 16].removeprefix(b"\xef\xbb\xbf").lstrip()
+    if start[:1] in (b"{", b"["):  # JSON: read whole (bounded), as one text; a one-line document may be long
+        chunks: list[bytes] = []
+        total = 0
+        while total <= MAX_JSON_BYTES and (chunk := stream.read(1 << 20)):  # read(n) would allocate n at once
+            chunks.append(chunk)
+            total += len(chunk)
+        data = b"".join(chunks).removeprefix(b"\xef\xbb\xbf")
+        del chunks
+        if total > MAX_JSON_BYTES:
             raise InputError(
                 f"{name}: a JSON table larger than {MAX_JSON_BYTES} bytes (JSON is parsed whole; write "
                 "larger tables as CSV, which is read line by line)"
             )
         try:
-            rest = data.decode("utf-8")
+            text = data.decode("utf-8")
         except UnicodeDecodeError as exc:
-            at = len(head) + data.count(b"\n", 0, exc.start) + 1
-            raise InputError(f"{name}:{at}: not UTF-8 text (byte {data[exc.start]:#04x})") from None
-        return _read_json(text + rest, name, max_rows)
+            at = data.count(b"\n", 0, exc.start) + 1
+            raise InputError(f"{name}:{at}: not a UTF-8 text file (byte {data[exc.start]:#04x})") from None
+        del data
+        return _read_json(text, name, max_rows)
+    lines = _lines(stream, name)
+    head: list[tuple[int, str]] = []
     meta: dict[str, Any] = {}
     meta_lines: dict[str, int] = {}
     linenos: list[int] = []  # line of each non-comment line handed to the CSV parser
@@ -507,20 +508,6 @@ def _chain(head: list[tuple[int, str]], rest: Any) -> Any:
     yield from rest
 
 
-class _Number(str):
-    """A JSON number's text (data cells are kept as text, like CSV cells; metadata gets the number)."""
-
-    __slots__ = ()
-
-
-def _number(text: str) -> _Number:
-    if len(text) > MAX_CELL_CHARS:
-        raise ValueError(
-            f"a number of {len(text)} characters (at most {MAX_CELL_CHARS}): {shorten(text, 40)}"
-        )
-    return _Number(text)
-
-
 def _unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     out = dict(pairs)
     if len(out) != len(pairs):
@@ -530,23 +517,32 @@ def _unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     return out
 
 
-def _plain_numbers(value: Any) -> Any:
-    """Numbers kept as text (:class:`_Number`) back as int or float (for metadata)."""
-    if isinstance(value, _Number):
-        return float(value) if any(c in value for c in ".eE") else int(value)
-    if isinstance(value, list):
-        return [_plain_numbers(v) for v in value]
-    if isinstance(value, dict):
-        return {k: _plain_numbers(v) for k, v in value.items()}
-    return value
+_LONG_DIGITS = re.compile(rf"[0-9]{{{MAX_CELL_CHARS + 1},}}")
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
+
+
+def _long_number(text: str) -> int:
+    """The offset of the first number longer than :data:`MAX_CELL_CHARS` digits outside a string, or −1 (a
+    C-speed search; the strings are looked at only where it finds a long run of digits)."""
+    strings = _JSON_STRING.finditer(text)
+    s = None
+    for m in _LONG_DIGITS.finditer(text):
+        while s is None or s.end() <= m.start():  # the strings are scanned once, as far as the digits
+            if (s := next(strings, None)) is None:
+                return m.start()
+        if s.start() > m.start():
+            return m.start()
+    return -1
 
 
 def _loads(text: str) -> Any:
-    """JSON with limits: no repeated key, no number longer than :data:`MAX_CELL_CHARS`, no
-    nesting deeper than :data:`MAX_JSON_DEPTH` (``ValueError``; a syntax error is ``JSONDecodeError``)."""
+    """JSON with limits: no repeated key, no number longer than :data:`MAX_CELL_CHARS` digits, no nesting
+    deeper than :data:`MAX_JSON_DEPTH` (``ValueError``; a syntax error is ``JSONDecodeError``)."""
     if len(text) > 64 and _depth(text, 1 << 30)[0] > MAX_JSON_DEPTH:
         raise ValueError(f"nested deeper than {MAX_JSON_DEPTH} levels")
-    return _plain_numbers(json.loads(text, parse_int=_number, parse_float=_number, object_pairs_hook=_unique))
+    if _long_number(text) >= 0:
+        raise ValueError(f"a number of more than {MAX_CELL_CHARS} digits")
+    return json.loads(text, object_pairs_hook=_unique)
 
 
 _JSON_TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|[{}\[\]\n]')
@@ -599,8 +595,12 @@ def _read_json(text: str, name: str, max_rows: int) -> Table:
         raise InputError(
             f"{name}:{record_lines[-1]}: more than {max_rows} data records (the limit for this input)"
         )
+    if (at := _long_number(text)) >= 0:
+        raise InputError(
+            f"{name}:{text.count(chr(10), 0, at) + 1}: a number of more than {MAX_CELL_CHARS} digits"
+        )
     try:
-        raw = json.loads(text, parse_int=_number, parse_float=_number, object_pairs_hook=_unique)
+        raw = json.loads(text, object_pairs_hook=_unique)
     except (ValueError, RecursionError) as exc:
         raise _json_error(name, text, exc) from None
     doc = {"data": raw} if isinstance(raw, list) else raw  # a bare list of records (pandas: orient="records")
@@ -609,9 +609,8 @@ def _read_json(text: str, name: str, max_rows: int) -> Table:
             f'{name}: a JSON table is {{"meta": {{...}}, "columns": [...], "data": [{{...}}, ...]}} (as the commands '
             'write it) or a list of records [{"column": value, ...}, ...]'
         )
-    # the data's numbers stay their text (_Number), like CSV cells: a reader can then convert them exactly
-    data = doc["data"]
-    meta = _plain_numbers(doc.get("meta", {}))
+    data = doc["data"]  # its numbers become text, like CSV cells (repr: the same float back)
+    meta = doc.get("meta", {})
     if not isinstance(meta, dict):
         raise InputError(f'{name}: "meta" must be an object')
     if len(data) > max_rows:
@@ -644,6 +643,10 @@ def _json_cell(value: Any) -> Any:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
-    if isinstance(value, int | float | str):
-        return value  # a number's text (_Number) is a str
-    return json.dumps(_plain_numbers(value))
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value)  # the shortest text of the same float
+    if isinstance(value, str):
+        return value
+    return json.dumps(value)
