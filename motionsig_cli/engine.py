@@ -311,7 +311,14 @@ class Checkpoint:
     written, and a file is used only if it is a regular file of that size and digest, decodes, and holds
     the task's own description. Any other file is recomputed and counted (:attr:`rejected`, one warning);
     an entry that is not a regular file (a directory, a FIFO, a link) is refused by name, before any
-    work. Checkpoints of version 1 (pickled task files) are refused, never read.
+    work (the manifest, the index and the task files are never followed as symbolic links, and the index
+    is appended to only as a regular file). Checkpoints of version 1 (pickled task files) are refused,
+    never read.
+
+    What the digests do and do not promise: they catch a damaged file, a copied one, one edited alone;
+    the directory holds its own index, so whoever can rewrite both a task file and its index line can
+    still choose a task's numbers (as whoever writes an input file chooses its data). They can never run
+    code, read other files or exhaust memory.
     """
 
     def __init__(self, directory: Path, identity: Mapping[str, Any], tasks: Sequence[Any]) -> None:
@@ -378,7 +385,10 @@ class Checkpoint:
 
         try:
             data = read_regular(
-                path, limit=INDEX_LINE_BYTES * max(1, 4 * n) + (1 << 20), what="checkpoint index"
+                path,
+                limit=INDEX_LINE_BYTES * max(1, 4 * n) + (1 << 20),
+                what="checkpoint index",
+                follow=False,
             )
         except InputError as exc:
             raise EngineError("checkpoint", str(exc)) from None
@@ -459,8 +469,7 @@ class Checkpoint:
         line = json.dumps({"task": i, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()})
         try:
             _atomic_write(path, data)
-            with open(self.dir / TASK_INDEX, "a", encoding="ascii") as fh:
-                fh.write(line + "\n")
+            _append(self.dir / TASK_INDEX, (line + "\n").encode())
         except OSError as exc:
             raise EngineError("checkpoint", f"{path}: cannot write ({exc.strerror or exc})") from None
         self.index[i] = (len(data), hashlib.sha256(data).hexdigest())
@@ -475,12 +484,25 @@ class Checkpoint:
             )  # fmt: skip
 
 
+def _append(path: Path, data: bytes) -> None:
+    """Append ``data`` to the regular file ``path`` (created if absent); a symbolic link or a special file
+    there is refused, so that a crafted checkpoint cannot make the run write elsewhere or block."""
+    flags = os.O_WRONLY | os.O_APPEND | os.O_CREAT | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
+    fd = os.open(path, flags, 0o644)
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(f"{path.name} is not a regular file")
+        os.write(fd, data)
+    finally:
+        os.close(fd)
+
+
 def _read_manifest(path: Path) -> dict[str, Any]:
     """The manifest as a JSON object (a regular file of at most :data:`MAX_MANIFEST_BYTES`)."""
     from motionsig_cli.tables import read_regular
 
     try:
-        text = read_regular(path, limit=MAX_MANIFEST_BYTES, what="manifest").decode("utf-8")
+        text = read_regular(path, limit=MAX_MANIFEST_BYTES, what="manifest", follow=False).decode("utf-8")
         have = json.loads(text)
     except InputError as exc:
         raise EngineError("checkpoint", str(exc)) from None

@@ -597,6 +597,17 @@ def test_special_entries_in_a_checkpoint_are_refused_by_name(tmp_path):
     with pytest.raises(EngineError, match=r"task-0000000\.task is not a regular file"):
         run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
     (ck / "task-0000000.task").unlink()
+    outside = tmp_path / "outside.txt"
+    outside.write_text("mine\n")
+    index = ck / "tasks.jsonl"
+    kept = index.read_bytes()
+    index.unlink()
+    index.symlink_to(outside)  # the run must not append to a file outside the checkpoint
+    with pytest.raises(EngineError, match=r"tasks\.jsonl: is a symbolic link"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    assert outside.read_text() == "mine\n"
+    index.unlink()
+    index.write_bytes(kept)
     manifest = ck / "manifest.json"
     text = manifest.read_text()
     manifest.unlink()
