@@ -86,9 +86,6 @@ ORDERS = (None, "increasing", "non-decreasing")
 MAX_ABS_TIME_S = 1e12
 """Largest time accepted [s] (31,700 years, after unit conversion): a larger one is an absurd value, refused
 as a cell error before any arithmetic on it overflows."""
-MAX_ABS_NUMBER = 1e100
-"""Largest magnitude of a number in SI units: a larger one is refused as a cell error (its square would
-overflow)."""
 _HEADER_UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]$")
 
 
@@ -376,7 +373,6 @@ def read_record(
                 q = role.quantity
                 assert q is not None
                 arr = arr * UNITS[q][unit]
-            _check_magnitude(rec, role, cells, arr, MAX_ABS_NUMBER)
         elif role.kind == "integer":
             arr = _integers(rec, role, cells)
         else:
@@ -401,7 +397,7 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
             hits = [c for c in t.columns if c == want] or [c for c in t.columns if base[c] == want.lower()]
             if not hits:
                 raise InputError(
-                    f"{where}: no column {shorten(want)} for {spec.columns_option} {role.name}={shorten(want)} "
+                    f"{where}: no column {shorten(want)} for {spec.columns_option} {role.name}={want[:60]} "
                     f"(columns: {name_list(t.columns)})"
                 )
             found[role.name] = hits[0]
@@ -491,7 +487,7 @@ def _numbers(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
 
 
 def _check_magnitude(rec: Record, role: Role, cells: Sequence[Any], arr: np.ndarray, limit: float) -> None:
-    """Refuse the first value beyond ±``limit`` (SI) as a cell error."""
+    """Refuse the first time beyond ±``limit`` seconds as a cell error."""
     with np.errstate(invalid="ignore"):
         big = np.flatnonzero(np.abs(arr) > limit)
     if big.size:

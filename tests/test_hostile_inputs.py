@@ -167,7 +167,6 @@ def test_a_3e6_record_json_is_refused_in_bounded_memory(tmp_path):
         ("\u0661\u0662", r"r\.csv:4: column 'x': '١٢' is not a number"),  # Arabic-Indic digits
         ("\uff11\uff12", r"r\.csv:4: column 'x': '１２' is not a number"),  # full-width digits
         ("1" * 400, r"r\.csv:4: column 'x': '1111.*' is not a number"),
-        ("1e300", r"r\.csv:4: column 'x': value '1e300' is beyond"),
     ],
 )
 def test_only_ascii_decimal_numbers_are_numbers(tmp_path, cell, match):

@@ -407,7 +407,7 @@ BAD_FILES = [
     ("k.csv", "t,y\n" + _rows(40), ("--K", "1,2,3"), ("--K", "is not a list of two numbers")),
     ("both.csv", "t,y\n" + _rows(40), ("--pfa", "0.1", "--threshold", "1"), ("--pfa", "not both")),
     ("meta.csv", '# command: "simulate"\n# example: "1d"\n# T: 0.05\nt,y\n' + _rows(40), (), ("missing metadata 'm_rho'",)),
-    ("badmeta.csv", "# m_rho: 2.5\nt,y\n" + _rows(40), (), ("{f}: bad metadata: m_rho = 2.5 is not an integer",)),
+    ("badmeta.csv", "# m_rho: 2.5\nt,y\n" + _rows(40), (), ("{f}:1: bad metadata: m_rho = 2.5 is not an integer",)),
     ("example.csv", '# example: "3d"\nt,y\n' + _rows(40), (), ("{f}: unknown example '3d'",)),
 ]
 # fmt: on
