@@ -27,7 +27,6 @@ def test_core_imports_no_ui_or_plotting():
 
 # --- the house (scripts/architecture.py): folders, cycles, floors, thin commands -----------------------
 
-
 def _architecture():
     import importlib.util
 
