@@ -48,9 +48,27 @@ _PUBLIC: dict[str, str] = {
     "lmp_detect": "motionsig_cli.detection.lmp",
     "lmp_detect_radar": "motionsig_cli.detection.lmp",
     "lmp_detect_fft": "motionsig_cli.detection.lmp_fft",
+    "ModeDetection": "motionsig_cli.modesig.array_record",
+    "detect_mode": "motionsig_cli.modesig.array_record",
+    "detect_mode_radar": "motionsig_cli.modesig.array_record",
     # filters and tests
     "imm_filter": "motionsig_cli.filters.imm",
+    "ModelSet": "motionsig_cli.models.motion",
+    "imm_models": "motionsig_cli.models.motion",
+    "two_point_init": "motionsig_cli.models.motion",
     "wald_thresholds": "motionsig_cli.detection.sprt",
+    # the manoeuvre trackers on a track
+    "TrackerConfig": "motionsig_cli.maneuver.study",
+    "TrackResult": "motionsig_cli.maneuver.tracking",
+    "track_positions": "motionsig_cli.maneuver.tracking",
+    # track existence (SLRT)
+    "Sensor": "motionsig_cli.existence.detection_scoring",
+    "ExistenceScores": "motionsig_cli.existence.detection_scoring",
+    "score_detections": "motionsig_cli.existence.detection_scoring",
+    "SlrtRecordConfig": "motionsig_cli.existence.slrt_record",
+    # multilateration
+    "EpochFix": "motionsig_cli.atc10.epoch_fix",
+    "solve_epoch": "motionsig_cli.atc10.epoch_fix",
     # records, Monte Carlo, errors
     "read_record": "motionsig_cli.records",
     "RecordSpec": "motionsig_cli.records",

@@ -27,6 +27,12 @@ class ConfigError(ValueError):
         field: The field (dataclass attribute or function argument) that holds the bad value.
         value: The bad value.
         reason: What is wrong, without the field's name (``"is not in (0, 1]"``).
+
+    Examples:
+        >>> from motionsig_cli import ConfigError
+        >>> exc = ConfigError("sigma", -1.0, "is not > 0")
+        >>> str(exc), exc.field, exc.value, isinstance(exc, ValueError)
+        ('sigma = -1 is not > 0', 'sigma', -1.0, True)
     """
 
     def __init__(self, field: str, value: Any, reason: str) -> None:

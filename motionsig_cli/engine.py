@@ -128,6 +128,11 @@ class Engine:
             the address of a running Dask scheduler (``tcp://host:port`` or ``host:port``).
         checkpoint: Directory for finished task results (resume after an interruption).
         connect_timeout: Seconds to wait for a remote scheduler before giving up.
+
+    Examples:
+        >>> from motionsig_cli import Engine
+        >>> Engine().workers  # one: in this process
+        1
     """
 
     workers: int = 1
@@ -612,6 +617,23 @@ class MonteCarloJob(Protocol[R]):
     one chunk (it runs in a worker, so it may touch nothing but the job and the task);
     :meth:`reduce` joins the chunks' results, in task order, into the job's result. :func:`run_job`
     runs any job.
+
+    Examples:
+        >>> from dataclasses import dataclass
+        >>> from motionsig_cli import MonteCarloJob, run_job, trial_rng
+        >>> @dataclass(frozen=True)
+        ... class Coins:  # a MonteCarloJob: 10 coin flips in tasks of 4, counting heads
+        ...     name = "coins"
+        ...     trials: int = 10
+        ...     seed: int = 0
+        ...     def identity(self): return {"trials": self.trials, "seed": self.seed}
+        ...     def tasks(self): return [range(i, min(i + 4, self.trials)) for i in range(0, self.trials, 4)]
+        ...     def task_size(self, task): return len(task)
+        ...     def run_task(self, task): return sum(int(trial_rng(self.seed, t).integers(2)) for t in task)
+        ...     def reduce(self, tasks, results): return sum(results)
+        >>> job: MonteCarloJob[int] = Coins()
+        >>> run_job(job) == sum(int(trial_rng(0, t).integers(2)) for t in range(10))  # however it is chunked
+        True
     """
 
     name: str
@@ -642,7 +664,25 @@ def run_job(
 ) -> R:
     """Run ``job`` on ``engine`` (default: in this process): :meth:`~MonteCarloJob.run_task` over its
     tasks with :func:`run_tasks`, then :meth:`~MonteCarloJob.reduce`. ``progress`` is called with the
-    number of trials of each finished task."""
+    number of trials of each finished task.
+
+    Examples:
+        >>> from dataclasses import dataclass
+        >>> from motionsig_cli import MonteCarloJob, run_job, trial_rng
+        >>> @dataclass(frozen=True)
+        ... class Coins:  # a MonteCarloJob: 10 coin flips in tasks of 4, counting heads
+        ...     name = "coins"
+        ...     trials: int = 10
+        ...     seed: int = 0
+        ...     def identity(self): return {"trials": self.trials, "seed": self.seed}
+        ...     def tasks(self): return [range(i, min(i + 4, self.trials)) for i in range(0, self.trials, 4)]
+        ...     def task_size(self, task): return len(task)
+        ...     def run_task(self, task): return sum(int(trial_rng(self.seed, t).integers(2)) for t in task)
+        ...     def reduce(self, tasks, results): return sum(results)
+        >>> job: MonteCarloJob[int] = Coins()
+        >>> run_job(job) == sum(int(trial_rng(0, t).integers(2)) for t in range(10))  # however it is chunked
+        True
+    """
     tasks = list(job.tasks())
     results = run_tasks(
         job.run_task,

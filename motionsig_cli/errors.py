@@ -17,11 +17,15 @@ class InputError(Exception):
 
     A message longer than :data:`MAX_MESSAGE_CHARS` is cut there (readers also summarise long lists
     themselves, e.g. a header of 100,000 column names).
+
+    Examples:
+        >>> from motionsig_cli import InputError
+        >>> str(InputError("track.csv:3: column 'x': 'abc' is not a number"))
+        "track.csv:3: column 'x': 'abc' is not a number"
     """
 
     def __init__(self, message: object = "", *args: object) -> None:
-        if isinstance(message, str):
-            if len(message) > MAX_MESSAGE_CHARS:
-                cut = len(message) - MAX_MESSAGE_CHARS + 40
-                message = f"{message[: MAX_MESSAGE_CHARS - 40]}… ({cut} more characters)"
+        if isinstance(message, str) and len(message) > MAX_MESSAGE_CHARS:
+            cut = len(message) - MAX_MESSAGE_CHARS + 40
+            message = f"{message[: MAX_MESSAGE_CHARS - 40]}… ({cut} more characters)"
         super().__init__(message, *args)

@@ -107,6 +107,11 @@ class Role:
 
     Raises:
         ConfigError: naming the first bad field.
+
+    Examples:
+        >>> from motionsig_cli import Role
+        >>> Role("y", ("position", "z"), quantity="length", missing=True).aliases
+        ('position', 'z')
     """
 
     name: str
@@ -156,6 +161,12 @@ class RecordSpec:
         what: What a record is, for messages (``"record"``, ``"detections"``…).
         hint: A hint appended to "missing column" errors.
         columns_option: The option that maps this record's columns (named in errors).
+
+    Examples:
+        >>> from motionsig_cli import RecordSpec, Role
+        >>> spec = RecordSpec((Role("time", ("t",), kind="time"), Role("x", quantity="length")), max_rows=1000)
+        >>> [r.name for r in spec.roles]
+        ['time', 'x']
     """
 
     roles: tuple[Role, ...]
@@ -336,6 +347,14 @@ def read_record(
         ConfigError: a bad ``columns`` or ``units`` text (naming that field).
         InputError: a missing or ambiguous column, a bad cell, an unknown unit, a time that repeats or
             goes backwards, too many rows: ``file:line: column 'name': …``.
+
+    Examples:
+        >>> from motionsig_cli import RecordSpec, Role, read_record
+        >>> from motionsig_cli.tables import Table
+        >>> spec = RecordSpec((Role("time", ("t",), kind="time"), Role("x", quantity="length")))
+        >>> rec = read_record(Table(columns=("t", "x [km]"), rows=[(0.0, 1.5), (1.0, 2.0)]), spec)
+        >>> rec["x"].tolist()  # converted to metres
+        [1500.0, 2000.0]
     """
     colmap = parse_columns(columns, spec)
     unitmap = parse_units(units, spec)

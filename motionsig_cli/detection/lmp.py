@@ -162,6 +162,16 @@ class LMPConfig:
         q_model: How Q0 and Q_a are read: ``"per-step"`` (the default: covariances of one step, eqs 56–57)
             or ``"continuous"`` (continuous-time densities, [unit²/s], discretised over T by Van Loan's
             method for the model's F: :func:`discretised_noise`).
+
+    Examples:
+        >>> from motionsig_cli import ConfigError, LMPConfig
+        >>> LMPConfig().c_r
+        100.0
+        >>> try:
+        ...     LMPConfig(c_r=0.0)
+        ... except ConfigError as exc:
+        ...     print(exc.field, exc.value)
+        c_r 0.0
     """
 
     c_r: float = 100.0
@@ -362,6 +372,17 @@ class LMPResult:
         Lambda: eq (52) statistic, (C, B, H).
         repairs: Sigma-point banks only: (state, innovation) covariance repairs (see
             :mod:`motionsig_cli.filters.unscented`); (0, 0) for Kalman banks.
+
+    Examples:
+        See :func:`lmp_detect` for how one is made:
+
+        >>> import numpy as np
+        >>> from motionsig_cli import LMPConfig, LMPResult, Vehicle1D, lmp_detect, parse_codes
+        >>> codes = parse_codes("corrected")
+        >>> y = np.zeros(200)
+        >>> res = lmp_detect(y, codes.chips, Vehicle1D(), 2, LMPConfig(), [100, 200])
+        >>> isinstance(res, LMPResult), res.Lambda.shape[1:], res.horizons.tolist()
+        (True, (1, 2), [100, 200])
     """
 
     candidates: Candidates
@@ -438,6 +459,16 @@ def lmp_detect(
             :func:`~motionsig_cli.filters.kalman.innovation_costs`); None: all at once.
         reference: ``A_r="known"`` only: the known nominal reference [r_k, ṙ_k], (N, 2) or per record
             (B, N, 2) (:func:`known_input_removed`); None: the vehicle's.
+
+    Examples:
+        The statistic of every candidate (mode, code phase) on one 1-D record of the vehicle at rest:
+
+        >>> import numpy as np
+        >>> from motionsig_cli import LMPConfig, Vehicle1D, lmp_detect, parse_codes
+        >>> chips = parse_codes("corrected").chips  # Table I, 3 modes x 31 chips
+        >>> res = lmp_detect(np.zeros(200), chips, Vehicle1D(), 2, LMPConfig(), horizons=[200])
+        >>> res.Lambda.shape  # (candidates: 3 modes x 31 code phases, records, horizons)
+        (93, 1, 1)
     """
     if filter == "ukf":
         return _lmp_detect_ukf_1d(
@@ -569,6 +600,11 @@ class RadarLMPConfig:
         tau_grid, fc_grid, include_logdet, zdot: As in :class:`LMPConfig`.
         sigma: Scaled unscented-transform parameters (α, β, κ) (assumed: 1, 2, 0; the paper does not
             state them); they must suit both the 8-state and the 10-state filters.
+
+    Examples:
+        >>> from motionsig_cli import RadarLMPConfig
+        >>> len(RadarLMPConfig().Q0), len(RadarLMPConfig().Q1)  # the 8- and 10-state models, eqs (61)-(62)
+        (8, 10)
     """
 
     c_r: float = 100.0
@@ -645,6 +681,16 @@ def lmp_detect_radar(
         m_rho: Samples per chip.  cfg: Detector settings.  horizons: Horizons in samples.
         progress: Called with the time steps done by the H1 bank (2C of the 2C + 1 filters), per block of
             steps; they add up to the record length.
+
+    Examples:
+        >>> import numpy as np
+        >>> from motionsig_cli import RadarLMPConfig, Vehicle2D, lmp_detect_radar, parse_codes
+        >>> chips = parse_codes("corrected").chips
+        >>> v = Vehicle2D()
+        >>> y = np.tile([np.hypot(*v.start), np.arctan2(v.start[1], v.start[0])], (40, 1))  # range, bearing
+        >>> res = lmp_detect_radar(y, chips, v, 2, RadarLMPConfig(), horizons=[40])
+        >>> res.Lambda.shape
+        (93, 1, 1)
     """
     y = np.asarray(y, dtype=float)
     if y.ndim == 2:

@@ -199,6 +199,20 @@ def lmp_detect_fft(
     Same inputs (``reference``: the known reference of ``A_r="known"``, as for
     :func:`motionsig_cli.detection.lmp.lmp_detect`) and result layout as
     :func:`~motionsig_cli.detection.lmp.lmp_detect`; J_cos and J_sin are J_{H0} − ½ b²/(1/P0 + A) of (★).
+
+    Examples:
+        The FFT path gives the filter bank's result layout (its steady-state filter makes the values close to
+        the bank's, not equal; constant amplitude, Q_a = 0):
+
+        >>> import numpy as np
+        >>> from motionsig_cli import LMPConfig, Vehicle1D, lmp_detect, lmp_detect_fft, parse_codes
+        >>> chips = parse_codes("corrected").chips
+        >>> y = 1e-3 * np.random.default_rng(0).standard_normal(310)
+        >>> cfg = LMPConfig(Q_a=0.0)
+        >>> bank = lmp_detect(y, chips, Vehicle1D(), 2, cfg, [310])
+        >>> fft = lmp_detect_fft(y, chips, Vehicle1D(), 2, cfg, [310])
+        >>> fft.Lambda.shape == bank.Lambda.shape == (93, 1, 1)
+        True
     """
     y, hz = _checked_inputs(y, horizons, cfg, vehicle, reference)
     B, N = y.shape

@@ -26,6 +26,13 @@ def wald_thresholds(alpha: float, beta: float) -> tuple[float, float]:
     Wald's bounds only need α + β < 1 (then log A < log B); an error probability of one half or more is
     no test at all, so each is checked in the open interval (0, 0.5) (:class:`~motionsig_cli.config.
     ConfigError` naming ``alpha`` or ``beta``).
+
+    Examples:
+        >>> import math
+        >>> from motionsig_cli import wald_thresholds
+        >>> log_a, log_b = wald_thresholds(0.01, 0.01)
+        >>> round(log_a, 4), round(log_b, 4), math.isclose(log_b, math.log(0.99 / 0.01))
+        (-4.5951, 4.5951, True)
     """
     in_range("alpha", alpha, 0.0, 0.5, lo_open=True, hi_open=True)
     in_range("beta", beta, 0.0, 0.5, lo_open=True, hi_open=True)

@@ -192,6 +192,17 @@ class SlrtRecordConfig:
             :class:`~motionsig_cli.detection.track_existence.FusionOptions` (checked there).
         alpha, beta: Wald's error probabilities, in (0, 0.5) (also the naive rule's local tests').
         stop: freeze each track's score at its decision.
+
+    Examples:
+        >>> from motionsig_cli import ConfigError, SlrtRecordConfig
+        >>> log_a, log_b = SlrtRecordConfig(alpha=0.01, beta=0.1).thresholds  # Wald's bounds
+        >>> round(log_a, 4), round(log_b, 4)  # log(β/(1 − α)), log((1 − β)/α)
+        (-2.2925, 4.4998)
+        >>> try:
+        ...     SlrtRecordConfig(q=-1.0)
+        ... except ConfigError as exc:
+        ...     print(exc.field, exc.value)
+        q -1.0
     """
 
     q: float = 10.0

@@ -109,10 +109,12 @@ def imm_filter(
     """Run the IMM over measurement records.
 
     Args:
-        z: (B, N, m) measurements of the scans to process (the first is the scan after initialisation); a NaN
-            (in any component) makes that run's scan a missed scan, a predict-only step (module docstring).
-        H: (m, n) measurement matrix; R: (m, m) measurement noise covariance, or (B, N, m, m): one per run and
-            scan (symmetric positive definite where measured; ignored, and may be NaN, at a missed scan).
+        z: (B, N, m) measurements of the scans to process (the first is the scan after initialisation), or
+            (N, m) one record (the outputs then have no batch axis); a NaN (in any component) makes that run's
+            scan a missed scan, a predict-only step (module docstring).
+        H: (m, n) measurement matrix; R: a number r (R = r I), an (m, m) measurement noise covariance, or
+            (B, N, m, m) (one record: (N, m, m)): one per run and scan (symmetric positive definite where
+            measured; ignored, and may be NaN, at a missed scan).
         models: the r models, transition matrix and initial probabilities (μ at the initialisation scan).
         x0: (B, n) or (n,) initial estimate, shared by every model-conditioned filter (§IV).
         P0: (n, n) or (B, n, n) initial covariance.
@@ -120,12 +122,33 @@ def imm_filter(
 
     Returns:
         The combined estimates, model probabilities and likelihoods of every scan.
+
+    Examples:
+        The paper's three models (§IV) on a straight track, σ = 10 m, initialised on its first two scans:
+
+        >>> import numpy as np
+        >>> from motionsig_cli import imm_filter, imm_models, two_point_init
+        >>> from motionsig_cli.models.motion import H_POS6
+        >>> z = np.stack([100.0 * np.arange(30), np.zeros(30)], axis=1)  # 100 m/s east, T = 1 s
+        >>> x0, P0 = two_point_init(z[0], z[1], T=1.0, sigma=10.0)
+        >>> tr = imm_filter(z[2:], H_POS6, 10.0**2, imm_models(1.0), x0, P0)
+        >>> tr.x.shape, tr.mu.shape
+        ((28, 6), (28, 3))
+        >>> round(float(tr.x[-1, 1]), 6)  # ẋ [m/s]
+        100.0
     """
     z = np.asarray(z, dtype=float)
+    if z.ndim == 2:  # one record (N, m): run it as a batch of one and drop the batch axis
+        one = imm_filter(
+            z[None], H, np.asarray(R)[None] if np.ndim(R) == 3 else R, models, x0, P0, keep_P=keep_P
+        )
+        return IMMTrack(one.x[0], None if one.P is None else one.P[0], one.log_mu[0], one.loglik[0])
     if z.ndim != 3:
-        raise ValueError(f"z must be (runs, scans, m); got shape {z.shape}")
+        raise ValueError(f"z must be (scans, m) or (runs, scans, m); got shape {z.shape}")
     B, N, m = z.shape
     H, R = np.asarray(H, float), np.asarray(R, float)
+    if R.ndim == 0:  # a variance per component: R I
+        R = float(R) * np.eye(m)
     r, n = models.r, models.n
     varying = R.ndim == 4
     if H.shape != (m, n) or R.shape not in ((m, m), (B, N, m, m)):

@@ -145,6 +145,16 @@ class TrackerConfig:
         imm_q: the IMM models' acceleration-increment variances (q₁, q₂, q₃) [(m/s²)²]: model j's process
             noise is q_j G_j G_jᵀ (:func:`~motionsig_cli.models.motion.imm_models`); default the paper's
             Q₁ = 0, Q₂ = 0.001 I, Q₃ = 0.0144 I (§IV), each in :data:`IMM_Q_RANGE`.
+
+    Examples:
+        >>> from motionsig_cli import ConfigError, TrackerConfig
+        >>> TrackerConfig(window=5, glr_threshold=20.0).glr("glr").threshold
+        20.0
+        >>> try:
+        ...     TrackerConfig(window=0)
+        ... except ConfigError as exc:
+        ...     print(exc.field, exc.value)
+        window 0
     """
 
     g2: str = "paper-fixed"

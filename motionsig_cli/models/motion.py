@@ -167,6 +167,16 @@ class ModelSet:
         Pi: (r, r) transition matrix, Pi[i, j] = P(model j at k | model i at k − 1).
         mu0: (r,) model probabilities at the initialisation scan.
         names: one label per model.
+
+    Examples:
+        Two scalar random-walk models of different noise, switching with probability 0.1:
+
+        >>> import numpy as np
+        >>> from motionsig_cli import ModelSet
+        >>> ms = ModelSet(Phi=np.ones((2, 1, 1)), Qd=np.array([[[0.1]], [[10.0]]]),
+        ...               Pi=[[0.9, 0.1], [0.1, 0.9]], mu0=[0.5, 0.5], names=("quiet", "agile"))
+        >>> ms.r, ms.n, ms.names
+        (2, 1, ('quiet', 'agile'))
     """
 
     Phi: np.ndarray
@@ -227,7 +237,14 @@ def imm_models(
         T: scan period [s].
         g2: ``paper-fixed`` (default) or ``standard`` form of G₂ = G₃.
         q: acceleration-increment variances (q₁, q₂, q₃); model j's noise is q_j G_j G_jᵀ.
-        Pi, mu0: transition matrix and initial model probabilities.
+        Pi: transition matrix, Pi[i, j] = P(model j at k | model i at k − 1).
+        mu0: initial model probabilities.
+
+    Examples:
+        >>> from motionsig_cli import imm_models
+        >>> ms = imm_models(2.0)  # T = 2 s, the paper's Q_j, Π and μ0
+        >>> ms.r, ms.n, ms.names
+        (3, 6, ('CV', 'CA q=0.001', 'CA q=0.0144'))
     """
     _check_T(T)
     if len(q) != 3 or not all(math.isfinite(v) and v >= 0 for v in q):
@@ -254,10 +271,22 @@ def two_point_init(
     entry; fixed) and a zero acceleration block. ``n = 4`` gives the same for the state [x, ẋ, y, ẏ].
 
     Args:
-        z1, z2: (..., 2) measurements of scans 1 and 2.
+        z1: (..., 2) measurements of scan 1 [m].
+        z2: (..., 2) measurements of scan 2 [m].
+        T: scan period [s].
+        sigma: measurement noise σ per axis [m].
+        n: state dimension, 6 (the IMM's) or 4.
 
     Returns:
         x (..., n) and P (n, n).
+
+    Examples:
+        >>> from motionsig_cli import two_point_init
+        >>> x, P = two_point_init([0.0, 0.0], [10.0, 5.0], T=2.0, sigma=3.0, n=4)
+        >>> x.tolist()  # [x, ẋ, y, ẏ]
+        [10.0, 5.0, 5.0, 2.5]
+        >>> P[:2, :2].tolist()  # [[σ², σ²/T], [σ²/T, 2σ²/T²]]
+        [[9.0, 4.5], [4.5, 4.5]]
     """
     _check_T(T)
     one_of("n", n, (4, 6))

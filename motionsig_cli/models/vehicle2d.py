@@ -111,6 +111,11 @@ class Vehicle2D(ClosedLoop):
 
     Raises:
         ConfigError: naming the first bad field.
+
+    Examples:
+        >>> from motionsig_cli import Vehicle2D
+        >>> Vehicle2D().start
+        (70.0, -20.0)
     """
 
     R_range: float = anr_pair_variances(4)[0]
@@ -179,6 +184,16 @@ def simulate_2d(
     Returns:
         ``t`` (N,), ``x`` (B, N, 4) true [x, ẋ, y, ẏ] at each sample, ``u`` (B, N, 2),
         ``y`` (B, N, 2) [range, bearing], ``r`` (N, 4) nominal references.
+
+    Examples:
+        >>> import numpy as np
+        >>> from motionsig_cli import Vehicle2D, simulate_2d
+        >>> rng = np.random.default_rng(0)
+        >>> B, N = 2, 50
+        >>> out = simulate_2d(Vehicle2D(), np.zeros((B, N)), np.zeros((B, N)), rng.standard_normal((B, N, 2)),
+        ...                   rng.standard_normal((B, N, 2)))
+        >>> sorted(out)
+        ['r', 't', 'u', 'x', 'y']
     """
     z, zdot = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (z, zdot))
     w, v = (np.asarray(a, dtype=float).reshape((*z.shape, 2)) for a in (w, v))

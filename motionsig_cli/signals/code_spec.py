@@ -82,6 +82,12 @@ def parse_codes(text: str, *, files: bool = True) -> ModeCodes:
             not preferred, a member or PRN out of range or listed twice, codes of different lengths, or a
             set of more than :data:`MAX_CODE_CHIPS` chips.
         InputError: a code table file that cannot be read or is malformed (file and line named).
+
+    Examples:
+        >>> from motionsig_cli import parse_codes
+        >>> c = parse_codes("gold:45,75:9@8,13@13,25@12")  # Table I's corrected codes
+        >>> c.n_modes, c.n_chips, c.names[0]
+        (3, 31, 'gold_k9_a8')
     """
     if not isinstance(text, str):
         raise ConfigError("codes", text, f"is not text: write one of {SYNTAX}")

@@ -28,6 +28,16 @@ def periodic_correlation(codes: np.ndarray) -> np.ndarray:
 
     Returns:
         ``(M, M, N)`` integer array, ``R[i, j, ℓ] = Σ_t codes[i, t] codes[j, (t+ℓ) mod N]``.
+
+    Examples:
+        Two bipolar m-sequences of a preferred pair: peak 31, off-peak values among Gold's −9, −1, 7:
+
+        >>> import numpy as np
+        >>> from motionsig_cli import m_sequence, periodic_correlation
+        >>> codes = 1 - 2 * np.stack([m_sequence("45"), m_sequence("75")]).astype(int)
+        >>> R = periodic_correlation(codes)
+        >>> int(R[0, 0, 0]), sorted(set(R[0, 1].tolist()))
+        (31, [-9, -1, 7])
     """
     x = np.asarray(codes, dtype=np.float64)
     if x.ndim != 2:

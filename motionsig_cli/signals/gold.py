@@ -20,7 +20,13 @@ import numpy as np
 
 from motionsig_cli.config import ConfigError, integer
 from motionsig_cli.signals.correlation import gold_bound, periodic_correlation, to_bipolar
-from motionsig_cli.signals.gf2 import degree, primitive_polynomials, require_primitive, to_octal
+from motionsig_cli.signals.gf2 import (
+    degree,
+    parse_polynomial,
+    primitive_polynomials,
+    require_primitive,
+    to_octal,
+)
 from motionsig_cli.signals.lfsr import default_state, m_sequence, parse_state, primitive_polynomial
 
 MAX_PAIR_SEARCH_DEGREE = 13  # the exhaustive preferred-pair search (630 polynomials, ~200 000 pairs)
@@ -114,7 +120,14 @@ def preferred_pairs(n: int) -> list[tuple[int, int]]:
     """All unordered preferred pairs (poly1 < poly2) of degree n, by exhaustive FFT test.
 
     One FFT per primitive polynomial and one inverse FFT per pair (degree 11: 176 polynomials,
-    15 400 pairs, well under a second).
+    15 400 pairs, well under a second). The polynomials are ``int`` bit masks; ``oct`` shows them in the
+    command line's octal notation.
+
+    Examples:
+        >>> from motionsig_cli import preferred_pairs
+        >>> pairs = preferred_pairs(5)
+        >>> len(pairs), (0o45, 0o75) in pairs  # the pair of the mode-signature paper's Table I
+        (12, True)
     """
     require_search_degree(n)
     polys = primitive_polynomials(n)
@@ -131,9 +144,17 @@ def preferred_pairs(n: int) -> list[tuple[int, int]]:
     return pairs
 
 
+def _polys(poly1: int | str, poly2: int | str) -> tuple[int, int]:
+    """The pair as bit masks: text read as the command line reads ``--poly1``/``--poly2`` (octal ``"45"``,
+    ``"0o45"``, or exponents), an ``int`` taken as the bit mask."""
+    p1 = parse_polynomial(poly1, "poly1") if isinstance(poly1, str) else poly1
+    p2 = parse_polynomial(poly2, "poly2") if isinstance(poly2, str) else poly2
+    return p1, p2
+
+
 def gold_code(
-    poly1: int,
-    poly2: int,
+    poly1: int | str,
+    poly2: int | str,
     index: int,
     shift: int = 0,
     state1: str | tuple[int, ...] | None = None,
@@ -144,8 +165,10 @@ def gold_code(
     """One member of the Gold family of a preferred pair (MATLAB ``comm.GoldSequence`` conventions).
 
     Args:
-        poly1: The first polynomial of a preferred pair.
-        poly2: The second polynomial of the pair.
+        poly1: The first polynomial of a preferred pair. Text is read as ``--poly1`` on the command line:
+            octal (``"45"``, ``"0o45"``) or exponents (``"x^5+x^2+1"``); an ``int`` is the GF(2) bit mask
+            (write ``0o45`` in Python: the decimal ``45`` is another polynomial).
+        poly2: The second polynomial of the pair (likewise).
         index: −2 → u, −1 → v, 0 … 2ⁿ − 2 → u ⊕ Tᵏv.
         shift: Start offset a of the output (applied to the whole code).
         state1: Initial state of the first register (MATLAB order, default ``0…01``).
@@ -156,7 +179,18 @@ def gold_code(
 
     Returns:
         ``uint8`` bits of length 2ⁿ − 1.
+
+    Examples:
+        Mode 1 of Table I of the mode-signature paper is member 9 at offset 8 of the pair 45, 75 (octal):
+
+        >>> from motionsig_cli import gold_code
+        >>> code = gold_code("45", "75", index=9, shift=8)
+        >>> "".join(map(str, code))
+        '1100001010111001011011000011011'
+        >>> bool((code == gold_code(0o45, 0o75, 9, 8)).all())
+        True
     """
+    poly1, poly2 = _polys(poly1, poly2)
     if verify:
         require_preferred(poly1, poly2)
     else:
@@ -174,8 +208,8 @@ def _member(u: np.ndarray, v: np.ndarray, index: int, shift: int) -> np.ndarray:
 
 
 def gold_family(
-    poly1: int,
-    poly2: int,
+    poly1: int | str,
+    poly2: int | str,
     state1: str | tuple[int, ...] | None = None,
     state2: str | tuple[int, ...] | None = None,
     *,
@@ -183,8 +217,19 @@ def gold_family(
 ) -> tuple[np.ndarray, np.ndarray]:
     """All 2ⁿ + 1 members: returns ``(indices, codes)`` with indices −2, −1, 0 … 2ⁿ − 2.
 
-    ``verify=False`` skips the preferred-pair test (as in :func:`gold_code`).
+    The polynomials are read as in :func:`gold_code`: text as on the command line (octal ``"45"`` or
+    exponents), an ``int`` as the bit mask (``0o45``; the decimal ``45`` is another polynomial and is
+    refused as not primitive or not preferred). ``verify=False`` skips the preferred-pair test.
+
+    Examples:
+        >>> from motionsig_cli import gold_family
+        >>> idx, codes = gold_family("45", "75")
+        >>> codes.shape, idx[:3].tolist()
+        ((33, 31), [-2, -1, 0])
+        >>> bool((gold_family(0o45, 0o75)[1] == codes).all())
+        True
     """
+    poly1, poly2 = _polys(poly1, poly2)
     if verify:
         require_preferred(poly1, poly2)
     else:

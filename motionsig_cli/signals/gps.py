@@ -73,14 +73,27 @@ def _prn(prn: int) -> int:
 
 def ca_code(prn: int) -> np.ndarray:
     """The 1023-chip C/A code of ``prn`` (1–32) as 0/1 bits, chip 0 first (:class:`ConfigError` naming
-    ``prn`` for another number)."""
+    ``prn`` for another number).
+
+    Examples:
+        >>> from motionsig_cli import ca_code
+        >>> c = ca_code(1)
+        >>> c.size, oct(int("".join(map(str, c[:10])), 2))  # IS-GPS-200 Table 3-Ia: first 10 chips of PRN 1, octal 1440
+        (1023, '0o1440')
+    """
     i, j = phase_selectors()[_prn(prn)]
     g1_out, g2_hist = _registers()
     return g1_out ^ g2_hist[:, i - 1] ^ g2_hist[:, j - 1]
 
 
 def ca_codes(prns: Sequence[int]) -> np.ndarray:
-    """``(len(prns), 1023)`` array of C/A codes (every PRN checked before any code is built)."""
+    """``(len(prns), 1023)`` array of C/A codes (every PRN checked before any code is built).
+
+    Examples:
+        >>> from motionsig_cli import ca_codes
+        >>> ca_codes([1, 2, 3]).shape
+        (3, 1023)
+    """
     for p in prns:
         _prn(p)
     return np.stack([ca_code(p) for p in prns])

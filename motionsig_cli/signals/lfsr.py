@@ -68,17 +68,29 @@ def default_state(n: int) -> tuple[int, ...]:
     return (0,) * (n - 1) + (1,)
 
 
-def m_sequence(poly: int, state: Sequence[int] | str | None = None, shift: int = 0) -> np.ndarray:
+def m_sequence(poly: int | str, state: Sequence[int] | str | None = None, shift: int = 0) -> np.ndarray:
     """One period (2ⁿ − 1 chips) of the m-sequence of primitive polynomial ``poly``.
 
     Args:
-        poly: Primitive polynomial as a GF(2) bit mask (see :mod:`~motionsig_cli.signals.gf2`).
+        poly: Primitive polynomial. Text is read as the command line reads ``--poly``: octal (``"45"``,
+            ``"0o45"``) or exponents (``"x^5+x^2+1"``). An ``int`` is the GF(2) bit mask itself (bit i is
+            the coefficient of xⁱ, see :mod:`~motionsig_cli.signals.gf2`): write ``0o45`` in Python, since
+            ``45`` is the decimal 45 = 0b101101 = x⁵ + x³ + x² + 1, another polynomial.
         state: Initial state ``[s_{n−1} … s_0]`` (MATLAB order); default ``[0 … 0 1]``.
         shift: Cyclic advance of the output.
 
     Returns:
         ``uint8`` array of 0/1 of length 2ⁿ − 1.
+
+    Examples:
+        >>> from motionsig_cli import m_sequence
+        >>> m_sequence("45")[:10].tolist()  # x^5 + x^2 + 1, state 00001
+        [1, 0, 0, 0, 0, 1, 0, 0, 1, 0]
+        >>> bool((m_sequence("45") == m_sequence(0o45)).all() and (m_sequence("x^5+x^2+1") == m_sequence(0o45)).all())
+        True
     """
+    if isinstance(poly, str):
+        poly = parse_polynomial(poly, "poly")
     require_primitive(poly)
     n = degree(poly)
     if n > MAX_SEQUENCE_DEGREE:

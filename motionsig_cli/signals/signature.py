@@ -130,6 +130,14 @@ def mode_signature(
         config: Sampling/carrier parameters.
         n_samples: Number of samples; default one code period n_ρ m_ρ.
         zdot: ``"analytic"`` (default) or ``"finite-difference"`` derivative.
+
+    Examples:
+        >>> import numpy as np
+        >>> from motionsig_cli import mode_signature, parse_codes
+        >>> from motionsig_cli.signals.signature import SignatureConfig
+        >>> sig = mode_signature(parse_codes("corrected").chips[0], SignatureConfig())
+        >>> sig.z.shape == sig.zdot.shape
+        True
     """
     chips = np.asarray(chips)
     if chips.ndim != 1 or chips.size < 1 or not np.all(np.abs(chips) == 1):
