@@ -283,11 +283,13 @@ def read_regular(path: str | Path, *, limit: int, what: str = "file", follow: bo
     Raises:
         InputError: as :func:`open_regular`, or a file larger than ``limit`` bytes (the ``what`` named).
     """
+    data = bytearray()
     with open_regular(path, follow=follow) as fh:
-        data = fh.read(limit + 1)
+        while len(data) <= limit and (chunk := fh.read(min(1 << 20, limit + 1 - len(data)))):
+            data += chunk  # in chunks: read(limit) would allocate the limit at once
     if len(data) > limit:
         raise InputError(f"{path}: {what} larger than {limit} bytes")
-    return data
+    return bytes(data)
 
 
 class _Limited(io.RawIOBase):
