@@ -26,7 +26,6 @@ import os
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")  # one core for both paths (set before numpy loads BLAS)
 import time
-from collections.abc import Callable
 
 import numpy as np
 from benchlib import best_of, gate, measured_row, write_results
@@ -82,16 +81,6 @@ def exact_case() -> float:
     return float(np.max(np.abs(fast.Lambda - bank.Lambda)) / np.max(np.abs(bank.Lambda)))
 
 
-def best_cpu(fn: Callable[[], object], repeats: int) -> float:
-    """Minimum process CPU time of ``repeats`` calls."""
-    times = []
-    for _ in range(repeats):
-        c0 = time.process_time()
-        fn()
-        times.append(time.process_time() - c0)
-    return min(times)
-
-
 def main() -> int:
     rel = exact_case()
     if not gate(f"exact case (position measurement, Q_a = 0): projection vs bank {rel:.2e} of max |Lambda|",
@@ -110,7 +99,7 @@ def main() -> int:
 
     # process CPU time (one thread each): on a shared machine the wall time also counts the waits for a
     # core, which differ between the two runs; the fast path is timed before and after the bank
-    cpu_fast = [best_cpu(fast_run, REPEATS // 2 + 1)]
+    cpu_fast = [best_of(fast_run, REPEATS // 2 + 1, time.process_time)]
     w_fast = best_of(fast_run, 1)
     fast = fast_run()
     best_f = fast.best()[0].reshape(4, TRIALS, -1)
@@ -122,7 +111,7 @@ def main() -> int:
     ]
     t_slice, w_slice = time.process_time() - c0, time.perf_counter() - t0
     t_bank = t_slice * TRIALS / BANK_TRIALS
-    cpu_fast.append(best_cpu(fast_run, REPEATS // 2 + 1))
+    cpu_fast.append(best_of(fast_run, REPEATS // 2 + 1, time.process_time))
     t_fast = min(cpu_fast)
     n_right = n_agree = 0
     ok_b_all = ok_f_slice = 0

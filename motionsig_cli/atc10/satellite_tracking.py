@@ -25,7 +25,7 @@ draws.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any, ClassVar
@@ -251,8 +251,74 @@ class Orbit:
         return default_rsat_km(Convention(self.convention)) if self.rsat_km is None else self.rsat_km
 
 
+def _check_aircraft(aircraft: Sequence[float]) -> None:
+    """Refuses an aircraft that is not (latitude [deg], longitude [deg], altitude [km]) within the bounds."""
+    if len(aircraft) != 3:
+        raise ConfigError("aircraft", tuple(aircraft), "is not (latitude, longitude, altitude km)")
+    in_range("aircraft", aircraft[0], -90.0, 90.0, unit="degrees (latitude)")
+    in_range("aircraft", aircraft[1], -MAX_LON_DEG, MAX_LON_DEG, unit="degrees (longitude)")
+    in_range("aircraft", aircraft[2], MIN_ALT_KM, MAX_ALT_KM, unit="km (altitude)")
+
+
+def _checked_fix_set(triplet: Sequence[int], labels: Sequence[str], K: int, noun: str) -> tuple[str, ...]:
+    """Checks the fixing triplet (three distinct 0-based indices below K) and the K labels of the
+    ``noun``s (satellites or receivers); returns the labels, "1" … "K" where none are given."""
+    t = tuple(triplet)
+    if len(t) != 3 or len(set(t)) != 3 or not all(isinstance(i, int | np.integer) and 0 <= i < K for i in t):
+        raise ConfigError(
+            "triplet",
+            ",".join(str(i + 1) for i in t),
+            f"is not three distinct {noun} numbers in 1..{K}",
+        )
+    if not labels:
+        return tuple(str(i + 1) for i in range(K))
+    if len(labels) != K:
+        raise ConfigError("labels", len(labels), f"labels for {K} {noun}s")
+    for v in labels:
+        if not v or labels.count(v) > 1:
+            raise ConfigError("labels", v, f"is not a distinct, non-empty {noun} label")
+    return labels
+
+
+def _nearly_singular(
+    directions: Callable[[Sequence[int] | None], np.ndarray],
+    subsets: Sequence[tuple[str, Sequence[int] | None]],
+) -> list[str]:
+    """A warning for each labelled subset (None: all) whose direction matrix U has cond(U) > COND_WARN."""
+    out = []
+    for label, subset in subsets:
+        m = metrics(directions(subset))
+        if float(m.cond) > COND_WARN:
+            out.append(f"{label} are nearly singular (cond(U) = {float(m.cond):.3g}, tr = {float(m.tr):.3g})")
+    return out
+
+
+class _FixGeometry:
+    """What a constellation of satellites and a table of receivers both check: the horizon, the fix by all,
+    the fix by the outage triplet (each raises :class:`GeometryError`), then the warnings."""
+
+    def check_horizon(self) -> None:
+        raise NotImplementedError
+
+    def check_all(self) -> None:
+        raise NotImplementedError
+
+    def check_triplet(self) -> None:
+        raise NotImplementedError
+
+    def warnings(self) -> list[str]:
+        raise NotImplementedError
+
+    def check(self) -> list[str]:
+        """Observability errors (:class:`GeometryError`, raised) and warnings (returned)."""
+        self.check_horizon()
+        self.check_all()
+        self.check_triplet()
+        return self.warnings()
+
+
 @dataclass(frozen=True)
-class Constellation:
+class Constellation(_FixGeometry):
     """Sub-satellite points, orbit radius and aircraft (a snapshot geometry: our assumption, the satellites
     do not move during a run).
 
@@ -288,31 +354,9 @@ class Constellation:
             in_range("lat_deg", lat, -90.0, 90.0, unit="degrees")
         for lon in self.lon_deg:
             in_range("lon_deg", lon, -MAX_LON_DEG, MAX_LON_DEG, unit="degrees")
-        if len(self.aircraft) != 3:
-            raise ConfigError("aircraft", tuple(self.aircraft), "is not (latitude, longitude, altitude km)")
-        in_range("aircraft", self.aircraft[0], -90.0, 90.0, unit="degrees (latitude)")
-        in_range("aircraft", self.aircraft[1], -MAX_LON_DEG, MAX_LON_DEG, unit="degrees (longitude)")
-        in_range("aircraft", self.aircraft[2], MIN_ALT_KM, MAX_ALT_KM, unit="km (altitude)")
+        _check_aircraft(self.aircraft)
         in_range("r_sat_km", self.r_sat_km, R_EARTH_KM + MAX_ALT_KM, MAX_RSAT_KM, lo_open=True, unit="km")
-        t = tuple(self.triplet)
-        if (
-            len(t) != 3
-            or len(set(t)) != 3
-            or not all(isinstance(i, int | np.integer) and 0 <= i < K for i in t)
-        ):
-            raise ConfigError(
-                "triplet",
-                ",".join(str(i + 1) for i in t),
-                f"is not three distinct satellite numbers in 1..{K}",
-            )
-        if self.labels:
-            if len(self.labels) != K:
-                raise ConfigError("labels", len(self.labels), f"labels for {K} satellites")
-            for v in self.labels:
-                if not v or self.labels.count(v) > 1:
-                    raise ConfigError("labels", v, "is not a distinct, non-empty satellite label")
-        else:
-            object.__setattr__(self, "labels", tuple(str(i + 1) for i in range(K)))
+        object.__setattr__(self, "labels", _checked_fix_set(self.triplet, self.labels, K, "satellite"))
 
     @property
     def K(self) -> int:
@@ -362,20 +406,8 @@ class Constellation:
         if wide:
             shown = ", ".join(wide[:5]) + (f" and {len(wide) - 5} more" if len(wide) > 5 else "")
             out.append(f"satellite(s) {shown} outside the {CONE_DEG:g} deg cone")
-        for label, subset in (("all satellites", None), ("the outage satellites", self.triplet)):
-            m = metrics(self.directions(subset))
-            if float(m.cond) > COND_WARN:
-                out.append(
-                    f"{label} are nearly singular (cond(U) = {float(m.cond):.3g}, tr = {float(m.tr):.3g})"
-                )
-        return out
-
-    def check(self) -> list[str]:
-        """Observability errors (:class:`GeometryError`, raised) and visibility warnings (returned)."""
-        self.check_horizon()
-        self.check_all()
-        self.check_triplet()
-        return self.warnings()
+        subsets = (("all satellites", None), ("the outage satellites", self.triplet))
+        return out + _nearly_singular(self.directions, subsets)
 
 
 def line_of_sight_blocked(receivers_m: np.ndarray, point_m: np.ndarray) -> np.ndarray:
@@ -397,7 +429,7 @@ def line_of_sight_blocked(receivers_m: np.ndarray, point_m: np.ndarray) -> np.nd
 
 
 @dataclass(frozen=True, eq=False)
-class ReceiverGeometry:
+class ReceiverGeometry(_FixGeometry):
     """Receivers at Earth-centred positions — ground stations, satellites, or both — and an aircraft on the
     WGS-84 ellipsoid: a user's receivers table (:func:`motionsig_cli.atc10.receivers.read_receivers`)
     in ECEF or WGS-84 geodetic form. (The report's form, sub-satellite points on one orbit radius about a
@@ -457,30 +489,8 @@ class ReceiverGeometry:
         object.__setattr__(self, "times_s", t)
         if t.shape != (E,) or not np.all(np.isfinite(t)) or t[0] != 0.0 or np.any(np.diff(t) <= 0):
             raise ConfigError("times_s", tuple(t.shape), f"are not {E} increasing epoch times from 0 s")
-        if len(self.aircraft) != 3:
-            raise ConfigError("aircraft", tuple(self.aircraft), "is not (latitude, longitude, altitude km)")
-        in_range("aircraft", self.aircraft[0], -90.0, 90.0, unit="degrees (latitude)")
-        in_range("aircraft", self.aircraft[1], -MAX_LON_DEG, MAX_LON_DEG, unit="degrees (longitude)")
-        in_range("aircraft", self.aircraft[2], MIN_ALT_KM, MAX_ALT_KM, unit="km (altitude)")
-        trip = tuple(self.triplet)
-        if (
-            len(trip) != 3
-            or len(set(trip)) != 3
-            or not all(isinstance(i, int | np.integer) and 0 <= i < K for i in trip)
-        ):
-            raise ConfigError(
-                "triplet",
-                ",".join(str(i + 1) for i in trip),
-                f"is not three distinct receiver numbers in 1..{K}",
-            )
-        if self.labels:
-            if len(self.labels) != K:
-                raise ConfigError("labels", len(self.labels), f"labels for {K} receivers")
-            for v in self.labels:
-                if not v or self.labels.count(v) > 1:
-                    raise ConfigError("labels", v, "is not a distinct, non-empty receiver label")
-        else:
-            object.__setattr__(self, "labels", tuple(str(i + 1) for i in range(K)))
+        _check_aircraft(self.aircraft)
+        object.__setattr__(self, "labels", _checked_fix_set(self.triplet, self.labels, K, "receiver"))
         lines = np.asarray(self.lines, dtype=np.int64)
         object.__setattr__(
             self, "lines", lines if lines.shape == (E, K) else np.zeros((E, K), dtype=np.int64)
@@ -579,24 +589,10 @@ class ReceiverGeometry:
     def warnings(self) -> list[str]:
         """Legal but noteworthy geometry: nearly singular subsets (the report's 45° cone is a satellite
         visibility rule, not applied to a user's receivers)."""
-        out = []
-        trip = self.triplet if self.present[0, list(self.triplet)].all() else None
-        for label, subset in (("all receivers", None), ("the outage receivers", trip)):
-            if label != "all receivers" and subset is None:
-                continue
-            m = metrics(self.directions(subset))
-            if float(m.cond) > COND_WARN:
-                out.append(
-                    f"{label} are nearly singular (cond(U) = {float(m.cond):.3g}, tr = {float(m.tr):.3g})"
-                )
-        return out
-
-    def check(self) -> list[str]:
-        """Observability errors (:class:`GeometryError`, raised) and warnings (returned)."""
-        self.check_horizon()
-        self.check_all()
-        self.check_triplet()
-        return self.warnings()
+        subsets: list[tuple[str, Sequence[int] | None]] = [("all receivers", None)]
+        if self.present[0, list(self.triplet)].all():
+            subsets.append(("the outage receivers", self.triplet))
+        return _nearly_singular(self.directions, subsets)
 
     def track_m(self, times_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Positions (T, K, 3) [m] and presence (T, K) at ``times_s`` (within the table's epochs):

@@ -110,6 +110,7 @@ from motionsig_cli.surveillance.toa_fix import (
     C_M_PER_S,
     MIN_RECEIVERS,
     START_ALT_M,
+    EpochError,
     SingularGeometry,
     SnapshotFix,
     position_covariance,
@@ -668,13 +669,8 @@ def _receiver_positions(
 # --- the clock tracker ---------------------------------------------------------------------------------
 
 
-class TrackError(ValueError):
+class TrackError(EpochError):
     """An epoch the clock tracker cannot process (``epoch``: its index)."""
-
-    def __init__(self, epoch: int, reason: str) -> None:
-        self.epoch = int(epoch)
-        self.reason = reason
-        super().__init__(f"epoch {epoch}: {reason}")
 
 
 @dataclass(frozen=True)

@@ -296,11 +296,7 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
     except EngineError as exc:
         raise typer.BadParameter(exc.detail, param_hint=option_name(exc.field)) from None
     except WorkerDied as exc:
-        hint = (
-            f"; rerun with --checkpoint {engine.checkpoint} to resume"
-            if engine.checkpoint is not None
-            else ""
-        )
+        hint = _resume_hint(engine, "")
         typer.echo(f"{command_path()}: error: {exc} after {finished[0]}/{total} trials{hint}", err=True)
         raise typer.Exit(1) from None
     except MemoryError:  # in this process's own share of the tasks (a worker's comes back the same way)
@@ -311,13 +307,16 @@ def engine_session(engine: Engine, total: int, label: str, quiet: bool) -> Itera
         )
         raise typer.Exit(1) from None
     except KeyboardInterrupt:
-        hint = (
-            f"; rerun with --checkpoint {engine.checkpoint} to resume"
-            if engine.checkpoint is not None
-            else " (--checkpoint DIR keeps finished chunks)"
-        )
+        hint = _resume_hint(engine, " (--checkpoint DIR keeps finished chunks)")
         typer.echo(f"{command_path()}: interrupted after {finished[0]}/{total} trials{hint}", err=True)
         raise typer.Exit(130) from None
+
+
+def _resume_hint(engine: Engine, otherwise: str) -> str:
+    """How to resume an interrupted run: with the engine's checkpoint, else ``otherwise``."""
+    if engine.checkpoint is None:
+        return otherwise
+    return f"; rerun with --checkpoint {engine.checkpoint} to resume"
 
 
 @contextlib.contextmanager
@@ -361,6 +360,24 @@ class Output:
     def note(self, message: str) -> None:
         """A one-line summary on stderr (not with ``--quiet``)."""
         note(message, self.quiet)
+
+    def refuse_input(self, path: str | Path | None, what: str) -> None:
+        """``--out`` naming an input file (``path``; ``-``, stdin, and None name none) is a usage error
+        naming --out: it "is ``what``"."""
+        if self.out is None or path is None or str(path) == "-":
+            return
+        if Path(path).resolve() == self.out.resolve():
+            raise typer.BadParameter(f"is {what}", param_hint="--out")
+
+    def result(self, result: Any, figure: str) -> None:
+        """A Monte Carlo result: with ``--plot`` its figure (``figure``: the function of
+        :mod:`motionsig_cli.plotting` that draws ``result.figure_data()``), then its table and summary."""
+        if self.plot is not None:
+            from motionsig_cli import plotting
+
+            self.figure(getattr(plotting, figure)(*result.figure_data()))
+        self.emit(result.table())
+        self.note(result.summary())
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,9 @@ or a Monte Carlo job), and writes its table and figure. Every range is checked b
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Annotated, Any
 
 import typer
@@ -27,6 +29,7 @@ from motionsig_cli.cli.common import (
     command,
     progress_bar,  # by name: a test replaces detect.progress_bar
 )
+from motionsig_cli.cli.option_groups import options
 from motionsig_cli.cli.simulate import CODES_HELP, DbConvention, FdOpt, FeedbackOpt
 
 if TYPE_CHECKING:
@@ -376,7 +379,47 @@ NullTrialsOpt = Annotated[
 ]
 
 
+@dataclass(frozen=True)
+class RecordModel:
+    """The record's columns and the model the filters assume (None: the record's metadata, else simulate's
+    default); the 1d --montecarlo and --calibrate take the model options of :data:`MODEL_OPTIONS` too."""
+
+    columns: ColumnsOpt = None
+    units: UnitsOpt = None
+    T: TOpt = None
+    mrho: MrhoOpt = None
+    K: KOpt = None
+    pole_wn: WnOpt = None
+    pole_zeta: ZetaOpt = None
+    R: ROpt = None
+    anr_db: AnrDbOpt = None
+    db_convention: DbConventionOpt = DbConvention.log10
+    fc: FcOpt = None
+    a_sig: ASigOpt = None
+    codes: CodesOpt = None
+    R_range: RRangeOpt = None
+    R_bearing: RBearingOpt = None
+    anr_pair: AnrPairOpt = None
+    start: StartOpt = None
+    a_r: ARefOpt = None
+    f_r: FrOpt = None
+    sigma_a: SigmaAOpt = None
+    f_d: FdOpt = None
+    feedback: FeedbackOpt = None
+
+    def by_field(self) -> dict[str, Any]:
+        """The options by the field of :data:`RECORD_OPTIONS` they set."""
+        values = dataclasses.asdict(self)
+        values["feedback"] = None if self.feedback is None else self.feedback.value
+        return {key: values[_PARAMETER.get(key, key)] for key in RECORD_OPTIONS.values()}
+
+
+_PARAMETER = {"m_rho": "mrho", "wn": "pole_wn", "zeta": "pole_zeta", "f_c": "fc"}
+"""Fields of :data:`RECORD_OPTIONS` whose parameter has another name."""
+
+
 @command(parallel=True, options=OPTIONS)
+@options(model=RecordModel)
 def detect(
     source: SourceArg = "-",
     c_r: CrOpt = 100.0,
@@ -412,28 +455,7 @@ def detect(
     pfa: PfaOpt = None,
     null_trials: NullTrialsOpt = None,
     detector: DetectorOpt = Detector.lmp,
-    columns: ColumnsOpt = None,
-    units: UnitsOpt = None,
-    T: TOpt = None,
-    mrho: MrhoOpt = None,
-    K: KOpt = None,
-    pole_wn: WnOpt = None,
-    pole_zeta: ZetaOpt = None,
-    R: ROpt = None,
-    anr_db: AnrDbOpt = None,
-    db_convention: DbConventionOpt = DbConvention.log10,
-    fc: FcOpt = None,
-    a_sig: ASigOpt = None,
-    codes: CodesOpt = None,
-    R_range: RRangeOpt = None,
-    R_bearing: RBearingOpt = None,
-    anr_pair: AnrPairOpt = None,
-    start: StartOpt = None,
-    a_r: ARefOpt = None,
-    f_r: FrOpt = None,
-    sigma_a: SigmaAOpt = None,
-    f_d: FdOpt = None,
-    feedback: FeedbackOpt = None,
+    model: RecordModel = RecordModel(),
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     *,
     output: Output,
@@ -464,58 +486,20 @@ def detect(
     output.check()
     engine = parallel.engine()
     sigma = SigmaPointParams(alpha, beta, kappa)
-    record = dict(
-        columns=columns, units=units, T=T, m_rho=mrho, K=K, wn=pole_wn, zeta=pole_zeta, R=R, anr_db=anr_db,
-        f_c=fc, a_sig=a_sig, codes=codes, R_range=R_range, R_bearing=R_bearing, anr_pair=anr_pair, start=start,
-        a_r=a_r, f_r=f_r, sigma_a=sigma_a, f_d=f_d, feedback=None if feedback is None else feedback.value,
-    )  # fmt: skip
-    record_opts = [opt for opt, key in RECORD_OPTIONS.items() if record[key] is not None]
-    rec = None
-    if montecarlo or calibrate_:
-        not_mc = [opt for opt in record_opts if opt not in MODEL_OPTIONS]
-        _refuse_record_options(not_mc + (["--threshold"] if threshold is not None else []), calibrate_)
-        if example is ExampleKind.two_d and record_opts:
-            raise typer.BadParameter(
-                "applies to a record or the 1d Monte Carlo (--montecarlo --example 2d simulates Fig 7's "
-                "vehicle)",
-                param_hint=record_opts[0],
-            )
-    else:
-        for opt in record_opts:
-            if opt in RECORD_ONLY:
-                raise typer.BadParameter(
-                    "describes a simulated truth (simulate, --montecarlo, --calibrate); on a record the "
-                    "filters search the carrier: --fd-grid or --fc-grid",
-                    param_hint=opt,
-                )
-        rec = _read_record(source, example, record, db_convention.value)
-        if pfa is not None and threshold is not None:
-            raise typer.BadParameter(
-                "calibrates a threshold: give --pfa or --threshold, not both", param_hint="--pfa"
-            )
-        if pfa is not None and candidates:
-            raise typer.BadParameter("decides on the argmax: not with --candidates", param_hint="--pfa")
-        if null_trials is not None and pfa is None:
-            raise typer.BadParameter("applies with --pfa (or --calibrate)", param_hint="--null-trials")
+    record = model.by_field()
+    rec = _record_or_study(source, example, record, model.db_convention.value, montecarlo or calibrate_,
+                           calibrate_, threshold, pfa, candidates, null_trials)  # fmt: skip
     two_d = example is ExampleKind.two_d or (rec is not None and rec.y.ndim == 2)
     _refuse_for_baseline(detector, calibrate_, two_d, locals())
-    _refuse_other_example(
-        two_d, {"--Qa": Qa is not None, "--method": method is Method.fft,
-                "--Ar": Ar_ is not Ar.cv, "--weights": weights is not Weights.paper,
-                "--R-list": R_list != R_LIST_DEFAULT,
-                "--anr-pairs": anr_pairs != ANR_PAIRS_DEFAULT, "--Q1": Q1 is not None,
-                "--q-model": q_model is not QModel.per_step},
-    )  # fmt: skip
-    if method is Method.linearised and not two_d:
-        raise typer.BadParameter("applies to the 2d example only (1d: bank or fft)", param_hint="--method")
-    if method is Method.fft and filter_ is FilterKind.ukf:
-        raise typer.BadParameter(
-            "the FFT path replaces the filter bank: drop --filter ukf", param_hint="--method"
-        )
+    _refuse_other_example(two_d, {"--Qa": Qa is not None, "--method": method is Method.fft,
+                                  "--Ar": Ar_ is not Ar.cv, "--weights": weights is not Weights.paper,
+                                  "--R-list": R_list != R_LIST_DEFAULT, "--anr-pairs": anr_pairs != ANR_PAIRS_DEFAULT,
+                                  "--Q1": Q1 is not None, "--q-model": q_model is not QModel.per_step})  # fmt: skip
+    _check_method(method, filter_, two_d)
     hs = _floats("--horizons", horizons, "horizon")
     grid = dict(c_r=c_r, P0=P0, tau_grid=tau_grid.value, include_logdet=include_logdet, zdot=zdot.value)
-    f_known = rec.f_c if rec is not None else 1.0 if fc is None else fc
-    carriers = _carriers(fc_grid, fd_grid, f_known, fc is not None and rec is None)
+    f_known = rec.f_c if rec is not None else 1.0 if model.fc is None else model.fc
+    carriers = _carriers(fc_grid, fd_grid, f_known, model.fc is not None and rec is None)
     grid |= _given(Q0=_floats("--Q0", Q0, "variance"), fc_grid=carriers)
     calibration = None if pfa is None or rec is None else (pfa, null_trials, seed)
     if two_d:
@@ -530,18 +514,72 @@ def detect(
                weights=weights.value, center=center.value, q_model=q_model.value)  # fmt: skip
     mc = (_floats("--R-list", R_list, "variance"), hs, trials, seed, method.value)
     if montecarlo or calibrate_:
-        model = _mc_model(record, f_known)
-    if calibrate_:
-        return _calibrate(output, engine, lmp, _floats("--fr-list", fr_list or "0.01", "frequency"), *mc,
-                          null_trials, 0.01 if pfa is None else pfa, model, detector)  # fmt: skip
-    if montecarlo:
-        if pfa is not None or null_trials is not None:
-            hint = "--pfa" if pfa is not None else "--null-trials"
-            raise typer.BadParameter("applies to a record or --calibrate, not --montecarlo", param_hint=hint)
-        frs = _floats("--fr-list", fr_list or "0.01,0.1,1.0", "frequency")
-        return _montecarlo(output, engine, lmp, filter_, frs, *mc, not no_signature, model)
+        return _study(output, engine, lmp, mc, _mc_model(record, f_known), filter_, fr_list, calibrate_, pfa,
+                      null_trials, not no_signature, detector)  # fmt: skip
     kind = "ukf" if filter_ is FilterKind.ukf else "kf"
     _record(output, engine, rec, lmp, method.value, kind, sigma, hs, threshold, candidates, calibration)
+
+
+def _record_or_study(
+    source: str, example: ExampleKind | None, record: dict[str, Any], db_convention: str, study: bool,
+    calibrate: bool, threshold: float | None, pfa: float | None, candidates: bool, null_trials: int | None,
+) -> VehicleRecord | None:  # fmt: skip
+    """The record (None for --montecarlo and --calibrate, ``study``), after the checks of the options that
+    apply to a record only or to a study only (``record``: the record options by field)."""
+    record_opts = [opt for opt, key in RECORD_OPTIONS.items() if record[key] is not None]
+    if study:
+        not_mc = [opt for opt in record_opts if opt not in MODEL_OPTIONS]
+        _refuse_record_options(not_mc + (["--threshold"] if threshold is not None else []), calibrate)
+        if example is ExampleKind.two_d and record_opts:
+            raise typer.BadParameter(
+                "applies to a record or the 1d Monte Carlo (--montecarlo --example 2d simulates Fig 7's "
+                "vehicle)",
+                param_hint=record_opts[0],
+            )
+    else:
+        for opt in record_opts:
+            if opt in RECORD_ONLY:
+                raise typer.BadParameter(
+                    "describes a simulated truth (simulate, --montecarlo, --calibrate); on a record the "
+                    "filters search the carrier: --fd-grid or --fc-grid",
+                    param_hint=opt,
+                )
+        if pfa is not None and threshold is not None:
+            raise typer.BadParameter(
+                "calibrates a threshold: give --pfa or --threshold, not both", param_hint="--pfa"
+            )
+        if pfa is not None and candidates:
+            raise typer.BadParameter("decides on the argmax: not with --candidates", param_hint="--pfa")
+        if null_trials is not None and pfa is None:
+            raise typer.BadParameter("applies with --pfa (or --calibrate)", param_hint="--null-trials")
+        return _read_record(source, example, record, db_convention)
+    return None
+
+
+def _check_method(method: Any, filter_: Any, two_d: bool) -> None:
+    """--method linearised is the 2d example's; --method fft replaces the filter bank."""
+    if method is Method.linearised and not two_d:
+        raise typer.BadParameter("applies to the 2d example only (1d: bank or fft)", param_hint="--method")
+    if method is Method.fft and filter_ is FilterKind.ukf:
+        raise typer.BadParameter(
+            "the FFT path replaces the filter bank: drop --filter ukf", param_hint="--method"
+        )
+
+
+def _study(
+    output: Output, engine: Engine, lmp: dict[str, Any], mc: tuple[Any, ...], model: dict[str, Any],
+    filter_: FilterKind, fr_list: str | None, calibrate: bool, pfa: float | None, null_trials: int | None,
+    signature: bool, detector: Any,
+) -> None:  # fmt: skip
+    """The 1d --calibrate or --montecarlo (``mc``: R list, horizons, trials, seed, method)."""
+    if calibrate:
+        return _calibrate(output, engine, lmp, _floats("--fr-list", fr_list or "0.01", "frequency"), *mc,
+                          null_trials, 0.01 if pfa is None else pfa, model, detector)  # fmt: skip
+    if pfa is not None or null_trials is not None:
+        hint = "--pfa" if pfa is not None else "--null-trials"
+        raise typer.BadParameter("applies to a record or --calibrate, not --montecarlo", param_hint=hint)
+    frs = _floats("--fr-list", fr_list or "0.01,0.1,1.0", "frequency")
+    return _montecarlo(output, engine, lmp, filter_, frs, *mc, signature, model)
 
 
 def _floats(option: str, text: str | None, what: str) -> tuple[float, ...] | None:
@@ -696,12 +734,7 @@ def _montecarlo(
         )
     job = LmpJob(LMPConfig(**lmp), frs, Rs, hs, trials, seed, signature, method, **model)
     mc = common.run_job(job, engine, "Monte Carlo trials", output.quiet)
-    if output.plot is not None:
-        from motionsig_cli.plotting import montecarlo_figure
-
-        output.figure(montecarlo_figure(*mc.figure_data()))
-    output.emit(mc.table())
-    output.note(mc.summary())
+    output.result(mc, "montecarlo_figure")
 
 
 def _calibrate(
@@ -723,9 +756,4 @@ def _calibrate(
     if job.warning:
         output.note(job.warning)
     cal = common.run_job(job, engine, "Calibration trials (null + signature)", output.quiet)
-    if output.plot is not None:
-        from motionsig_cli.plotting import calibration_roc_figure
-
-        output.figure(calibration_roc_figure(*cal.figure_data()))
-    output.emit(cal.table())
-    output.note(cal.summary())
+    output.result(cal, "calibration_roc_figure")

@@ -127,12 +127,7 @@ def _montecarlo(
     else:
         job = RadarLmpJob(cfg, frs, pairs, None, hs, trials, seed, signature, method=method, center=center)
     mc = run_job(job, engine, "Monte Carlo trials (2-D radar)", output.quiet)
-    if output.plot is not None:
-        from motionsig_cli.plotting import montecarlo_figure
-
-        output.figure(montecarlo_figure(*mc.figure_data()))
-    output.emit(mc.table())
-    output.note(mc.summary())
+    output.result(mc, "montecarlo_figure")
 
 
 def _calibrate(
@@ -151,9 +146,4 @@ def _calibrate(
     if job.warning:
         output.note(job.warning)
     cal = run_job(job, engine, "Calibration trials (2-D radar, null + signature)", output.quiet)
-    if output.plot is not None:
-        from motionsig_cli.plotting import calibration_roc_figure
-
-        output.figure(calibration_roc_figure(*cal.figure_data()))
-    output.emit(cal.table())
-    output.note(cal.summary())
+    output.result(cal, "calibration_roc_figure")

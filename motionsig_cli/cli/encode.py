@@ -9,8 +9,10 @@ columns), so any of them can be piped into ``motionsig encode correlations -``. 
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from typing import Annotated
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Annotated
 
 import typer
 
@@ -24,6 +26,10 @@ from motionsig_cli.cli.common import (
     choices,
     command,
 )
+from motionsig_cli.cli.option_groups import given, options
+
+if TYPE_CHECKING:
+    from motionsig_cli.signals.ebpsk import EBPSKConfig
 
 app = typer.Typer(
     help="Gold codes, m-sequences, GPS C/A codes, Table I mode codes, correlations and mode signatures.",
@@ -353,8 +359,74 @@ def _ebpsk_bits(bits: str | None, code: str | None) -> tuple[object, str]:
     return [int(c) for c in cleaned], "".join(cleaned)
 
 
+@dataclass(frozen=True)
+class Waveform:
+    """The EBPSK waveform and impacting filter (Table I of Yao, Teng & Wu; the filter's placement assumed)."""
+
+    N: Annotated[int, typer.Option("--N", help="Carrier cycles per symbol (Table I: 7).")] = 7
+    K: Annotated[
+        int, typer.Option("--K", help="Phase-changed cycles of a bit 1, 1 <= K < N (Table I: 2).")
+    ] = 2
+    theta: Annotated[float, typer.Option("--theta", help="Modulation angle [rad], in (0, 2 pi).")] = math.pi
+    f_if: Annotated[float, typer.Option("--f-if", help="Intermediate frequency [Hz] (Table I: 100 MHz).")] = (
+        100e6
+    )
+    fs: Annotated[float, typer.Option("--fs", help="Sampling frequency [Hz], > 2 f_if (Table I: 1 GHz).")] = (
+        1e9
+    )
+    f_carrier: Annotated[
+        float, typer.Option("--f-carrier", help="RF carrier [Hz], metadata only (Table I: 10 GHz).")
+    ] = 10e9
+    pole_radius: Annotated[
+        float, typer.Option("--pole-radius", help="Impacting filter: pole radius in (0, 1) (assumed).")
+    ] = 0.93
+    pole_offset: Annotated[
+        float, typer.Option("--pole-offset", help="Impacting filter: poles at f_if(1 +- offset) (assumed).")
+    ] = 0.08
+    zero_offset: Annotated[
+        float, typer.Option("--zero-offset", help="Impacting filter: zeros at f_if(1 + offset) (assumed 0).")
+    ] = 0.0
+
+    def config(self) -> EBPSKConfig:
+        """The waveform's configuration (which checks every value)."""
+        from motionsig_cli.signals.ebpsk import EBPSKConfig
+
+        return EBPSKConfig(**dataclasses.asdict(self))
+
+
+@dataclass(frozen=True)
+class Ber:
+    """The BER Monte Carlo of ``--ber`` (None: its defaults)."""
+
+    ebn0: Annotated[
+        str | None, typer.Option("--ebn0", help="With --ber: Eb/N0 values [dB] (default 0,2,...,20).")
+    ] = None
+    trials: Annotated[int | None, typer.Option("--trials", help="With --ber: records per Eb/N0 (100).")] = (
+        None
+    )
+    bits_per_trial: Annotated[
+        int | None, typer.Option("--bits-per-trial", help="With --ber: data bits per record (1000).")
+    ] = None
+    statistic: Annotated[
+        Statistic | None,
+        typer.Option(
+            "--statistic", help="With --ber: peak (max |y|, default) or energy in each symbol's window."
+        ),
+    ] = None
+    threshold: Annotated[
+        float | None,
+        typer.Option("--threshold", help="With --ber: fixed threshold (default: minimum-error, calibrated)."),
+    ] = None
+
+    def refuse(self) -> None:
+        """Without --ber, these options are usage errors."""
+        for name in given(self):
+            raise typer.BadParameter("applies with --ber only", param_hint="--" + name.replace("_", "-"))
+
+
 @app.command("ebpsk")
 @command(parallel=True, options=EBPSK_OPTIONS)
+@options(waveform=Waveform, ber_options=Ber)
 def ebpsk_cmd(
     bits: Annotated[
         str | None, typer.Option("--bits", help="Bits to send, e.g. 0110 (default 0110; not with --ber).")
@@ -365,51 +437,11 @@ def ebpsk_cmd(
             "--code", help="Send the chips of a code set instead (gold:45,75:1, gps:1, corrected ...)."
         ),
     ] = None,
-    N: Annotated[int, typer.Option("--N", help="Carrier cycles per symbol (Table I: 7).")] = 7,
-    K: Annotated[
-        int, typer.Option("--K", help="Phase-changed cycles of a bit 1, 1 <= K < N (Table I: 2).")
-    ] = 2,
-    theta: Annotated[float, typer.Option("--theta", help="Modulation angle [rad], in (0, 2 pi).")] = math.pi,
-    f_if: Annotated[
-        float, typer.Option("--f-if", help="Intermediate frequency [Hz] (Table I: 100 MHz).")
-    ] = 100e6,
-    fs: Annotated[
-        float, typer.Option("--fs", help="Sampling frequency [Hz], > 2 f_if (Table I: 1 GHz).")
-    ] = 1e9,
-    f_carrier: Annotated[
-        float, typer.Option("--f-carrier", help="RF carrier [Hz], metadata only (Table I: 10 GHz).")
-    ] = 10e9,
-    pole_radius: Annotated[
-        float, typer.Option("--pole-radius", help="Impacting filter: pole radius in (0, 1) (assumed).")
-    ] = 0.93,
-    pole_offset: Annotated[
-        float, typer.Option("--pole-offset", help="Impacting filter: poles at f_if(1 +- offset) (assumed).")
-    ] = 0.08,
-    zero_offset: Annotated[
-        float, typer.Option("--zero-offset", help="Impacting filter: zeros at f_if(1 + offset) (assumed 0).")
-    ] = 0.0,
+    waveform: Waveform = Waveform(),
     ber: Annotated[
         bool, typer.Option("--ber", help="BER vs Eb/N0 Monte Carlo of the amplitude demodulator instead.")
     ] = False,
-    ebn0: Annotated[
-        str | None, typer.Option("--ebn0", help="With --ber: Eb/N0 values [dB] (default 0,2,...,20).")
-    ] = None,
-    trials: Annotated[
-        int | None, typer.Option("--trials", help="With --ber: records per Eb/N0 (100).")
-    ] = None,
-    bits_per_trial: Annotated[
-        int | None, typer.Option("--bits-per-trial", help="With --ber: data bits per record (1000).")
-    ] = None,
-    statistic: Annotated[
-        Statistic | None,
-        typer.Option(
-            "--statistic", help="With --ber: peak (max |y|, default) or energy in each symbol's window."
-        ),
-    ] = None,
-    threshold: Annotated[
-        float | None,
-        typer.Option("--threshold", help="With --ber: fixed threshold (default: minimum-error, calibrated)."),
-    ] = None,
+    ber_options: Ber = Ber(),
     seed: SeedOpt = DEFAULT_SEED_VALUE,
     *,
     output: Output,
@@ -431,27 +463,21 @@ def ebpsk_cmd(
       motionsig encode ebpsk --ber --trials 50 --plot ber.png
     """
     output.check()
-    ber_opts = {
-        "--ebn0": ebn0, "--trials": trials, "--bits-per-trial": bits_per_trial, "--statistic": statistic,
-        "--threshold": threshold,
-    }  # fmt: skip
-    from motionsig_cli.signals.ebpsk import EBPSKConfig
-
-    cfg = EBPSKConfig(
-        N=N, K=K, theta=theta, f_if=f_if, fs=fs, f_carrier=f_carrier, pole_radius=pole_radius,
-        pole_offset=pole_offset, zero_offset=zero_offset,
-    )  # fmt: skip
+    cfg = waveform.config()
     if ber:
         if bits is not None or code is not None:
             raise typer.BadParameter(
                 "--ber sends random bits: drop --bits/--code",
                 param_hint="--bits" if bits is not None else "--code",
             )
-        _ebpsk_ber(cfg, ebn0, trials, bits_per_trial, statistic, threshold, seed, output, parallel)
+        _ebpsk_ber(cfg, ber_options, seed, output, parallel)
         return
-    given = [opt for opt, value in ber_opts.items() if value is not None]
-    if given:
-        raise typer.BadParameter("applies with --ber only", param_hint=given[0])
+    ber_options.refuse()
+    _ebpsk_waveform(cfg, bits, code, output)
+
+
+def _ebpsk_waveform(cfg: EBPSKConfig, bits: str | None, code: str | None, output: Output) -> None:
+    """The waveform table of ``--bits`` or ``--code`` and its figure."""
     sent, source = _ebpsk_bits(bits, code)
     from motionsig_cli.maneuver.ebpsk_link import waveform_table
     from motionsig_cli.signals.ebpsk import check_bits
@@ -480,17 +506,9 @@ def ebpsk_cmd(
     )
 
 
-def _ebpsk_ber(
-    cfg: object,
-    ebn0: str | None,
-    trials: int | None,
-    bits_per_trial: int | None,
-    statistic: object,
-    threshold: float | None,
-    seed: int,
-    output: Output,
-    parallel: Parallel,
-) -> None:
+def _ebpsk_ber(cfg: EBPSKConfig, opts: Ber, seed: int, output: Output, parallel: Parallel) -> None:
+    """``--ber``: BER vs Eb/N0 on the engine."""
+    ebn0, trials, bits_per_trial, statistic = opts.ebn0, opts.trials, opts.bits_per_trial, opts.statistic
     from motionsig_cli.maneuver.ebpsk_link import DEFAULT_EBN0_DB, BerJob
 
     values = (
@@ -500,12 +518,12 @@ def _ebpsk_ber(
     )
     engine = parallel.engine()
     job = BerJob(
-        cfg=cfg,  # type: ignore[arg-type]
+        cfg=cfg,
         ebn0_db=values,
         trials=100 if trials is None else trials,
         bits_per_trial=1000 if bits_per_trial is None else bits_per_trial,
-        statistic="peak" if statistic is None else statistic.value,  # type: ignore[attr-defined]
-        threshold=threshold,
+        statistic="peak" if statistic is None else statistic.value,
+        threshold=opts.threshold,
         seed=seed,
     )
     result = common.run_job(job, engine, "EBPSK BER", output.quiet)

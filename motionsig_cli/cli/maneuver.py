@@ -22,6 +22,7 @@ The command parses the options and writes the results; the configurations of
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
 
@@ -29,8 +30,10 @@ import typer
 
 from motionsig_cli.cli import common
 from motionsig_cli.cli.common import DEFAULT_SEED_VALUE, Output, Parallel, SeedOpt, choices, command
+from motionsig_cli.cli.option_groups import RecordOptions, given, options
 
 if TYPE_CHECKING:
+    from motionsig_cli.engine import Engine
     from motionsig_cli.maneuver import study as exp
 
 CHI2_2_999 = -2.0 * math.log(1e-3)
@@ -91,7 +94,7 @@ SigmaOpt = Annotated[
     str | None,
     _opt(
         "--sigma",
-        "Measurement noise σ per axis [m], 1e-3 to 1e7, comma-separated (default 100,200). With --input: one "
+        "Measurement noise σ per axis [m], 1e-3 to 1e7, comma-separated (default 100,200). With FILE: one "
         "σ, or 'estimate' (from the positions' second differences); default the record's metadata 'sigma', "
         "else estimated.",
     ),
@@ -101,7 +104,7 @@ TOpt = Annotated[
     float | None,
     _opt(
         "--T",
-        "Scan period [s], 1e-3 to 3600 (assumed: 1; the paper does not state it). With --input: default the "
+        "Scan period [s], 1e-3 to 3600 (assumed: 1; the paper does not state it). With FILE: default the "
         "record's metadata 'T', else the period of its times, else 1; must agree with the times (0.1 %).",
     ),
 ]
@@ -146,23 +149,6 @@ ResponseOpt = Annotated[
 ViewOpt = Annotated[
     View, _opt("--view", "scans, events, summary, measurements or front-end (ebpsk: σ, P_D along the track).")
 ]
-InputOpt = Annotated[
-    str | None,
-    _opt(
-        "--input",
-        "Track one record instead: CSV or JSON with time (t, timestamp: seconds or ISO 8601) and/or scan, and "
-        "x (z_x, east), y (z_y, north) [m]; '-' for stdin. Empty or NaN cells and absent scans are missed "
-        "scans.",
-        "-i",
-    ),
-]
-ColumnsOpt = Annotated[
-    str | None,
-    _opt("--columns", "With --input: which column is which role, e.g. time=Timestamp,x=East_m,y=North_m."),
-]
-UnitsOpt = Annotated[
-    str | None, _opt("--units", "With --input: units of the columns, e.g. x=km,y=km,time=ms (default m, s).")
-]
 FrontEndOpt = Annotated[
     FrontEnd,
     _opt(
@@ -204,8 +190,64 @@ PlotCompareOpt = Annotated[
 ]
 
 
+@dataclass(frozen=True)
+class TrackerOptions:
+    """The trackers' settings: the IMM's G2, transition matrix, initial probabilities and noise, and the
+    GLR/MLR detectors'."""
+
+    g2: G2Opt = G2.paper_fixed
+    transition: TransitionOpt = None
+    mu0: Mu0Opt = None
+    imm_q: ImmQOpt = None
+    q0: Q0Opt = 1.0
+    window: WindowOpt = 10
+    glr_threshold: GlrThresholdOpt = CHI2_2_999
+    mlr_threshold: MlrThresholdOpt = 0.0
+    mlr_sigma_u: SigmaUOpt = 20.0
+    correction: CorrectionOpt = Correction.exact
+    continuation: ContinuationOpt = Continuation.estimate
+
+    def config(self) -> exp.TrackerConfig:
+        """The trackers' configuration (which checks every value)."""
+        from motionsig_cli.maneuver import study as exp
+
+        extra = _probabilities(self.transition, self.mu0)
+        if self.imm_q is not None:
+            extra["imm_q"] = tuple(common.checked("--imm-q", common.float_list, self.imm_q, what="variance"))
+        return exp.TrackerConfig(g2=self.g2.value, q0=self.q0, window=self.window,
+                                 glr_threshold=self.glr_threshold, mlr_threshold=self.mlr_threshold,
+                                 sigma_u=self.mlr_sigma_u, correction=self.correction.value,
+                                 continuation=self.continuation.value, **extra)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class RadarOptions:
+    """The EBPSK radar of ``--front-end ebpsk`` (None: the radar modules' defaults)."""
+
+    level: LevelOpt = None
+    radar_position: RadarPositionOpt = None
+    p_t: PtOpt = None
+    gain_db: GainOpt = None
+    rcs: RcsOpt = None
+    loss_db: LossOpt = None
+    noise_figure_db: NoiseFigureOpt = None
+    n_pulses: PulsesOpt = None
+    pfa: PfaOpt = None
+    pri: PriOpt = None
+    beamwidth: BeamwidthOpt = None
+
+    def refuse(self) -> None:
+        """Without --front-end ebpsk, a radar option is a usage error."""
+        for name in given(self):
+            raise typer.BadParameter(
+                "sets the EBPSK radar; give --front-end ebpsk", param_hint="--" + name.replace("_", "-")
+            )
+
+
 @command(parallel=True, options=OPTIONS)
+@options(record=RecordOptions, tracker=TrackerOptions, radar=RadarOptions)
 def maneuver(
+    record: RecordOptions,
     method: MethodOpt = "imm",
     sigma: SigmaOpt = None,
     preset: PresetOpt = Preset.literal,
@@ -213,35 +255,12 @@ def maneuver(
     scans: ScansOpt = 450,
     runs: RunsOpt = 500,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
-    g2: G2Opt = G2.paper_fixed,
-    transition: TransitionOpt = None,
-    mu0: Mu0Opt = None,
-    imm_q: ImmQOpt = None,
-    q0: Q0Opt = 1.0,
-    window: WindowOpt = 10,
-    glr_threshold: GlrThresholdOpt = CHI2_2_999,
-    mlr_threshold: MlrThresholdOpt = 0.0,
-    mlr_sigma_u: SigmaUOpt = 20.0,
-    correction: CorrectionOpt = Correction.exact,
-    continuation: ContinuationOpt = Continuation.estimate,
+    tracker: TrackerOptions = TrackerOptions(),
     response: ResponseOpt = 30,
     view: ViewOpt = View.scans,
-    input_file: InputOpt = None,
-    columns: ColumnsOpt = None,
-    units: UnitsOpt = None,
     plot_compare: PlotCompareOpt = None,
     front_end: FrontEndOpt = FrontEnd.gaussian,
-    level: LevelOpt = None,
-    radar_position: RadarPositionOpt = None,
-    p_t: PtOpt = None,
-    gain_db: GainOpt = None,
-    rcs: RcsOpt = None,
-    loss_db: LossOpt = None,
-    noise_figure_db: NoiseFigureOpt = None,
-    n_pulses: PulsesOpt = None,
-    pfa: PfaOpt = None,
-    pri: PriOpt = None,
-    beamwidth: BeamwidthOpt = None,
+    radar: RadarOptions = RadarOptions(),
     *,
     output: Output,
     parallel: Parallel,
@@ -251,51 +270,44 @@ def maneuver(
     After Yao, Teng & Wu, Maneuvering Target Tracking Based on EBPSK Modulated JRC System. IMM = interacting
     multiple model filter; GLR / MLR = generalised / marginalised likelihood ratio; CV = constant velocity.
 
+    FILE: track one record instead of simulating: CSV or JSON with time (t, timestamp: seconds or ISO 8601)
+    and/or scan, and x (z_x, east), y (z_y, north) [m]; '-' for stdin. Empty or NaN cells and absent scans
+    are missed scans (--input FILE, the old spelling, still works).
+
     \b
     Example:
       motionsig maneuver --runs 100 --plot figs.png                  # Figs 2-4 and the IMM probabilities
       motionsig maneuver --method all --view summary --plot-compare cmp.png
-      motionsig maneuver --view measurements --runs 1 --sigma 100 | motionsig maneuver --input - --method glr
-      motionsig maneuver --input export.csv --columns x=East,y=North --units x=km,y=km --plot track.png
+      motionsig maneuver --view measurements --runs 1 --sigma 100 | motionsig maneuver - --method glr
+      motionsig maneuver export.csv --columns x=East,y=North --units x=km,y=km --plot track.png
       motionsig maneuver --runs 5000 --method all --workers 8 --checkpoint ckpt/   # resumable if interrupted
       motionsig maneuver --front-end ebpsk --method all --view summary   # on the EBPSK radar's positions
       motionsig maneuver --front-end ebpsk --view front-end --plot sigma.png
 
     --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary); the
-    measurements view and --input run no Monte Carlo and ignore them.
+    measurements view and FILE run no Monte Carlo and ignore them.
     """
     from motionsig_cli.maneuver import study as exp
 
     output.check(plot_compare=plot_compare)
     engine = parallel.engine()
     methods = _methods(method, exp.METHODS)
-    extra = _probabilities(transition, mu0)
-    if imm_q is not None:
-        extra["imm_q"] = tuple(common.checked("--imm-q", common.float_list, imm_q, what="variance"))
-    cfg = exp.TrackerConfig(g2=g2.value, q0=q0, window=window, glr_threshold=glr_threshold,
-                            mlr_threshold=mlr_threshold, sigma_u=mlr_sigma_u, correction=correction.value,
-                            continuation=continuation.value, **extra)  # fmt: skip
-    radar_given = {"--level": level, "--radar-position": radar_position, "--p-t": p_t, "--gain-db": gain_db,
-                   "--rcs": rcs, "--loss-db": loss_db, "--noise-figure-db": noise_figure_db, "--n-pulses": n_pulses,
-                   "--pfa": pfa, "--pri": pri, "--beamwidth": beamwidth}  # fmt: skip
+    cfg = tracker.config()
     if front_end is FrontEnd.gaussian:
-        for name, given in radar_given.items():
-            if given is not None:
-                raise typer.BadParameter("sets the EBPSK radar; give --front-end ebpsk", param_hint=name)
+        radar.refuse()
         if view is View.front_end:
             raise typer.BadParameter(
                 "tabulates the EBPSK front end; give --front-end ebpsk", param_hint="--view"
             )
-    if input_file is not None:
+    path = record.path
+    if path is not None:
         if front_end is not FrontEnd.gaussian:
             raise typer.BadParameter(
                 "with --input the record holds the measurements", param_hint="--front-end"
             )
-        _track_record(input_file, methods, cfg, sigma, T, columns, units, view, plot_compare, output)
+        _track_record(path, methods, cfg, sigma, T, record, view, plot_compare, output)
         return
-    for name, given in (("--columns", columns), ("--units", units)):
-        if given is not None:
-            raise typer.BadParameter("describes the --input record; give --input FILE", param_hint=name)
+    record.refuse_without_file()
     if sigma is not None and sigma.strip().lower() == "estimate":
         raise typer.BadParameter("'estimate' estimates σ from an --input record", param_hint="--sigma")
     sigmas = (
@@ -304,14 +316,23 @@ def maneuver(
     sc = exp.ManeuverScenario(preset=preset.value, T=1.0 if T is None else T, scans=scans)
     source: Any = "gaussian"
     if front_end is FrontEnd.ebpsk:
-        fe = _front_end(sc, level, radar_position, p_t, gain_db, rcs, loss_db, noise_figure_db, n_pulses, pfa, pri,
-                        beamwidth)  # fmt: skip
+        fe = _front_end(sc, radar)
         if view is View.front_end:
-            _front_end_view(sc, fe, sigmas, p_t is None, output)
+            _front_end_view(sc, fe, sigmas, radar.p_t is None, output)
             return
-        source, sigmas = _ebpsk_source(sc, fe, sigma, p_t, sigmas)
+        source, sigmas = _ebpsk_source(sc, fe, sigma, radar.p_t, sigmas)
     job = exp.ManeuverJob(sc, tuple(dict.fromkeys(sigmas)), runs, seed, methods, cfg, quiet_fp=True,
                           source=source)  # fmt: skip
+    _monte_carlo(job, view, response, methods, plot_compare, engine, output)
+
+
+def _monte_carlo(
+    job: exp.ManeuverJob, view: View, response: int, methods: tuple[str, ...], plot_compare: Path | None,
+    engine: Engine, output: Output,
+) -> None:  # fmt: skip
+    """The Monte Carlo views (scans, events, summary) and the measurements view of ``job``."""
+    from motionsig_cli.maneuver import study as exp
+
     if view is View.measurements:
         for name, path in (("--plot", output.plot), ("--plot-compare", plot_compare)):
             if path is not None:
@@ -335,32 +356,30 @@ def maneuver(
     output.note(f"maneuver: {report.note}")
 
 
-def _front_end(
-    sc: exp.ManeuverScenario, level: Any, radar_position: str | None, p_t: float | None, gain_db: float | None,
-    rcs: float | None, loss_db: float | None, noise_figure_db: float | None, n_pulses: int | None,
-    pfa: float | None, pri: float | None, beamwidth: float | None,
-) -> Any:  # fmt: skip
+def _front_end(sc: exp.ManeuverScenario, radar: RadarOptions) -> Any:
     """The EBPSK front end of the options (defaults: those of the radar modules), checked against the track."""
     from motionsig_cli.config import in_range
     from motionsig_cli.maneuver import ebpsk_radar as er
     from motionsig_cli.maneuver import ebpsk_tracking as et
     from motionsig_cli.models.radar_equation import RadarEquation
 
-    eq_args = {k: v for k, v in (("p_t", p_t), ("g_t_db", gain_db), ("g_r_db", gain_db), ("rcs", rcs),
-               ("loss_db", loss_db), ("noise_figure_db", noise_figure_db), ("n_pulses", n_pulses))
-               if v is not None}  # fmt: skip
-    radar_args: dict[str, Any] = {k: v for k, v in (("pfa", pfa), ("pri", pri)) if v is not None}
-    if beamwidth is not None:
+    values = given(radar)
+    eq_args = {k: values[k] for k in ("p_t", "rcs", "loss_db", "noise_figure_db", "n_pulses") if k in values}
+    if radar.gain_db is not None:
+        eq_args |= {"g_t_db": radar.gain_db, "g_r_db": radar.gain_db}
+    radar_args: dict[str, Any] = {k: values[k] for k in ("pfa", "pri") if k in values}
+    if (beamwidth := radar.beamwidth) is not None:
         radar_args["beamwidth"] = math.radians(in_range("beamwidth", beamwidth, 0.0, 180.0, lo_open=True,
                                                         hi_open=True, unit="°"))  # fmt: skip
     position = et.DEFAULT_RADAR_POSITION
-    if radar_position is not None:
+    if (radar_position := radar.radar_position) is not None:
         vals = common.checked("--radar-position", common.float_list, radar_position, what="coordinate")
         if len(vals) != 2:
             raise typer.BadParameter(f"give x,y [m]; got {radar_position!r}", param_hint="--radar-position")
         position = (vals[0], vals[1])
-    radar = er.EbpskRadarConfig(radar=RadarEquation(**eq_args), **radar_args)
-    fe = et.EbpskFrontEnd(radar=radar, position=position, level="detector" if level is None else level.value)
+    config = er.EbpskRadarConfig(radar=RadarEquation(**eq_args), **radar_args)
+    level = "detector" if radar.level is None else radar.level.value
+    fe = et.EbpskFrontEnd(radar=config, position=position, level=level)
     fe.check_track(sc.truth())
     return fe.prepared(sc.truth())
 
@@ -415,7 +434,7 @@ def _front_end_view(sc: exp.ManeuverScenario, fe: Any, sigmas: Any, calibrate: b
 
 def _track_record(
     path: str, methods: tuple[str, ...], cfg: exp.TrackerConfig, sigma: str | None, T: float | None,
-    columns: str | None, units: str | None, view: View, plot_compare: Path | None, output: Output,
+    record: RecordOptions, view: View, plot_compare: Path | None, output: Output,
 ) -> None:  # fmt: skip
     """Track one measurement record with every requested method (and draw it with --plot)."""
     from motionsig_cli.maneuver import record as mr
@@ -429,8 +448,7 @@ def _track_record(
             "compares Monte Carlo runs; with --input, --plot draws the record's tracks",
             param_hint="--plot-compare",
         )
-    if output.out is not None and path != "-" and Path(path).resolve() == output.out.resolve():
-        raise typer.BadParameter("is the --input file", param_hint="--out")
+    output.refuse_input(path, "the --input file")
     s: float | str | None = None
     if sigma is not None and sigma.strip().lower() == "estimate":
         s = "estimate"
@@ -439,7 +457,7 @@ def _track_record(
         if len(vals) != 1:
             raise typer.BadParameter("give one σ with --input (or 'estimate')", param_hint="--sigma")
         s = vals[0]
-    rec = mr.read_track_record(path, columns=columns, units=units, T=T)
+    rec = mr.read_track_record(path, columns=record.columns, units=record.units, T=T)
     result = mr.track_record(rec, methods, cfg, sigma=s)
     if output.plot is not None:
         from motionsig_cli.plotting import maneuver_record_figure

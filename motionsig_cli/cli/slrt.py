@@ -17,6 +17,7 @@ With ``--input DETECTIONS --sensor-table SENSORS`` the methods score the user's 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated
 
@@ -31,6 +32,7 @@ from motionsig_cli.cli.common import (
     choices,
     command,
 )
+from motionsig_cli.cli.option_groups import RecordOptions, options
 from motionsig_cli.detection.track_existence import FUSION_METHODS, METHODS
 
 if TYPE_CHECKING:
@@ -105,6 +107,187 @@ def _given(name: str) -> bool:
     return source is not None and source not in (ParameterSource.DEFAULT, ParameterSource.DEFAULT_MAP)
 
 
+AlphaOpt = Annotated[float, typer.Option("--alpha", help="SPRT α = P(confirm | no target).")]
+BetaOpt = Annotated[float, typer.Option("--beta", help="SPRT β = P(delete | target).")]
+DEFAULT_METHODS = ",".join(METHODS)
+MethodsOpt = Annotated[str, typer.Option("--methods", help=METHODS_HELP)]
+ViewOpt = Annotated[
+    View,
+    typer.Option(
+        "--view",
+        help="curves (per scan), decisions (SPRT table) or study (rates with standard errors and exact "
+        "intervals against Wald's bounds, ASN, tracks lost); detections or sensors: run 0 of the first "
+        "case as the files FILE and --sensor-table read.",
+    ),
+]
+StopOpt = Annotated[
+    bool,
+    typer.Option(
+        "--stop/--no-stop", help="Freeze each run's score at its decision (default: keep accumulating)."
+    ),
+]
+PlotScanOpt = Annotated[
+    Path | None, typer.Option("--plot-scan", help="Also draw one scan (radars, clutter, target) of run 0.")
+]
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """The simulated scenario: target cases, sensors, the target's motion, scans and runs (a FILE replaces
+    them: :data:`SIMULATION_ONLY`)."""
+
+    pd: Annotated[
+        str, typer.Option("--pd", help="Detection probabilities of the target cases (data and filters).")
+    ] = "0.9,0.5,0.2"
+    no_target: Annotated[
+        bool, typer.Option("--no-target/--target-only", help="Also run the no-target (clutter only) case.")
+    ] = True
+    filter_pd: Annotated[
+        float, typer.Option("--filter-pd", help="p_D the filters assume in the no-target case.")
+    ] = 0.9
+    sensors: Annotated[int, typer.Option("--sensors", help="Radars on the circle.")] = 4
+    radius: Annotated[
+        float, typer.Option("--radius", help="Sensor circle radius [m] (slides: about 13 km).")
+    ] = 13_000.0
+    clutter: Annotated[float, typer.Option("--clutter", help="Mean false alarms per sensor and scan.")] = 5.0
+    sigma_r: Annotated[float, typer.Option("--sigma-r", help="Range noise σ_r [m].")] = 50.0
+    sigma_phi_deg: Annotated[float, typer.Option("--sigma-phi-deg", help="Bearing noise σ_φ [deg].")] = 0.2
+    meas: Annotated[Meas, typer.Option("--meas", help="range-bearing (EKF) or cartesian (linear).")] = (
+        Meas.range_bearing
+    )
+    q: Annotated[
+        float,
+        typer.Option(
+            "--q", help="Acceleration psd q̃ [m²/s³] of the target (and of the filters, unless --filter-q)."
+        ),
+    ] = 10.0
+    filter_q: Annotated[
+        float | None,
+        typer.Option(
+            "--filter-q",
+            help="Acceleration psd the filters assume [m²/s³] (default: --q; an agile target needs more).",
+        ),
+    ] = None
+    target_motion: Annotated[
+        str,
+        typer.Option(
+            "--target-motion",
+            help="cv (constant velocity + white-noise acceleration, the slides), agile (manoeuvres at "
+            "stated scans as well), or cv,agile: each p_D for both.",
+        ),
+    ] = "cv"
+    turn_rate_deg: Annotated[
+        str | None,
+        typer.Option(
+            "--turn-rate-deg",
+            help="Agile: coordinated-turn rate of each turn window [deg/s], > 0 left (default 9,-3: 2.5 g, "
+            "then 0.74 g).",
+        ),
+    ] = None
+    turn_scans: Annotated[
+        str | None,
+        typer.Option("--turn-scans", help="Agile: the turn windows, first-last scan (default 1-10,19-28)."),
+    ] = None
+    accel: Annotated[
+        str | None,
+        typer.Option(
+            "--accel",
+            help="Agile: longitudinal acceleration of each window [m/s²] along the velocity (default -5).",
+        ),
+    ] = None
+    accel_scans: Annotated[
+        str | None,
+        typer.Option(
+            "--accel-scans", help="Agile: the acceleration windows, first-last scan (default 13-16; none)."
+        ),
+    ] = None
+    T: Annotated[
+        float | None,
+        typer.Option(
+            "--T", help="Scan period [s] (default 1; with --input: the file's metadata T or time grid)."
+        ),
+    ] = None
+    scans: Annotated[int, typer.Option("--scans", help="Scans per run.")] = 30
+    runs: Annotated[
+        int, typer.Option("--runs", help="Monte Carlo runs per case (over the time limit: --max-minutes).")
+    ] = 50
+
+
+@dataclass(frozen=True)
+class Fusion:
+    """The fusion options, the fields of :class:`~motionsig_cli.detection.track_existence.FusionOptions`."""
+
+    lkf_mean: Annotated[
+        LkfMean, typer.Option("--lkf-mean", help="LKF: mean of the likelihood ratios (slides) or of log LRs.")
+    ] = LkfMean.lr
+    gate_pg: Annotated[
+        float | None,
+        typer.Option(
+            "--gate-pg",
+            help="χ² validation gate probability P_G in (0, 1] for every local update (default: no gate).",
+        ),
+    ] = None
+    feedback_every: Annotated[
+        int,
+        typer.Option(
+            "--feedback-every",
+            help="fkf-feedback: reset the local filters to the fused estimate after every N-th scan.",
+        ),
+    ] = 1
+    ldf_prior: Annotated[
+        float,
+        typer.Option("--ldf-prior", help="ldf: prior existence probability P0 in (0, 1) (assumed 0.5)."),
+    ] = 0.5
+    ldf_weights: Annotated[
+        str | None,
+        typer.Option("--ldf-weights", help="ldf: the sensors' weights, comma-separated (default: equal)."),
+    ] = None
+
+    def values(self, methods: tuple[str, ...]) -> dict[str, object]:
+        """The fusion fields; an option of a method not in ``methods`` is a usage error."""
+        for option, name, rule in (("--feedback-every", "feedback_every", "fkf-feedback"),
+                                   ("--ldf-prior", "ldf_prior", "ldf"), ("--ldf-weights", "ldf_weights", "ldf")):  # fmt: skip
+            if _given(name) and rule not in methods:
+                raise typer.BadParameter(f"applies only with --methods including {rule}", param_hint=option)
+        weights = None if self.ldf_weights is None else _values("--ldf-weights", self.ldf_weights)
+        return {"lkf_mean": self.lkf_mean.value, "gate_pg": self.gate_pg, "feedback_every": self.feedback_every,
+                "ldf_prior": self.ldf_prior, "ldf_weights": weights}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class RecordInput:
+    """With FILE (the detections): the sensors table and the tracks' start."""
+
+    sensor_table: Annotated[
+        Path | None,
+        typer.Option(
+            "--sensor-table",
+            help="With FILE: the sensors (sensor, x, y, sigma_r, sigma_phi [deg] or sigma_xy, pd, clutter "
+            "or clutter_density, fov).",
+        ),
+    ] = None
+    sensor_columns: Annotated[
+        str | None,
+        typer.Option("--sensor-columns", help="With FILE: the sensors table's columns, role=name,..."),
+    ] = None
+    init: Annotated[
+        str | None,
+        typer.Option(
+            "--init",
+            help="With FILE: the track x,vx,y,vy [m, m/s] one scan period before the first scan (default: "
+            "the file's metadata init, else one track per detection of the first scan).",
+        ),
+    ] = None
+    init_sd: Annotated[
+        str | None,
+        typer.Option(
+            "--init-sd",
+            help="With FILE: the track prior sd pos,vel [m, m/s] (default 200,50 with --init; from a "
+            "detection: its sensor's accuracy and 150 m/s).",
+        ),
+    ] = None
+
+
 @command(
     parallel=True,
     options={
@@ -115,183 +298,21 @@ def _given(name: str) -> bool:
         "motions": "--target-motion",
     },
 )
+@options(record=RecordOptions, scenario=Scenario, fusion=Fusion, given_input=RecordInput)
 def slrt(
     output: Output,
     parallel: Parallel,
-    pd: Annotated[
-        str, typer.Option("--pd", help="Detection probabilities of the target cases (data and filters).")
-    ] = "0.9,0.5,0.2",
-    no_target: Annotated[
-        bool, typer.Option("--no-target/--target-only", help="Also run the no-target (clutter only) case.")
-    ] = True,
-    filter_pd: Annotated[
-        float, typer.Option("--filter-pd", help="p_D the filters assume in the no-target case.")
-    ] = 0.9,
-    sensors: Annotated[int, typer.Option("--sensors", help="Radars on the circle.")] = 4,
-    radius: Annotated[
-        float, typer.Option("--radius", help="Sensor circle radius [m] (slides: about 13 km).")
-    ] = 13_000.0,
-    clutter: Annotated[float, typer.Option("--clutter", help="Mean false alarms per sensor and scan.")] = 5.0,
-    sigma_r: Annotated[float, typer.Option("--sigma-r", help="Range noise σ_r [m].")] = 50.0,
-    sigma_phi_deg: Annotated[float, typer.Option("--sigma-phi-deg", help="Bearing noise σ_φ [deg].")] = 0.2,
-    meas: Annotated[
-        Meas, typer.Option("--meas", help="range-bearing (EKF) or cartesian (linear).")
-    ] = Meas.range_bearing,
-    q: Annotated[
-        float,
-        typer.Option(
-            "--q", help="Acceleration psd q̃ [m²/s³] of the target (and of the filters, unless --filter-q)."
-        ),
-    ] = 10.0,
-    filter_q: Annotated[
-        float | None,
-        typer.Option(
-            "--filter-q",
-            help="Acceleration psd the filters assume [m²/s³] (default: --q; an agile target needs more).",
-        ),
-    ] = None,
-    target_motion: Annotated[
-        str,
-        typer.Option(
-            "--target-motion",
-            help="cv (constant velocity + white-noise acceleration, the slides), agile (manoeuvres at "
-            "stated scans as well), or cv,agile: each p_D for both.",
-        ),
-    ] = "cv",
-    turn_rate_deg: Annotated[
-        str | None,
-        typer.Option(
-            "--turn-rate-deg",
-            help="Agile: coordinated-turn rate of each turn window [deg/s], > 0 left (default 9,-3: 2.5 g, "
-            "then 0.74 g).",
-        ),
-    ] = None,
-    turn_scans: Annotated[
-        str | None,
-        typer.Option("--turn-scans", help="Agile: the turn windows, first-last scan (default 1-10,19-28)."),
-    ] = None,
-    accel: Annotated[
-        str | None,
-        typer.Option(
-            "--accel",
-            help="Agile: longitudinal acceleration of each window [m/s²] along the velocity (default -5).",
-        ),
-    ] = None,
-    accel_scans: Annotated[
-        str | None,
-        typer.Option(
-            "--accel-scans", help="Agile: the acceleration windows, first-last scan (default 13-16; none)."
-        ),
-    ] = None,
-    T: Annotated[
-        float | None,
-        typer.Option(
-            "--T", help="Scan period [s] (default 1; with --input: the file's metadata T or time grid)."
-        ),
-    ] = None,
-    scans: Annotated[int, typer.Option("--scans", help="Scans per run.")] = 30,
-    runs: Annotated[
-        int, typer.Option("--runs", help="Monte Carlo runs per case (over the time limit: --max-minutes).")
-    ] = 50,
+    record: RecordOptions,
+    scenario: Scenario,
     seed: SeedOpt = DEFAULT_SEED_VALUE,
-    alpha: Annotated[float, typer.Option("--alpha", help="SPRT α = P(confirm | no target).")] = 1e-3,
-    beta: Annotated[float, typer.Option("--beta", help="SPRT β = P(delete | target).")] = 0.1,
-    methods: Annotated[str, typer.Option("--methods", help=METHODS_HELP)] = ",".join(METHODS),
-    lkf_mean: Annotated[
-        LkfMean, typer.Option("--lkf-mean", help="LKF: mean of the likelihood ratios (slides) or of log LRs.")
-    ] = LkfMean.lr,
-    gate_pg: Annotated[
-        float | None,
-        typer.Option(
-            "--gate-pg",
-            help="χ² validation gate probability P_G in (0, 1] for every local update (default: no gate).",
-        ),
-    ] = None,
-    feedback_every: Annotated[
-        int,
-        typer.Option(
-            "--feedback-every",
-            help="fkf-feedback: reset the local filters to the fused estimate after every N-th scan.",
-        ),
-    ] = 1,
-    ldf_prior: Annotated[
-        float,
-        typer.Option("--ldf-prior", help="ldf: prior existence probability P0 in (0, 1) (assumed 0.5)."),
-    ] = 0.5,
-    ldf_weights: Annotated[
-        str | None,
-        typer.Option("--ldf-weights", help="ldf: the sensors' weights, comma-separated (default: equal)."),
-    ] = None,
-    view: Annotated[
-        View,
-        typer.Option(
-            "--view",
-            help="curves (per scan), decisions (SPRT table) or study (rates with standard errors and exact "
-            "intervals against Wald's bounds, ASN, tracks lost); detections or sensors: run 0 of the first "
-            "case as the files --input and --sensor-table read.",
-        ),
-    ] = View.curves,
-    stop: Annotated[
-        bool,
-        typer.Option(
-            "--stop/--no-stop", help="Freeze each run's score at its decision (default: keep accumulating)."
-        ),
-    ] = False,
-    plot_scan: Annotated[
-        Path | None,
-        typer.Option("--plot-scan", help="Also draw one scan (radars, clutter, target) of run 0."),
-    ] = None,
-    input_file: Annotated[
-        str | None,
-        typer.Option(
-            "--input",
-            "-i",
-            help="Score this detections file (CSV or JSON; '-' for stdin) instead of simulating: one row per "
-            "detection, with time (s or ISO 8601) or scan, sensor, and range,bearing or x,y.",
-        ),
-    ] = None,
-    sensor_table: Annotated[
-        Path | None,
-        typer.Option(
-            "--sensor-table",
-            help="With --input: the sensors (sensor, x, y, sigma_r, sigma_phi [deg] or sigma_xy, pd, clutter "
-            "or clutter_density, fov).",
-        ),
-    ] = None,
-    columns: Annotated[
-        str | None,
-        typer.Option(
-            "--columns", help="With --input: the detections' columns, role=name,... (e.g. time=ts)."
-        ),
-    ] = None,
-    sensor_columns: Annotated[
-        str | None,
-        typer.Option("--sensor-columns", help="With --input: the sensors table's columns, role=name,..."),
-    ] = None,
-    units: Annotated[
-        str | None,
-        typer.Option(
-            "--units",
-            help="With --input: units of either file, role=unit,... (e.g. bearing=deg,range=km; x, y: both "
-            "files); over the header's 'name [unit]' and the metadata.",
-        ),
-    ] = None,
-    init: Annotated[
-        str | None,
-        typer.Option(
-            "--init",
-            help="With --input: the track x,vx,y,vy [m, m/s] one scan period before the first scan (default: "
-            "the file's metadata init, else one track per detection of the first scan).",
-        ),
-    ] = None,
-    init_sd: Annotated[
-        str | None,
-        typer.Option(
-            "--init-sd",
-            help="With --input: the track prior sd pos,vel [m, m/s] (default 200,50 with --init; from a "
-            "detection: its sensor's accuracy and 150 m/s).",
-        ),
-    ] = None,
+    alpha: AlphaOpt = 1e-3,
+    beta: BetaOpt = 0.1,
+    methods: MethodsOpt = DEFAULT_METHODS,
+    fusion: Fusion = Fusion(),
+    view: ViewOpt = View.curves,
+    stop: StopOpt = False,
+    plot_scan: PlotScanOpt = None,
+    given_input: RecordInput = RecordInput(),
 ) -> None:
     """Sequential likelihood ratio for track existence from several radars: the confirmation schemes of
     Govaers, Evaluation of Distributed Detection Methods for Agile Targets (Fraunhofer FKIE, slides).
@@ -306,7 +327,9 @@ def slrt(
     accelerates at stated scans (assumed defaults: 9 deg/s over scans 1-10, 2.5 g; -5 m/s² over 13-16;
     -3 deg/s over 19-28); --filter-q sets the filters' psd apart from the target's --q.
 
-    With --input DETECTIONS --sensor-table SENSORS the methods score your own record: per track and scan,
+    With FILE (detections, CSV or JSON, '-' for stdin: one row per detection, with time (s or ISO 8601) or
+    scan, sensor, and range,bearing or x,y) and --sensor-table SENSORS the methods score your own record
+    instead of simulating (--input FILE, the old spelling, still works): per track and scan,
     log LR and Wald's decision. Every sensor of the table scans at every scan; a sensor without a row at a
     scan detected nothing there. A detection outside its sensor's field of view is refused.
 
@@ -317,53 +340,54 @@ def slrt(
       motionsig slrt --view study --runs 1000 --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive
       motionsig slrt --runs 2000 --workers 8 --checkpoint ckpt/  # parallel; rerun to resume if interrupted
       motionsig slrt --view detections -o dets.csv; motionsig slrt --view sensors -o sensors.csv
-      motionsig slrt --input dets.csv --sensor-table sensors.csv   # the same run's scores, from the files
+      motionsig slrt dets.csv --sensor-table sensors.csv           # the same run's scores, from the files
     """
-    from motionsig_cli.existence import slrt as exp
-
     output.check(plot_scan=plot_scan)
     method_names = tuple(dict.fromkeys(m.strip() for m in methods.split(",") if m.strip()))
-    for option, name, rule in (("--feedback-every", "feedback_every", "fkf-feedback"), ("--ldf-prior", "ldf_prior",
-                               "ldf"), ("--ldf-weights", "ldf_weights", "ldf")):  # fmt: skip
-        if _given(name) and rule not in method_names:
-            raise typer.BadParameter(f"applies only with --methods including {rule}", param_hint=option)
-    fusion = {
-        "lkf_mean": lkf_mean.value,
-        "gate_pg": gate_pg,
-        "feedback_every": feedback_every,
-        "ldf_prior": ldf_prior,
-        "ldf_weights": None if ldf_weights is None else _values("--ldf-weights", ldf_weights),
-    }
-    if input_file is not None:
-        for option, value in (
-            ("--workers", parallel.workers),
-            ("--scheduler", parallel.scheduler),
-            ("--checkpoint", parallel.checkpoint),
-        ):
+    fused = fusion.values(method_names)
+    path = record.path
+    if path is not None:
+        for option, value in (("--workers", parallel.workers), ("--scheduler", parallel.scheduler),
+                              ("--checkpoint", parallel.checkpoint)):  # fmt: skip
             if value is not None:
                 raise typer.BadParameter("does not apply with --input (no Monte Carlo)", param_hint=option)
         _score_record(
-            output, input_file, sensor_table, view, meas, columns=columns, sensor_columns=sensor_columns,
-            units=units, init=init, init_sd=init_sd, q=q, T=T, alpha=alpha, beta=beta, methods=method_names,
-            stop=stop, plot_scan=plot_scan, fusion=fusion,
+            output, path, given_input, record, view, scenario.meas, q=scenario.q, T=scenario.T, alpha=alpha,
+            beta=beta, methods=method_names, stop=stop, plot_scan=plot_scan, fusion=fused,
         )  # fmt: skip
         return
     for option, name in INPUT_ONLY.items():
         if _given(name):
             raise typer.BadParameter("applies only with --input DETECTIONS", param_hint=option)
-    writes_run = view in (View.detections, View.sensors)
-    if writes_run:
+    study = _study(scenario, view, seed, alpha, beta, method_names, stop, fused)
+    if scenario.meas is Meas.cartesian:
+        output.note("slrt: --meas cartesian: --sigma-r applies to both axes, --sigma-phi-deg is unused")
+    if view in (View.detections, View.sensors):
+        _write_run(output, study, view, plot_scan)
+        return
+    _simulate(output, parallel, study, view, plot_scan)
+
+
+def _study(
+    scenario: Scenario, view: View, seed: int, alpha: float, beta: float, methods: tuple[str, ...], stop: bool,
+    fusion: dict[str, object],
+) -> exp.SlrtStudy:  # fmt: skip
+    """The simulated study of the options (one run with --view detections or sensors)."""
+    from motionsig_cli.existence import slrt as exp
+
+    sc = scenario
+    runs = sc.runs
+    if view in (View.detections, View.sensors):
         if _given("runs") and runs != 1:
             raise typer.BadParameter(
                 f"--view {view.value} writes one run (run 0 of the first case): use --runs 1",
                 param_hint="--runs",
             )
         runs = 1
-    motions = tuple(m.strip() for m in target_motion.split(","))
+    motions = tuple(m.strip() for m in sc.target_motion.split(","))
     agile: dict[str, object] = {}
     for option, name in AGILE_ONLY.items():
-        text = {"turn_rate_deg": turn_rate_deg, "turn_scans": turn_scans, "accel": accel,
-                "accel_scans": accel_scans}[name]  # fmt: skip
+        text = getattr(sc, name)
         if text is None:
             continue
         if "agile" not in motions:
@@ -371,21 +395,24 @@ def slrt(
                 "applies only with --target-motion agile (or cv,agile)", param_hint=option
             )
         agile[name] = _windows(option, text) if name.endswith("_scans") else _values(option, text)
-    scenario = exp.SlrtScenario(
-        n_sensors=sensors, radius=radius, clutter_rate=clutter, sigma_r=sigma_r, sigma_phi_deg=sigma_phi_deg,
-        meas_model=meas.value.replace("-", "_"), q=q, T=1.0 if T is None else T, scans=scans,
-        filter_q=filter_q, **agile,  # type: ignore[arg-type]
+    scen = exp.SlrtScenario(
+        n_sensors=sc.sensors, radius=sc.radius, clutter_rate=sc.clutter, sigma_r=sc.sigma_r,
+        sigma_phi_deg=sc.sigma_phi_deg, meas_model=sc.meas.value.replace("-", "_"), q=sc.q,
+        T=1.0 if sc.T is None else sc.T, scans=sc.scans, filter_q=sc.filter_q, **agile,  # type: ignore[arg-type]
     )  # fmt: skip
-    study = exp.SlrtStudy(
-        scenario, pd=tuple(common.checked("--pd", common.float_list, pd, what="p_D")), no_target=no_target,
-        filter_pd=filter_pd, runs=runs, seed=seed, alpha=alpha, beta=beta, methods=method_names, stop=stop,
+    return exp.SlrtStudy(
+        scen, pd=tuple(common.checked("--pd", common.float_list, sc.pd, what="p_D")), no_target=sc.no_target,
+        filter_pd=sc.filter_pd, runs=runs, seed=seed, alpha=alpha, beta=beta, methods=methods, stop=stop,
         motions=None if motions == ("cv",) else motions, **fusion,  # type: ignore[arg-type]
     )  # fmt: skip
-    if meas is Meas.cartesian:
-        output.note("slrt: --meas cartesian: --sigma-r applies to both axes, --sigma-phi-deg is unused")
-    if writes_run:
-        _write_run(output, study, view, plot_scan)
-        return
+
+
+def _simulate(
+    output: Output, parallel: Parallel, study: exp.SlrtStudy, view: View, plot_scan: Path | None
+) -> None:
+    """The Monte Carlo of ``study``: its table (--view curves, decisions, study) and figures."""
+    from motionsig_cli.existence import slrt as exp
+
     result = study.result(common.run_job(study.job(), parallel.engine(), "slrt", output.quiet))
     output.emit(result.table(view.value))
     if output.plot is not None or plot_scan is not None:
@@ -436,10 +463,9 @@ def _write_run(output: Output, study: exp.SlrtStudy, view: View, plot_scan: Path
 
 
 def _score_record(
-    output: Output, path: str, sensors: Path | None, view: View, meas: Meas, *, columns: str | None,
-    sensor_columns: str | None, units: str | None, init: str | None, init_sd: str | None, q: float,
-    T: float | None, alpha: float, beta: float, methods: tuple[str, ...], stop: bool, plot_scan: Path | None,
-    fusion: dict[str, object],
+    output: Output, path: str, given_input: RecordInput, record: RecordOptions, view: View, meas: Meas, *,
+    q: float, T: float | None, alpha: float, beta: float, methods: tuple[str, ...], stop: bool,
+    plot_scan: Path | None, fusion: dict[str, object],
 ) -> None:  # fmt: skip
     """``--input``: score the user's detections with every method."""
     from motionsig_cli.existence import slrt_record as rec
@@ -454,14 +480,13 @@ def _score_record(
             f"{view.value} is for the simulation; with --input choose curves or decisions",
             param_hint="--view",
         )
+    sensors, init, init_sd = given_input.sensor_table, given_input.init, given_input.init_sd
     if sensors is None:
         raise typer.BadParameter(
             "is needed with --input (the sensors of the detections)", param_hint="--sensor-table"
         )
-    if output.out is not None:
-        for option, p in (("--input", None if path == "-" else Path(path)), ("--sensor-table", sensors)):
-            if p is not None and p.resolve() == output.out.resolve():
-                raise typer.BadParameter(f"is the {option} file", param_hint="--out")
+    output.refuse_input(path, "the --input file")
+    output.refuse_input(sensors, "the --sensor-table file")
     cfg = rec.SlrtRecordConfig(
         q=q, T=T, meas=meas.value.replace("-", "_") if _given("meas") else None,
         init=None if init is None else tuple(common.checked("--init", common.float_list, init, what="x,vx,y,vy")),
@@ -470,8 +495,9 @@ def _score_record(
         methods=methods, **fusion,  # type: ignore[arg-type]
         alpha=alpha, beta=beta, stop=stop,
     )  # fmt: skip
-    record = rec.load(path, sensors, cfg, columns=columns, sensor_columns=sensor_columns, units=units)
-    result = rec.score(record, cfg)
+    loaded = rec.load(path, sensors, cfg, columns=record.columns, sensor_columns=given_input.sensor_columns,
+                      units=record.units)  # fmt: skip
+    result = rec.score(loaded, cfg)
     table = result.table(view.value)
     if output.plot is not None:
         from motionsig_cli.plotting import slrt_figure

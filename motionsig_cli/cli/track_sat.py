@@ -354,6 +354,18 @@ def _receivers(
     )
 
 
+def _geometry(
+    receivers: Path | None, example: Example, orbit: Orbit, outage_sats: str, *, columns: str | None,
+    units: dict[str, str], aircraft: str | None, one_epoch: bool, sats: Path | None = None,
+) -> Geometry:  # fmt: skip
+    """The geometry of a --receivers table, else the constellation of Table 4.1 (or --sats)."""
+    if receivers is not None:
+        return _receivers(receivers, orbit, columns=columns, units=units, aircraft=aircraft,
+                          outage_sats=outage_sats, radius_given=orbit.given, one_epoch=one_epoch)  # fmt: skip
+    _no_receivers(columns=columns)
+    return _constellation(example, orbit, outage_sats, sats=sats, aircraft=aircraft)
+
+
 def _constellation(
     example: Example, orbit: Orbit, outage_sats: str, *, sats: Path | None = None, aircraft: str | None = None
 ) -> Constellation:
@@ -458,14 +470,8 @@ def constellation(
     col_units, file_units = _units(units, receivers)
     conv = exp.Convention(convention)
     orbit = exp.Orbit(conv, rsat_re, rsat_km)
-    if receivers is not None:
-        con: Geometry = _receivers(
-            receivers, orbit, columns=columns, units=file_units, aircraft=aircraft, outage_sats=outage_sats,
-            radius_given=orbit.given, one_epoch=True,
-        )  # fmt: skip
-    else:
-        _no_receivers(columns=columns)
-        con = _constellation(example, orbit, outage_sats, sats=sats, aircraft=aircraft)
+    con = _geometry(receivers, example, orbit, outage_sats, columns=columns, units=file_units, aircraft=aircraft,
+                    one_epoch=True, sats=sats)  # fmt: skip
     warnings = _observable(
         con, sats=sats is not None, aircraft=aircraft is not None, receivers=receivers is not None
     )
@@ -723,33 +729,22 @@ def simulate(
     _exclusive(receivers, **{"--example": _given("example")})
     col_units, file_units = _units(units, receivers)
     orbit = exp.Orbit(exp.Convention.corrected, rsat_re, rsat_km)
-    if receivers is not None:
-        con: Geometry = _receivers(
-            receivers, orbit, columns=columns, units=file_units, aircraft=aircraft, outage_sats=outage_sats,
-            radius_given=orbit.given, one_epoch=False,
-        )  # fmt: skip
-    else:
-        _no_receivers(columns=columns)
-        con = _constellation(example, orbit, outage_sats, aircraft=aircraft)
+    con = _geometry(receivers, example, orbit, outage_sats, columns=columns, units=file_units, aircraft=aircraft,
+                    one_epoch=False)  # fmt: skip
     if isinstance(con, exp.ReceiverGeometry) and con.moving:
         common.checked("--aircraft", con.check_horizon)  # the first epoch; the job checks every update
         warnings: list[str] = []
     else:
         warnings = _observable(con, aircraft=aircraft is not None, receivers=receivers is not None)
+    velocity = common.checked(
+        "--velocity-enu", common.float_list, velocity_enu, what="velocity component [m/s]"
+    )
     job = exp.TrackSatJob(
-        con,
-        sigma=sigma,
-        sigma0=sigma0,
-        rho=rho,
+        con, sigma=sigma, sigma0=sigma0, rho=rho,
         timeline=exp.Timeline(epochs, outage_start, outage_length, reinit_after_outage),
         estimators=tuple(dict.fromkeys(e.strip() for e in estimators.split(",") if e.strip())),
-        velocity_enu=tuple(
-            common.checked("--velocity-enu", common.float_list, velocity_enu, what="velocity component [m/s]")
-        ),  # type: ignore[arg-type]
-        runs=runs,
-        seed=seed,
-        steady_gain=gain is Gain.steady,
-    )
+        velocity_enu=tuple(velocity), runs=runs, seed=seed, steady_gain=gain is Gain.steady,  # type: ignore[arg-type]
+    )  # fmt: skip
     _warn(output, warnings)
     result = common.run_job(job, engine, "track-sat simulate", output.quiet)
     report = exp.simulation_report(

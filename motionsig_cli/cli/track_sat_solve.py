@@ -8,13 +8,15 @@ This module imports only typer and the command layer's helpers: the core
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Annotated
+from typing import Annotated, Any
 
 import typer
 
 from motionsig_cli.cli import common
 from motionsig_cli.cli.common import Output, choices, command
+from motionsig_cli.cli.option_groups import options
 
 OPTIONS = {
     "sigma_ns": "--sigma",
@@ -79,7 +81,96 @@ def _start(text: str | None) -> tuple[float, float, float] | None:
     return (vals[0], vals[1], vals[2])
 
 
+@dataclass(frozen=True)
+class Solver:
+    """How the record is read (``--toa-origin``, ``--sigma``) and solved: the fields of
+    :class:`~motionsig_cli.atc10.toa_solve.SolveConfig` but its ``units``."""
+
+    toa_origin: Annotated[
+        ToaOrigin,
+        typer.Option(
+            "--toa-origin",
+            help="time: TOAs share the time column's frame (absolute); epoch: each TOA is measured from its "
+            "epoch's time.",
+        ),
+    ] = ToaOrigin.time
+    sigma: Annotated[
+        float | None,
+        typer.Option(
+            "--sigma",
+            help="TOA error σ [ns] of every measurement (as track-sat simulate; 1 m of pseudorange = 3.336 ns); "
+            "default the record's sigma column, else unknown.",
+        ),
+    ] = None
+    covariance: Annotated[
+        Covariance,
+        typer.Option(
+            "--covariance",
+            help="auto: (H'WH)^-1 with the known σ, else scaled by the pooled variance factor; known; epoch or "
+            "pooled: scaled by each epoch's or the pooled a-posteriori variance factor.",
+        ),
+    ] = Covariance.auto
+    clock: Annotated[
+        Clock,
+        typer.Option(
+            "--clock", help="snapshot (a fix per epoch) or track (also the report's clock tracker)."
+        ),
+    ] = Clock.snapshot
+    sigma0: Annotated[
+        float | None,
+        typer.Option(
+            "--sigma0",
+            help="Clock model scale σ0 [ns] per epoch (σ1 = σ2 = σ0, ρ = 1; default 50, as simulate).",
+        ),
+    ] = None
+    gain: Annotated[
+        SolveGain, typer.Option("--gain", help="recursive γ_n (exact) or steady ψ(α) from the first epoch.")
+    ] = SolveGain.recursive
+    reinit_after_outage: Annotated[
+        bool,
+        typer.Option(
+            "--reinit-after-outage",
+            help="Restart the tracker by least squares after epochs with fewer than 4 receivers (the report).",
+        ),
+    ] = False
+    relinearise: Annotated[
+        int, typer.Option("--relinearise", help="Extra linearisations per epoch of the tracker (0-10).")
+    ] = 2
+    start: Annotated[
+        str | None,
+        typer.Option(
+            "--start",
+            help="Gauss-Newton starting point latitude,longitude,altitude (deg, deg, m); default the receivers' "
+            "centroid 10 km above the ellipsoid. For ground receivers it also says on which side of their "
+            "plane the transmitter is (the mirror image fits about as well).",
+        ),
+    ] = None
+    max_iter: Annotated[int, typer.Option("--max-iter", help="Gauss-Newton steps per epoch (1-1000).")] = 20
+    view: Annotated[
+        SolveView,
+        typer.Option("--view", help="epochs (one row per epoch) or residuals (one per measurement)."),
+    ] = SolveView.epochs
+    full_covariance: Annotated[
+        bool,
+        typer.Option(
+            "--full-covariance", help="Add the covariance of x, y, z and the clock offset as columns."
+        ),
+    ] = False
+
+    def config(self, units: str) -> Any:
+        """The solver's configuration (which checks every value), in output units ``units``."""
+        from motionsig_cli.atc10 import toa_solve as ts
+
+        return ts.SolveConfig(
+            clock=self.clock.value, sigma_ns=self.sigma, sigma0_ns=self.sigma0, gain=self.gain.value,
+            reinit_after_outage=self.reinit_after_outage, relinearise=self.relinearise, units=units,
+            toa_origin=self.toa_origin.value, covariance=self.covariance.value, start=_start(self.start),
+            max_iter=self.max_iter, view=self.view.value, full_covariance=self.full_covariance,
+        )  # fmt: skip
+
+
 @command(plot=False, options=OPTIONS)
+@options(solver=Solver)
 def solve(
     measurements: Annotated[
         str,
@@ -114,76 +205,7 @@ def solve(
             "units role=unit, e.g. --units report,toa=ns,x=km (header 'toa [ns]' works too).",
         ),
     ] = None,
-    toa_origin: Annotated[
-        ToaOrigin,
-        typer.Option(
-            "--toa-origin",
-            help="time: TOAs share the time column's frame (absolute); epoch: each TOA is measured from its "
-            "epoch's time.",
-        ),
-    ] = ToaOrigin.time,
-    sigma: Annotated[
-        float | None,
-        typer.Option(
-            "--sigma",
-            help="TOA error σ [ns] of every measurement (as track-sat simulate; 1 m of pseudorange = 3.336 ns); "
-            "default the record's sigma column, else unknown.",
-        ),
-    ] = None,
-    covariance: Annotated[
-        Covariance,
-        typer.Option(
-            "--covariance",
-            help="auto: (H'WH)^-1 with the known σ, else scaled by the pooled variance factor; known; epoch or "
-            "pooled: scaled by each epoch's or the pooled a-posteriori variance factor.",
-        ),
-    ] = Covariance.auto,
-    clock: Annotated[
-        Clock,
-        typer.Option(
-            "--clock", help="snapshot (a fix per epoch) or track (also the report's clock tracker)."
-        ),
-    ] = Clock.snapshot,
-    sigma0: Annotated[
-        float | None,
-        typer.Option(
-            "--sigma0",
-            help="Clock model scale σ0 [ns] per epoch (σ1 = σ2 = σ0, ρ = 1; default 50, as simulate).",
-        ),
-    ] = None,
-    gain: Annotated[
-        SolveGain, typer.Option("--gain", help="recursive γ_n (exact) or steady ψ(α) from the first epoch.")
-    ] = SolveGain.recursive,
-    reinit_after_outage: Annotated[
-        bool,
-        typer.Option(
-            "--reinit-after-outage",
-            help="Restart the tracker by least squares after epochs with fewer than 4 receivers (the report).",
-        ),
-    ] = False,
-    relinearise: Annotated[
-        int, typer.Option("--relinearise", help="Extra linearisations per epoch of the tracker (0-10).")
-    ] = 2,
-    start: Annotated[
-        str | None,
-        typer.Option(
-            "--start",
-            help="Gauss-Newton starting point latitude,longitude,altitude (deg, deg, m); default the receivers' "
-            "centroid 10 km above the ellipsoid. For ground receivers it also says on which side of their "
-            "plane the transmitter is (the mirror image fits about as well).",
-        ),
-    ] = None,
-    max_iter: Annotated[int, typer.Option("--max-iter", help="Gauss-Newton steps per epoch (1-1000).")] = 20,
-    view: Annotated[
-        SolveView,
-        typer.Option("--view", help="epochs (one row per epoch) or residuals (one per measurement)."),
-    ] = SolveView.epochs,
-    full_covariance: Annotated[
-        bool,
-        typer.Option(
-            "--full-covariance", help="Add the covariance of x, y, z and the clock offset as columns."
-        ),
-    ] = False,
+    solver: Solver = Solver(),
     *,
     output: Output,
 ) -> None:
@@ -205,27 +227,8 @@ def solve(
 
     output.check()
     system, input_units = _units(units)
-    if (
-        output.out is not None
-        and measurements != "-"
-        and Path(measurements).resolve() == output.out.resolve()
-    ):
-        raise typer.BadParameter("is the measurement record", param_hint="--out")
-    cfg = ts.SolveConfig(
-        clock=clock.value,
-        sigma_ns=sigma,
-        sigma0_ns=sigma0,
-        gain=gain.value,
-        reinit_after_outage=reinit_after_outage,
-        relinearise=relinearise,
-        units=system,
-        toa_origin=toa_origin.value,
-        covariance=covariance.value,
-        start=_start(start),
-        max_iter=max_iter,
-        view=view.value,
-        full_covariance=full_covariance,
-    )
+    output.refuse_input(measurements, "the measurement record")
+    cfg = solver.config(system)
     meas = ts.read_measurements(
         measurements,
         columns=columns,

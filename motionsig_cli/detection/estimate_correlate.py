@@ -68,6 +68,7 @@ from motionsig_cli.detection.lmp import (
     check_variance,
     check_variances,
     checked_horizons,
+    radar_records,
 )
 from motionsig_cli.filters.kalman import riccati, spd_inv_logdet
 from motionsig_cli.filters.unscented import SigmaPointParams, unscented_transform
@@ -331,11 +332,7 @@ def estimate_correlate_detect_radar(
         chips, m_rho, horizons: As for :func:`estimate_correlate_detect`.
         vehicle: T, K, start, R_κ, R_χ the filter assumes.  cfg: Settings.
     """
-    y = np.asarray(y, dtype=float)
-    if y.ndim == 2:
-        y = y[None]
-    if y.ndim != 3 or y.shape[2] != 2:
-        raise ValueError("radar records must be (B, N, 2): range and bearing")
+    y = radar_records(y)
     hz = checked_horizons(y, horizons)
     _refuse_missing(y)
     B, N, _ = y.shape

@@ -25,6 +25,7 @@ from motionsig_cli.models.radar import MeasurementModel
 __all__ = [
     "LKF_MEANS",
     "FusionOptions",
+    "FusionSettings",
     "ScanData",
     "SensorModel",
     "TrackExistenceModel",
@@ -238,6 +239,38 @@ class FusionOptions:
     def thresholds(self) -> tuple[float, float]:
         """Wald's (log A, log B) of the local tests."""
         return wald_thresholds(self.alpha, self.beta)
+
+
+class FusionSettings:
+    """What a study or a record's settings that carry the fields of :class:`FusionOptions` (``lkf_mean``,
+    ``gate_pg``, ``feedback_every``, ``ldf_prior``, ``ldf_weights``, ``alpha``, ``beta``) derive from them:
+    Wald's thresholds and the fusion rules' options."""
+
+    lkf_mean: str
+    gate_pg: float | None
+    feedback_every: int
+    ldf_prior: float
+    ldf_weights: Sequence[float] | None
+    alpha: float
+    beta: float
+
+    @property
+    def thresholds(self) -> tuple[float, float]:
+        """Wald's (log A, log B) = (log β/(1−α), log (1−β)/α) (:func:`~motionsig_cli.detection.sprt.wald_thresholds`)."""
+        return wald_thresholds(self.alpha, self.beta)
+
+    @property
+    def options(self) -> FusionOptions:
+        """The fusion rules' options, with Wald's α and β for the rules that test locally."""
+        return FusionOptions(
+            lkf_mean=self.lkf_mean,
+            gate_pg=self.gate_pg,
+            feedback_every=self.feedback_every,
+            ldf_prior=self.ldf_prior,
+            ldf_weights=None if self.ldf_weights is None else tuple(self.ldf_weights),
+            alpha=self.alpha,
+            beta=self.beta,
+        )
 
 
 def sensor_update(

@@ -413,6 +413,16 @@ def progress_steps(n_samples: int, cfg: LMPConfig | RadarLMPConfig, filter: str 
     return n_samples * (3 if cfg.center == "h0-noise" else 2)
 
 
+def radar_records(y: np.ndarray) -> np.ndarray:
+    """Records [range, bearing] as a float array (B, N, 2); one record (N, 2) becomes (1, N, 2)."""
+    y = np.asarray(y, dtype=float)
+    if y.ndim == 2:
+        y = y[None]
+    if y.ndim != 3 or y.shape[2] != 2:
+        raise ValueError("radar records must be (B, N, 2): range and bearing")
+    return y
+
+
 def checked_horizons(y: np.ndarray, horizons: Sequence[int]) -> np.ndarray:
     """The horizons (samples) as an int array, checked against records y (B, N, …): measurements
     finite or NaN (a missing sample; ±inf is refused), every horizon in 1..N."""
@@ -692,11 +702,7 @@ def lmp_detect_radar(
         >>> res.Lambda.shape
         (93, 1, 1)
     """
-    y = np.asarray(y, dtype=float)
-    if y.ndim == 2:
-        y = y[None]
-    if y.ndim != 3 or y.shape[2] != 2:
-        raise ValueError("radar records must be (B, N, 2): range and bearing")
+    y = radar_records(y)
     hz = checked_horizons(y, horizons)
     N = y.shape[1]
     cands = candidate_grid(chips.shape[0], chips.shape[1], m_rho, cfg.as_grid)

@@ -82,6 +82,7 @@ from motionsig_cli.detection.lmp import (
     candidate_grid,
     checked_horizons,
     radar_measurement,
+    radar_records,
 )
 from motionsig_cli.filters.kalman import Progress, missing_steps, step_reporter
 from motionsig_cli.filters.unscented import SigmaMeasurement, linear_measurement
@@ -213,11 +214,7 @@ def lmp_detect_radar_linearised(
     """
     one_of("center", center, CENTERS)
     one_of("measurement", measurement, MEASUREMENTS)
-    y = np.asarray(y, dtype=float)
-    if y.ndim == 2:
-        y = y[None]
-    if y.ndim != 3 or y.shape[2] != 2:
-        raise ValueError("radar records must be (B, N, 2): range and bearing")
+    y = radar_records(y)
     hz = checked_horizons(y, horizons)
     B, N, _ = y.shape
     R_true = _noise(vehicle, noise, B)

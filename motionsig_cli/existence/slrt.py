@@ -26,6 +26,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
+from motionsig_cli.detection.existence_model import FusionSettings
 from motionsig_cli.detection.sprt import (
     Decisions,
     first_crossing,
@@ -544,7 +545,7 @@ def _case(
 
 
 @dataclass(frozen=True)
-class SlrtStudy:
+class SlrtStudy(FusionSettings):
     """The command's experiment: target cases at several p_D (for one or both target motions) and a
     no-target case of one scenario, every case scored by the chosen fusion methods on runs 0..runs−1, and
     Wald's test on the scores.
@@ -633,24 +634,6 @@ class SlrtStudy:
     def target_motions(self) -> tuple[str, ...]:
         """The motions of the target cases: ``motions``, else the scenario's."""
         return self.motions if self.motions is not None else (self.scenario.target_motion,)
-
-    @property
-    def thresholds(self) -> tuple[float, float]:
-        """Wald's (log A, log B)."""
-        return wald_thresholds(self.alpha, self.beta)
-
-    @property
-    def options(self) -> FusionOptions:
-        """The fusion rules' options (with the study's α and β for the rules that test locally)."""
-        return FusionOptions(
-            lkf_mean=self.lkf_mean,
-            gate_pg=self.gate_pg,
-            feedback_every=self.feedback_every,
-            ldf_prior=self.ldf_prior,
-            ldf_weights=None if self.ldf_weights is None else tuple(self.ldf_weights),
-            alpha=self.alpha,
-            beta=self.beta,
-        )
 
     def job(self) -> SlrtJob:
         """The Monte Carlo of every case (run it with :func:`motionsig_cli.engine.run_job`)."""

@@ -58,6 +58,7 @@ from typing import Any
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, one_of, positive
+from motionsig_cli.detection.existence_model import FusionSettings
 from motionsig_cli.detection.sprt import CONFIRM, DELETE, first_crossing, freeze_at_decision, wald_thresholds
 from motionsig_cli.detection.track_existence import (
     FUSION_METHODS,
@@ -177,7 +178,7 @@ ASSUMPTIONS = (
 
 # ------------------------------------------------------------------------------------------ options
 @dataclass(frozen=True)
-class SlrtRecordConfig:
+class SlrtRecordConfig(FusionSettings):
     """How a record is scored; every field is checked (:class:`~motionsig_cli.config.ConfigError` naming it).
 
     Attributes:
@@ -233,24 +234,6 @@ class SlrtRecordConfig:
         check_methods(self.methods)
         wald_thresholds(self.alpha, self.beta)
         self.options  # noqa: B018 (checks the fusion options)
-
-    @property
-    def thresholds(self) -> tuple[float, float]:
-        """Wald's (log A, log B)."""
-        return wald_thresholds(self.alpha, self.beta)
-
-    @property
-    def options(self) -> FusionOptions:
-        """The fusion rules' options, with Wald's α and β for the rules that test locally."""
-        return FusionOptions(
-            lkf_mean=self.lkf_mean,
-            gate_pg=self.gate_pg,
-            feedback_every=self.feedback_every,
-            ldf_prior=self.ldf_prior,
-            ldf_weights=None if self.ldf_weights is None else tuple(self.ldf_weights),
-            alpha=self.alpha,
-            beta=self.beta,
-        )
 
 
 def _fusion_options(cfg: SlrtRecordConfig) -> dict[str, Any]:

@@ -37,6 +37,8 @@ from motionsig_cli.modesig.lmp1d import (
     MAX_NULL_TRIALS,
     NULL_OFFSET,
     Codes,
+    DetectionRate,
+    JobHorizons,
     check_horizons,
     check_values,
     roc_curve,
@@ -65,7 +67,7 @@ class Outcomes:
 
 
 @dataclass(frozen=True)
-class RocCell:
+class RocCell(DetectionRate):
     """P_D at the threshold for ``pfa`` of one detector, amplitude and horizon."""
 
     detector: str
@@ -81,17 +83,9 @@ class RocCell:
     diff: float  # P_D(this) − P_D(other detector), same records
     se_diff: float  # its paired standard error
 
-    @property
-    def pd(self) -> float:
-        return self.detections / self.trials
-
-    @property
-    def pd_se(self) -> float:
-        return math.sqrt(self.pd * (1 - self.pd) / self.trials)
-
 
 @dataclass(frozen=True, eq=False)
-class BaselineRocJob:
+class BaselineRocJob(JobHorizons):
     """P_D at equal P_FA of the LMP detector and the estimate-then-correlate baseline, per (a_sig, horizon).
 
     Attributes:
@@ -172,14 +166,6 @@ class BaselineRocJob:
     @property
     def chips(self) -> np.ndarray:
         return table1_chips(self.codes)
-
-    @property
-    def n_samples(self) -> int:
-        return round(max(self.horizons_s) / self.vehicle.T)
-
-    @property
-    def horizon_samples(self) -> list[int]:
-        return [round(h / self.vehicle.T) for h in self.horizons_s]
 
     def cost(self) -> tuple[float, float]:
         """(fixed, per trial) seconds of a task (2 cores, measured): the 1-D LMP bank's Riccati recursion and

@@ -43,6 +43,7 @@ from motionsig_cli.models.vehicle import (
     nominal_reference,
     simulate_1d,
 )
+from motionsig_cli.models.vehicle2d import Vehicle2D
 from motionsig_cli.modesig.lmp_record import RecordResult, record_result, sigma_meta
 from motionsig_cli.modesig.record_reading import VehicleRecord, record_horizons
 from motionsig_cli.rng import DEFAULT_SEED, trial_rng
@@ -177,6 +178,22 @@ def own_sensor_noise(
     return np.stack([trial_rng(seed, t, 3).standard_normal(n_samples) for t in trials])
 
 
+class JobHorizons:
+    """The horizons of a Monte Carlo job (``horizons_s`` [s], ``vehicle.T`` the sample period) in samples."""
+
+    horizons_s: Sequence[float]
+    vehicle: Vehicle1D | Vehicle2D
+
+    @property
+    def n_samples(self) -> int:
+        """Samples a trial's record holds: the longest horizon."""
+        return round(max(self.horizons_s) / self.vehicle.T)
+
+    @property
+    def horizon_samples(self) -> list[int]:
+        return [round(h / self.vehicle.T) for h in self.horizons_s]
+
+
 class CorrectRates:
     """% correct, % mode correct and the binomial standard error of a cell with ``trials``, ``correct`` and
     ``mode_correct`` (shared by the 1-D and the 2-D radar Monte Carlo cells)."""
@@ -284,7 +301,7 @@ class TrialOutcomes:
 
 
 @dataclass(frozen=True, eq=False)
-class LmpJob:
+class LmpJob(JobHorizons):
     """The Monte Carlo of Figs 4–6: % correct (i, τ) vs horizon for every (f_r, R).
 
     One record per trial (the longest horizon) serves every horizon. Trial t of every cell uses the
@@ -356,14 +373,6 @@ class LmpJob:
         check_model(self.vehicle, self.cfg, self.f_c)
         if self.chunk is not None:
             integer("chunk", self.chunk, 1)
-
-    @property
-    def n_samples(self) -> int:
-        return round(max(self.horizons_s) / self.vehicle.T)
-
-    @property
-    def horizon_samples(self) -> list[int]:
-        return [round(h / self.vehicle.T) for h in self.horizons_s]
 
     @property
     def n_candidates(self) -> int:
@@ -603,8 +612,23 @@ class LmpMonteCarlo(CorrectCurves["LmpJob", "MCCell"]):
 NULL_OFFSET = 1 << 40
 
 
+class DetectionRate:
+    """P_D = detections / trials of a cell and its binomial standard error √(P_D (1 − P_D) / trials)."""
+
+    detections: int
+    trials: int
+
+    @property
+    def pd(self) -> float:
+        return self.detections / self.trials
+
+    @property
+    def pd_se(self) -> float:
+        return math.sqrt(self.pd * (1 - self.pd) / self.trials)
+
+
 @dataclass(frozen=True)
-class CalibrationCell:
+class CalibrationCell(DetectionRate):
     """Threshold for a false-alarm probability and the detection probability at it, one (f_r, R, horizon).
 
     ``threshold`` is the order statistic of the null maxima λ* = max_c Λ(c) (no signature) that leaves
@@ -621,14 +645,6 @@ class CalibrationCell:
     trials: int
     detections: int  # signature trials with λ* > threshold
     detections_correct: int  # … and (i, τ) right
-
-    @property
-    def pd(self) -> float:
-        return self.detections / self.trials
-
-    @property
-    def pd_se(self) -> float:
-        return math.sqrt(self.pd * (1 - self.pd) / self.trials)
 
 
 def calibration_null_trials(pfa: float, null_trials: int | None) -> int | None:

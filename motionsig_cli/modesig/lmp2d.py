@@ -31,6 +31,7 @@ from motionsig_cli.modesig.lmp1d import (
     Codes,
     CorrectCurves,
     CorrectRates,
+    JobHorizons,
     RecordHorizons,
     Threshold,
     TrialDraw,
@@ -258,7 +259,7 @@ class RadarMCCell(CorrectRates):
 
 
 @dataclass(frozen=True, eq=False)
-class RadarLmpJob:
+class RadarLmpJob(JobHorizons):
     """The Fig 7 Monte Carlo: % correct (i, τ) vs horizon for every reference frequency and (R_κ, R_χ) pair.
 
     One record per trial (the longest horizon) serves every horizon; trial t uses the same draws in
@@ -341,10 +342,6 @@ class RadarLmpJob:
                 "trials", self.trials, f"would take ~{n_runs * self.n_samples * LINEARISED_S / 3600:.2g} h "
                 f"(limit {MAX_SECONDS / 3600:g} h): fewer trials or shorter horizons",
             )  # fmt: skip
-
-    @property
-    def n_samples(self) -> int:
-        return round(max(self.horizons_s) / self.vehicle.T)
 
     @property
     def n_candidates(self) -> int:

@@ -291,6 +291,24 @@ def fig3_trials(setup: Setup, c_r: float, trials: Sequence[int], seed: int) -> F
 Task = tuple[str, int, float, range]  # (part "main" | "fig3", setup index, R or c_r, trials)
 
 
+def _checked_setups(
+    setups: Sequence[Setup] | Sequence[RadarSetup], trials: int, seed: int
+) -> tuple[Setup, ...] | tuple[RadarSetup, ...]:
+    """The setups of a search as a tuple, checked: at least one, distinct names, ``trials`` ≥ 1, ``seed`` ≥ 0,
+    and every setup's job (which checks the method against the filter settings)."""
+    setups = tuple(setups)
+    if not setups:
+        raise ConfigError("setups", setups, "holds no setup")
+    names = [s.name for s in setups]
+    if len(set(names)) != len(names):
+        raise ConfigError("setups", names, "holds two setups of the same name")
+    integer("trials", trials, 1)
+    integer("seed", seed, 0)
+    for s in setups:
+        s.job(trials, seed)
+    return setups
+
+
 @dataclass(frozen=True, eq=False)
 class SearchJob:
     """Every setup's Monte Carlo of Figs 4–6 (its :class:`~motionsig_cli.modesig.lmp1d.LmpJob`'s tasks)
@@ -311,16 +329,7 @@ class SearchJob:
     fig3: bool = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "setups", tuple(self.setups))
-        if not self.setups:
-            raise ConfigError("setups", self.setups, "holds no setup")
-        names = [s.name for s in self.setups]
-        if len(set(names)) != len(names):
-            raise ConfigError("setups", names, "holds two setups of the same name")
-        integer("trials", self.trials, 1)
-        integer("seed", self.seed, 0)
-        for s in self.setups:
-            s.job(self.trials, self.seed)  # LmpJob checks the method against the filter settings
+        object.__setattr__(self, "setups", _checked_setups(self.setups, self.trials, self.seed))
 
     def tasks(self) -> list[Task]:
         out: list[Task] = []
@@ -641,16 +650,7 @@ class RadarSearchJob:
     seed: int = DEFAULT_SEED
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "setups", tuple(self.setups))
-        if not self.setups:
-            raise ConfigError("setups", self.setups, "holds no setup")
-        names = [s.name for s in self.setups]
-        if len(set(names)) != len(names):
-            raise ConfigError("setups", names, "holds two setups of the same name")
-        integer("trials", self.trials, 1)
-        integer("seed", self.seed, 0)
-        for s in self.setups:
-            s.job(self.trials, self.seed)
+        object.__setattr__(self, "setups", _checked_setups(self.setups, self.trials, self.seed))
 
     def tasks(self) -> list[RadarTask]:
         return [(i, t) for i, s in enumerate(self.setups) for t in s.job(self.trials, self.seed).tasks()]

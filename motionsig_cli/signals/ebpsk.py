@@ -149,6 +149,15 @@ class EBPSKConfig:
                     f"puts a filter frequency at {f:g} Hz, outside (0, fs/2 = {nyq:g}) Hz",
                 )
 
+    def waveform_meta(self) -> dict[str, float]:
+        """The waveform's settings as metadata: N, K, theta, f_if, fs, f_carrier."""
+        return {name: getattr(self, name) for name in ("N", "K", "theta", "f_if", "fs", "f_carrier")}
+
+    def filter_meta(self) -> dict[str, float]:
+        """The impacting filter's settings as metadata: filter_zero_radius, …, filter_pole_offset."""
+        names = ("zero_radius", "zero_offset", "pole_radius", "pole_offset")
+        return {f"filter_{name}": getattr(self, name) for name in names}
+
     @property
     def samples_per_cycle(self) -> float:
         """fs / f_if (10 for Table I)."""

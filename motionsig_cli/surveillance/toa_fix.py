@@ -53,6 +53,7 @@ __all__ = [
     "MIN_RECEIVERS",
     "SCALES",
     "START_ALT_M",
+    "EpochError",
     "SingularGeometry",
     "SnapshotFix",
     "WeightedPseudo",
@@ -86,11 +87,11 @@ DIVERGED_M = 1e10
 (the epoch stops there, not converged)."""
 
 
-class SingularGeometry(GeometryError):
-    """A geometry that cannot fix position and clock at one epoch.
+class EpochError(ValueError):
+    """A failure at one epoch of a record, ``epoch {epoch}: {reason}``.
 
     Attributes:
-        epoch: the index of the epoch (in the arrays given to :func:`solve_snapshot`).
+        epoch: the index of the epoch.
         reason: what is wrong.
     """
 
@@ -98,6 +99,11 @@ class SingularGeometry(GeometryError):
         self.epoch = int(epoch)
         self.reason = reason
         super().__init__(f"epoch {epoch}: {reason}")
+
+
+class SingularGeometry(EpochError, GeometryError):
+    """A geometry that cannot fix position and clock at one epoch (``epoch``: its index in the arrays given
+    to :func:`solve_snapshot`)."""
 
 
 @dataclass(frozen=True)

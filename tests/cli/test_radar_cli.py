@@ -137,15 +137,26 @@ def test_layout_mismatches_are_refused(record, capsys, tmp_path):
     unit = _edit(record, tmp_path, lambda ls: [ln.replace('"rad"', '"grad"') for ln in ls], "u.csv")
     rc, _, err = run(capsys, "detect", str(unit))
     assert rc == 2 and "bearing_unit" in err
-    for args, hint in (
+
+
+@pytest.mark.parametrize(
+    ("args", "hint"),
+    [
         (("--filter", "kf"), "--filter"),
         (("--example", "1d"), "--example"),
         (("--Q0", "1,2,3,4"), "--Q0"),
         (("--Q1", "1,2"), "--Q1"),
         (("--alpha", "0"), "--alpha"),
-    ):
-        rc, out, err = run(capsys, "detect", str(record), *args)
-        assert rc == 2 and out == "" and hint in err, (args, err)
+        # found by review: 1-D options on a radar record
+        (("--Qa", "5"), "--Qa"),
+        (("--center", "h0-noise"), "--center"),
+        (("--horizons", "0.01"), "--horizons"),
+        (("--alpha", "1e-8"), "--alpha"),
+    ],
+)
+def test_bad_options_on_a_radar_record_are_refused(record, capsys, args, hint):
+    rc, out, err = run(capsys, "detect", str(record), *args)
+    assert rc == 2 and out == "" and hint in err, (args, err)
 
 
 def test_montecarlo_2d_table_and_determinism(capsys, tmp_path):
@@ -177,21 +188,14 @@ def test_montecarlo_2d_table_and_determinism(capsys, tmp_path):
 
 
 def test_review_findings_are_refused(record, capsys, tmp_path):
-    """Found by review: a path through the radar, runs too big, 1-D options on radar runs, bad metadata types."""
+    """Found by review: a path through the radar, runs too big, bad metadata types (1-D options on radar runs:
+    test_bad_options_on_a_radar_record_are_refused)."""
     rc, out, err = run(capsys, "simulate", "--example", "2d", "--start", "-5,-5", "--duration", "60")
     assert rc == 2 and out == "" and "--start" in err  # passes 5 mm from the radar
     rc, _, err = run(capsys, "simulate", "--example", "2d", "--R-range", "1e4", "--duration", "10")
     assert rc == 2 and "--R-range" in err
     rc, _, err = run(capsys, "simulate", "--start", "1,2", "--duration", "1")
     assert rc == 2 and "--example 2d only" in err
-    for args, hint in (
-        (("--Qa", "5"), "--Qa"),
-        (("--center", "h0-noise"), "--center"),
-        (("--horizons", "0.01"), "--horizons"),
-        (("--alpha", "1e-8"), "--alpha"),
-    ):
-        rc, out, err = run(capsys, "detect", str(record), *args)
-        assert rc == 2 and out == "" and hint in err, (args, err)
     rc, _, err = run(
         capsys, "detect", "--montecarlo", "--example", "2d", "--trials", "1", "--horizons", "500000"
     )

@@ -45,20 +45,30 @@ def _record(N: int, seed: int, missed: float = 0.15) -> tuple[np.ndarray, np.nda
     return z, gone
 
 
+def _kf_step(x, P, zk, Phi, Q):
+    """One Kalman step: the prediction x ← Φx, P ← ΦPΦᵀ + Q, then (zk measured) the Joseph update
+    P ← (I − KH) P (I − KH)ᵀ + KRKᵀ. Returns x, P and the innovation ν and its covariance S (None, None
+    where zk is a NaN row: a prediction only)."""
+    x = Phi @ x
+    P = Phi @ P @ Phi.T + Q
+    if not np.all(np.isfinite(zk)):
+        return x, P, None, None
+    S = H @ P @ H.T + R
+    K = P @ H.T @ np.linalg.inv(S)
+    nu = zk - H @ x
+    x = x + K @ nu
+    A = np.eye(6) - K @ H
+    P = A @ P @ A.T + K @ R @ K.T
+    return x, P, nu, S
+
+
 def _kf_skip(z, Phi, Q, x0, P0):
     """Plain Kalman filter (Joseph update); a NaN row is a prediction only. Returns x, P, log-likelihoods."""
     x, P = x0.copy(), P0.copy()
     xs, Ps, ll = [], [], []
     for zk in z:
-        x = Phi @ x
-        P = Phi @ P @ Phi.T + Q
-        if np.all(np.isfinite(zk)):
-            S = H @ P @ H.T + R
-            K = P @ H.T @ np.linalg.inv(S)
-            nu = zk - H @ x
-            x = x + K @ nu
-            A = np.eye(6) - K @ H
-            P = A @ P @ A.T + K @ R @ K.T
+        x, P, nu, S = _kf_step(x, P, zk, Phi, Q)
+        if S is not None:
             ll.append(-0.5 * (nu @ np.linalg.solve(S, nu) + np.log(np.linalg.det(2 * np.pi * S))))
         else:
             ll.append(0.0)
@@ -101,15 +111,8 @@ def _imm_textbook(z, models, Pi, mu0, x0, P0):
         ]
         lik = np.ones(r)
         for j, (Phi, Q) in enumerate(models):
-            x = Phi @ X0[j]
-            Pj = Phi @ P0j[j] @ Phi.T + Q
-            if np.all(np.isfinite(zk)):
-                S = H @ Pj @ H.T + R
-                K = Pj @ H.T @ np.linalg.inv(S)
-                nu = zk - H @ x
-                x = x + K @ nu
-                A = np.eye(6) - K @ H
-                Pj = A @ Pj @ A.T + K @ R @ K.T
+            x, Pj, nu, S = _kf_step(X0[j], P0j[j], zk, Phi, Q)
+            if S is not None:
                 lik[j] = np.exp(-0.5 * nu @ np.linalg.solve(S, nu)) / np.sqrt(np.linalg.det(2 * np.pi * S))
             X[j], P[j] = x, Pj
         mu = lik * cbar / np.sum(lik * cbar)

@@ -29,6 +29,17 @@ def _structured_bank(rng, C, n, N, rows, col, shared_Q=True):
     return F, Q, P0
 
 
+def _lmp_bank(seed, C, N, B, r):
+    """The LMP-shaped bank (5 states, the a-column in row 1, the first state measured with variance r), B
+    records of white noise and the bank's gains: F, Q, P0, H, y, gains."""
+    rng = np.random.default_rng(seed)
+    F, Q, P0 = _structured_bank(rng, C, 5, N, (1,), 4)
+    H = np.array([[1.0, 0, 0, 0, 0]])
+    y = rng.normal(size=(B, N))
+    gains = riccati(lambda k: F[:, k], H, Q, np.array([[r]]), P0, N, C)
+    return F, Q, P0, H, y, gains
+
+
 def _dense(monkeypatch):
     monkeypatch.setattr(kal, "column_structure", lambda *a, **k: None)
 
@@ -96,12 +107,8 @@ def _textbook(F, H, Q, R, P0, x0, y):
 
 def test_structured_equals_textbook_loop():
     """The LMP-shaped bank (5 states, the a-column in row 1) on 20 records against a per-filter loop."""
-    rng = np.random.default_rng(7)
     C, n, N, B = 6, 5, 120, 20
-    F, Q, P0 = _structured_bank(rng, C, n, N, (1,), 4)
-    H = np.array([[1.0, 0, 0, 0, 0]])
-    y = rng.normal(size=(B, N))
-    gains = riccati(lambda k: F[:, k], H, Q, np.array([[0.4]]), P0, N, C)
+    F, Q, P0, H, y, gains = _lmp_bank(7, C, N, B, 0.4)
     J = innovation_costs(lambda k: F[:, k], H, gains, np.zeros(n), y, [30, N])
     for c in range(C):
         for b in (0, 7, B - 1):
@@ -131,12 +138,8 @@ def test_steady_gains_and_time_invariant_tail(monkeypatch):
 
 
 def test_record_blocks_do_not_change_costs():
-    rng = np.random.default_rng(11)
     C, n, N, B = 3, 5, 50, 21
-    F, Q, P0 = _structured_bank(rng, C, n, N, (1,), 4)
-    H = np.array([[1.0, 0, 0, 0, 0]])
-    y = rng.normal(size=(B, N))
-    g = riccati(lambda k: F[:, k], H, Q, np.array([[0.3]]), P0, N, C)
+    F, _, _, H, y, g = _lmp_bank(11, C, N, B, 0.3)
     whole = innovation_costs(lambda k: F[:, k], H, g, np.zeros(n), y, [N])
     parts = innovation_costs(lambda k: F[:, k], H, g, np.zeros(n), y, [N], block=4)
     np.testing.assert_allclose(parts, whole, rtol=1e-13)

@@ -249,6 +249,18 @@ def p_dl(p_d, K, t):
         return +r
 
 
+def _bisect(f, target, lo, hi, tol):
+    """The root of f(x) = target for f increasing on [lo, hi], by bisection to an interval of width ≤ tol
+    (in the caller's precision); the interval's midpoint."""
+    while hi - lo > tol:
+        mid = (lo + hi) / 2
+        if f(mid) < target:
+            lo = mid
+        else:
+            hi = mid
+    return (lo + hi) / 2
+
+
 def pd_for(K, P_DL, t):
     """p_d in (0,1) with p_dl(p_d, K, t) = P_DL, by bisection to ~1e-30 (abs)."""
     K = int(K)
@@ -257,15 +269,7 @@ def pd_for(K, P_DL, t):
         tt = _m(t) if K > 1 else mpf(0)
         if not (0 < target < 1):
             raise ValueError("P_DL must be in (0,1)")
-        lo, hi = mpf(0), mpf(1)
-        tol = mpf(10) ** -32
-        while hi - lo > tol:
-            mid = (lo + hi) / 2
-            if _p_dl(mid, K, tt) < target:
-                lo = mid
-            else:
-                hi = mid
-        r = (lo + hi) / 2
+        r = _bisect(lambda p: _p_dl(p, K, tt), target, mpf(0), mpf(1), mpf(10) ** -32)
     with mp.workdps(DPS):
         return +r
 
@@ -368,14 +372,7 @@ def threshold_x(quantity, level, p_d, K, t, form="d17", x_lo=-80, x_hi=300, tol=
             return None
         if g(lo) >= lev:
             raise ValueError("bound already >= level at x_lo")
-        tol_m = _m(tol)
-        while hi - lo > tol_m:
-            mid = (lo + hi) / 2
-            if g(mid) < lev:
-                lo = mid
-            else:
-                hi = mid
-        r = (lo + hi) / 2
+        r = _bisect(g, lev, lo, hi, _m(tol))
     with mp.workdps(DPS):
         return +r
 
