@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from motionsig_cli.maneuver.study import MCPartial
+from motionsig_cli.modesig.baseline_calibration import _Outcomes
 from motionsig_cli.modesig.baseline_roc import Outcomes
 from motionsig_cli.modesig.lmp1d import TrialOutcomes
 from motionsig_cli.modesig.lmp_search import Fig3Outcomes
@@ -61,6 +62,7 @@ RESULTS = [
     TrialOutcomes(np.ones((1, 1, 1), bool), np.ones((1, 1, 1), bool), np.ones((1, 1, 1)), np.ones((1, 1, 1))),
     Outcomes(RNG.standard_normal((2, 3, 4)), np.ones((2, 3, 4), bool)),
     Fig3Outcomes(np.ones(3, bool), RNG.standard_normal(3)),
+    _Outcomes(RNG.standard_normal((3, 2)), np.ones((3, 2), bool)),  # a module's private result class
     {
         "imm": MCPartial(
             np.ones((4, 2)), np.ones((4, 2)), None, None, np.ones((2, 4), bool), np.arange(8).reshape(2, 4)
