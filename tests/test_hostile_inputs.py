@@ -131,6 +131,8 @@ def test_json_limits_are_enforced_before_parsing(tmp_path, monkeypatch):
     _refused(p, r"t\.json:2: a number of more than 100 digits")
     p.write_text('{"data": [\n{"t": 1, "x": 2, "label": "' + "9" * 5000 + '"}]}')  # digits in a string: text
     assert read_table(p).column("label") == ["9" * 5000]
+    p.write_text('{"data": [], "meta": {"v": [' + "1," * 4_000_000 + "1]}}")
+    _refused(p, r"t\.json: a JSON table of more than 4000000 values")
     p.write_text('[{"t": 1, "x": 2, "x": 3}]')
     _refused(p, r"key 'x' repeats in an object")
     p.write_text('[{"t": 1, "y": 2, "Y": 3}]')
