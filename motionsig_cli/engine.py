@@ -6,7 +6,8 @@ child (:mod:`motionsig_cli.rng`) and the chunking depends on the parameters only
 number of workers; results come back **in task order** and are reduced in that order. So the
 output of a command is byte-identical for 1 worker, N workers and a Dask cluster.
 
-``checkpoint``: a directory that keeps every finished task's result (pickled, written atomically)
+``checkpoint``: a directory that keeps every finished task's result (data, never a pickle:
+:mod:`motionsig_cli.taskdata`; written atomically, its size and SHA-256 in an index checked before use)
 next to a manifest naming the command and its parameters. A rerun with the same directory loads
 the finished tasks and runs only the others, so an interrupted sweep resumes to the result of an
 uninterrupted one. A directory made by another command or parameter set is refused.
@@ -42,10 +43,10 @@ import logging
 import math
 import multiprocessing
 import os
-import pickle
 import queue
 import signal
 import socket
+import stat
 import tempfile
 import threading
 import time
@@ -57,6 +58,7 @@ from pathlib import Path
 from typing import Any, NoReturn, Protocol, TypeVar, runtime_checkable
 
 from motionsig_cli.config import ConfigError, integer
+from motionsig_cli.errors import InputError
 
 R = TypeVar("R")
 
@@ -65,7 +67,15 @@ POOL_MIN_SECONDS = (
     0.1  # this process computes alone this long before a pool (~0.35 s of a core a worker) starts
 )
 MANIFEST = "manifest.json"
-CHECKPOINT_VERSION = 1
+CHECKPOINT_VERSION = 2  # 1: pickled task files (never read: a pickle can run code)
+TASK_INDEX = "tasks.jsonl"
+"""The checkpoint's index: one line ``{"task": i, "bytes": n, "sha256": h}`` per task file written."""
+TASK_SUFFIX = ".task"
+MAX_TASK_BYTES = 256 << 20
+"""Largest task file written or read (a larger result is not kept; a larger file is recomputed)."""
+MAX_MANIFEST_BYTES = 16 << 20
+INDEX_LINE_BYTES = 200
+_LOG = logging.getLogger("motionsig_cli.engine")
 # Dask's nanny starts workers with MALLOC_TRIM_THRESHOLD_=65536: glibc then returns freed memory at once,
 # and numpy's large temporaries are mapped and unmapped on every step — the filter banks ran 3.3x slower
 # in a Dask worker than in this process (2.25 s vs 0.68 s for 100 trials). Unset for our LocalCluster;
@@ -298,13 +308,30 @@ def _json_default(obj: Any) -> Any:
 
 
 class Checkpoint:
-    """Finished task results of one run, kept in a directory (see the module docstring)."""
+    """Finished task results of one run, kept in a directory (see the module docstring).
+
+    The directory is untrusted input. Each task file holds data only (:mod:`motionsig_cli.taskdata`:
+    arrays, numbers, dataclasses of this package; nothing in it can run code), at most
+    :data:`MAX_TASK_BYTES`; the index :data:`TASK_INDEX` records each file's size and SHA-256 when it is
+    written, and a file is used only if it is a regular file of that size and digest, decodes, and holds
+    the task's own description. Any other file is recomputed and counted (:attr:`rejected`, one warning);
+    an entry that is not a regular file (a directory, a FIFO, a link) is refused by name, before any
+    work (the manifest, the index and the task files are never followed as symbolic links, and the index
+    is appended to only as a regular file). Checkpoints of version 1 (pickled task files) are refused,
+    never read.
+
+    What the digests do and do not promise: they catch a damaged file, a copied one, one edited alone;
+    the directory holds its own index, so whoever can rewrite both a task file and its index line can
+    still choose a task's numbers (as whoever writes an input file chooses its data). They can never run
+    code, read other files or exhaust memory.
+    """
 
     def __init__(self, directory: Path, identity: Mapping[str, Any], tasks: Sequence[Any]) -> None:
         from motionsig_cli import __version__
 
         self.dir = directory
         self.keys = [repr(t) for t in tasks]  # a task's description, stored beside its result
+        self.rejected: list[tuple[str, str]] = []  # (file, reason) of task files recomputed
         digest = hashlib.sha256("\n".join(self.keys).encode()).hexdigest()
         want = {
             "version": CHECKPOINT_VERSION,
@@ -316,22 +343,26 @@ class Checkpoint:
         manifest = directory / MANIFEST
         if directory.exists() and not directory.is_dir():
             raise EngineError("checkpoint", f"{directory} exists and is not a directory")
-        if manifest.exists():
-            try:
-                have = json.loads(manifest.read_text())
-            except (OSError, ValueError) as exc:
-                raise EngineError("checkpoint", f"{manifest}: unreadable manifest ({exc})") from None
+        if manifest.exists() or manifest.is_symlink():
+            have = _read_manifest(manifest)
+            if have.get("version") != CHECKPOINT_VERSION and isinstance(have.get("version"), int):
+                raise EngineError(
+                    "checkpoint",
+                    f"{directory} holds a checkpoint of format version {have.get('version')} (pickled task "
+                    f"files, which are never read: they could run code); this version writes format "
+                    f"{CHECKPOINT_VERSION}: use a new directory",
+                )
             if have.get("command") != want.get("command"):
                 raise EngineError(
                     "checkpoint",
-                    f"{directory} holds a checkpoint of another command ({have.get('command')!r}); "
+                    f"{directory} holds a checkpoint of another command ({_short(have.get('command'))}); "
                     "use a new directory",
                 )
             if have != want:
-                diff = sorted(k for k in set(have) | set(want) if have.get(k) != want.get(k))
+                diff = sorted(str(k) for k in set(have) | set(want) if have.get(k) != want.get(k))
                 raise EngineError(
                     "checkpoint",
-                    f"{directory} holds a checkpoint of other parameters ({', '.join(diff)} "
+                    f"{directory} holds a checkpoint of other parameters ({_short(', '.join(diff))} "
                     f"{'differs' if len(diff) == 1 else 'differ'}); use a new directory",
                 )
         else:
@@ -344,24 +375,153 @@ class Checkpoint:
                 raise EngineError(
                     "checkpoint", f"{directory}: cannot write ({exc.strerror or exc})"
                 ) from None
+        self.index = self._read_index(len(tasks))
 
     def _path(self, i: int) -> Path:
-        return self.dir / f"task-{i:07d}.pkl"
+        return self.dir / f"task-{i:07d}{TASK_SUFFIX}"
+
+    def _read_index(self, n: int) -> dict[int, tuple[int, str]]:
+        """Task → (bytes, SHA-256) of its file, from :data:`TASK_INDEX` (the last line of a task wins); a line
+        that is not an entry (a torn write, an edit) is skipped: its task is recomputed."""
+        path = self.dir / TASK_INDEX
+        if not (path.exists() or path.is_symlink()):
+            return {}
+        from motionsig_cli.tables import read_regular
+
+        try:
+            data = read_regular(
+                path,
+                limit=INDEX_LINE_BYTES * max(1, 4 * n) + (1 << 20),
+                what="checkpoint index",
+                follow=False,
+            )
+        except InputError as exc:
+            raise EngineError("checkpoint", str(exc)) from None
+        out: dict[int, tuple[int, str]] = {}
+        for line in data.split(b"\n"):
+            try:
+                entry = json.loads(line) if len(line) <= INDEX_LINE_BYTES else None
+            except ValueError:
+                entry = None
+            if not (isinstance(entry, dict) and set(entry) == {"task", "bytes", "sha256"}):
+                continue
+            i, size, sha = entry["task"], entry["bytes"], entry["sha256"]
+            if type(i) is int and 0 <= i < n and type(size) is int and isinstance(sha, str):
+                out[i] = (size, sha)
+        return out
 
     def load(self, i: int) -> tuple[bool, Any]:
-        """Task i's result, if a file holds it under task i's own description (else it is recomputed)."""
+        """Task i's result, if its file is the one the index records and holds task i's own description;
+        else (False, None): the task is recomputed (a file that was there is counted in :attr:`rejected`).
+
+        Raises:
+            EngineError: the task's name is taken by something that is not a regular file.
+        """
         path = self._path(i)
-        if not path.exists():
-            return False, None
         try:
-            with path.open("rb") as fh:
-                key, result = pickle.load(fh)
-        except Exception:  # a damaged or foreign file: recompute the task
+            st = os.lstat(path)
+        except FileNotFoundError:
             return False, None
-        return (True, result) if key == self.keys[i] else (False, None)
+        except OSError as exc:
+            raise EngineError("checkpoint", f"{path}: cannot read ({exc.strerror or exc})") from None
+        if not stat.S_ISREG(st.st_mode):
+            raise EngineError(
+                "checkpoint", f"{path} is not a regular file (a directory, link or device?): remove it"
+            )
+        entry = self.index.get(i)
+        if entry is None:
+            return self._reject(path, f"not in {TASK_INDEX}")
+        size, sha = entry
+        if st.st_size != size or size > MAX_TASK_BYTES:
+            return self._reject(path, f"{st.st_size} bytes, the index says {size}")
+        from motionsig_cli.tables import read_regular
+        from motionsig_cli.taskdata import TaskDataError, decode
+
+        try:
+            data = read_regular(path, limit=MAX_TASK_BYTES, what="task file", follow=False)
+        except InputError as exc:
+            raise EngineError("checkpoint", str(exc)) from None
+        if hashlib.sha256(data).hexdigest() != sha:
+            return self._reject(path, "its SHA-256 differs from the index's")
+        try:
+            key, result = decode(data)
+        except TaskDataError as exc:
+            return self._reject(path, str(exc))
+        if key != self.keys[i]:
+            return self._reject(path, "it holds another task")
+        return True, result
+
+    def _reject(self, path: Path, reason: str) -> tuple[bool, Any]:
+        self.rejected.append((path.name, reason))
+        return False, None
 
     def save(self, i: int, result: Any) -> None:
-        _atomic_write(self._path(i), pickle.dumps((self.keys[i], result), protocol=pickle.HIGHEST_PROTOCOL))
+        """Write task i's file, then its line of the index (a file without its line is never used).
+
+        Raises:
+            EngineError: the directory cannot be written.
+        """
+        from motionsig_cli.taskdata import encode
+
+        data = encode(self.keys[i], result)
+        if len(data) > MAX_TASK_BYTES:
+            _LOG.warning(
+                "checkpoint %s: task %d's result is %d bytes, more than %d: not kept", self.dir, i, len(data),
+                MAX_TASK_BYTES,
+            )  # fmt: skip
+            return
+        path = self._path(i)
+        line = json.dumps({"task": i, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()})
+        try:
+            _atomic_write(path, data)
+            _append(self.dir / TASK_INDEX, (line + "\n").encode())
+        except OSError as exc:
+            raise EngineError("checkpoint", f"{path}: cannot write ({exc.strerror or exc})") from None
+        self.index[i] = (len(data), hashlib.sha256(data).hexdigest())
+
+    def report(self) -> None:
+        """One warning if task files were recomputed because they did not match the index."""
+        if self.rejected:
+            name, why = self.rejected[0]
+            _LOG.warning(
+                "checkpoint %s: %d task file(s) did not match its index and are recomputed (first: %s: %s)",
+                self.dir, len(self.rejected), name, why,
+            )  # fmt: skip
+
+
+def _append(path: Path, data: bytes) -> None:
+    """Append ``data`` to the regular file ``path`` (created if absent); a symbolic link or a special file
+    there is refused, so that a crafted checkpoint cannot make the run write elsewhere or block."""
+    flags = os.O_WRONLY | os.O_APPEND | os.O_CREAT | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
+    fd = os.open(path, flags, 0o644)
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(f"{path.name} is not a regular file")
+        os.write(fd, data)
+    finally:
+        os.close(fd)
+
+
+def _read_manifest(path: Path) -> dict[str, Any]:
+    """The manifest as a JSON object (a regular file of at most :data:`MAX_MANIFEST_BYTES`)."""
+    from motionsig_cli.tables import read_regular
+
+    try:
+        text = read_regular(path, limit=MAX_MANIFEST_BYTES, what="manifest", follow=False).decode("utf-8")
+        have = json.loads(text)
+    except InputError as exc:
+        raise EngineError("checkpoint", str(exc)) from None
+    except (ValueError, RecursionError) as exc:
+        raise EngineError("checkpoint", f"{path}: unreadable manifest ({_short(str(exc))})") from None
+    if not isinstance(have, dict):
+        raise EngineError("checkpoint", f"{path}: unreadable manifest (not a JSON object)")
+    return have
+
+
+def _short(value: Any, limit: int = 200) -> str:
+    """``value`` as text of at most ``limit`` characters (a crafted manifest's text is not echoed in full)."""
+    text = value if isinstance(value, str) else repr(value)
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _atomic_write(path: Path, data: bytes) -> None:
@@ -409,6 +569,7 @@ def run_tasks(
             done[i], results[i] = ckpt.load(i)
             if done[i] and progress is not None:
                 progress(sizes[i])
+        ckpt.report()
     pending = [i for i in range(n) if not done[i]]
 
     def finish(i: int, value: Any) -> None:

@@ -40,7 +40,7 @@ import numpy as np
 
 from motionsig_cli.config import ConfigError, integer, one_of
 from motionsig_cli.errors import InputError
-from motionsig_cli.tables import MAX_ROWS, Table, read_table
+from motionsig_cli.tables import MAX_ROWS, Table, all_decimal, is_decimal, name_list, read_table, shorten
 
 __all__ = [
     "KINDS",
@@ -83,6 +83,9 @@ KINDS = ("number", "integer", "time", "label")
 MISSING = frozenset({"", "nan", "na", "n/a", "null", "none", "-"})
 """Cell texts (lower case) that mean "no measurement"."""
 ORDERS = (None, "increasing", "non-decreasing")
+MAX_ABS_TIME_S = 1e12
+"""Largest time accepted [s] (31,700 years, after unit conversion): a larger one is an absurd value, refused
+as a cell error before any arithmetic on it overflows."""
 _HEADER_UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]$")
 
 
@@ -364,7 +367,8 @@ def read_record(
     meta_units = t.meta.get("units", {})
     if not isinstance(meta_units, dict):
         raise InputError(
-            f'{t.source}: metadata \'units\' must be a JSON object such as {{"x": "km"}}, got {meta_units!r}'
+            f'{t.meta_where("units")}: metadata \'units\' must be a JSON object such as {{"x": "km"}}, '
+            f"got {shorten(meta_units)}"
         )
     values: dict[str, np.ndarray] = {}
     used_units: dict[str, str] = {}
@@ -412,8 +416,8 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
             hits = [c for c in t.columns if c == want] or [c for c in t.columns if base[c] == want.lower()]
             if not hits:
                 raise InputError(
-                    f"{where}: no column {want!r} for {spec.columns_option} {role.name}={want} "
-                    f"(columns: {', '.join(t.columns)})"
+                    f"{where}: no column {shorten(want)} for {spec.columns_option} {role.name}={want[:60]} "
+                    f"(columns: {name_list(t.columns)})"
                 )
             found[role.name] = hits[0]
     taken = set(found.values())
@@ -433,7 +437,7 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
             also = f" (or {', '.join(repr(a) for a in role.aliases)})" if role.aliases else ""
             hint = f"; {spec.hint}" if spec.hint else ""
             raise InputError(
-                f"{where}: missing column {role.name!r}{also}: columns are {', '.join(t.columns)}; "
+                f"{where}: missing column {role.name!r}{also}: columns are {name_list(t.columns)}; "
                 f"map one with {spec.columns_option} {role.name}=NAME{hint}"
             )
     return found
@@ -462,8 +466,10 @@ def _unit(
             continue
         if str(unit) not in known:
             where = rec.where(None, role.name) if origin == "header" else rec.source
+            if origin.startswith("metadata") and rec.table is not None:
+                where = rec.table.meta_where("units" if origin == "metadata 'units'" else f"{role.name}_unit")
             raise InputError(
-                f"{where}: unknown {q.replace('_', ' ')} unit {unit!r} in the {origin} "
+                f"{where}: unknown {q.replace('_', ' ')} unit {shorten(unit)} in the {origin} "
                 f"(known: {', '.join(known)})"
             )
         return str(unit)
@@ -471,13 +477,15 @@ def _unit(
 
 
 def _numbers(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
-    """Floats; missing texts → NaN where allowed; everything else must be a finite number."""
-    try:
-        arr = np.asarray(cells, dtype=np.float64)  # fast path: every cell a number
-        if np.all(np.isfinite(arr)):
-            return arr
-    except (TypeError, ValueError):
-        pass
+    """Floats; missing texts → NaN where allowed; everything else must be a finite ASCII decimal number
+    (``1_0`` and non-ASCII digits, which :func:`float` reads, are not numbers here)."""
+    if all_decimal(cells):
+        try:
+            arr = np.asarray(cells, dtype=np.float64)  # fast path: every cell a number
+            if np.all(np.isfinite(arr)):
+                return arr
+        except (TypeError, ValueError):
+            pass
     out = np.empty(len(cells))
     for i, v in enumerate(cells):
         if isinstance(v, str) and v.strip().lower() in MISSING:
@@ -486,24 +494,40 @@ def _numbers(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
             out[i] = math.nan
             continue
         try:
+            if isinstance(v, str) and not is_decimal(v):
+                raise ValueError
             x = float(v)
         except (TypeError, ValueError):
-            raise rec.error(i, role.name, f"{v!r} is not a number") from None
+            raise rec.error(i, role.name, f"{shorten(v)} is not a number") from None
         if not math.isfinite(x):
-            raise rec.error(i, role.name, f"{v!r} is not finite")
+            raise rec.error(i, role.name, f"{shorten(v)} is not finite")
         out[i] = x
     return out
+
+
+def _check_magnitude(rec: Record, role: Role, cells: Sequence[Any], arr: np.ndarray, limit: float) -> None:
+    """Refuse the first time beyond ±``limit`` seconds as a cell error."""
+    with np.errstate(invalid="ignore"):
+        big = np.flatnonzero(np.abs(arr) > limit)
+    if big.size:
+        i = int(big[0])
+        what = "time" if role.kind == "time" else "value"
+        raise rec.error(
+            i, role.name, f"{what} {shorten(cells[i])} is beyond ±{limit:g} (SI), not a measurement"
+        )
 
 
 def _integers(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
     out = np.empty(len(cells), dtype=np.int64)
     for i, v in enumerate(cells):
         try:
+            if isinstance(v, str) and not is_decimal(v):
+                raise ValueError
             x = float(v)
             if not math.isfinite(x) or x != int(x) or abs(x) > 2**53:
                 raise ValueError
         except (TypeError, ValueError):
-            what = "missing value" if isinstance(v, str) and v.strip().lower() in MISSING else f"{v!r}"
+            what = "missing value" if isinstance(v, str) and v.strip().lower() in MISSING else shorten(v)
             raise rec.error(i, role.name, f"{what} is not an integer") from None
         out[i] = int(x)
     return out
@@ -521,16 +545,18 @@ def _labels(rec: Record, role: Role, cells: Sequence[Any]) -> np.ndarray:
 
 def _times(rec: Record, role: Role, cells: Sequence[Any], unit: str | None) -> tuple[np.ndarray, str | None]:
     """Seconds: numbers (times the unit) or ISO 8601 timestamps relative to the first."""
-    numeric = True
+    numeric = all_decimal(cells)
     try:
-        arr = np.asarray(cells, dtype=np.float64)
+        arr = np.asarray(cells, dtype=np.float64) if numeric else np.empty(0)
     except (TypeError, ValueError):
         numeric = False
     if numeric:
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
-            raise rec.error(int(bad[0]), role.name, f"time {cells[bad[0]]!r} is not finite")
-        return arr * UNITS["time"][unit or "s"], None
+            raise rec.error(int(bad[0]), role.name, f"time {shorten(cells[bad[0]])} is not finite")
+        seconds = arr * UNITS["time"][unit or "s"]
+        _check_magnitude(rec, role, cells, seconds, MAX_ABS_TIME_S)
+        return seconds, None
     texts = [str(v).strip() for v in cells]
     blank = [i for i, x in enumerate(texts) if x.lower() in MISSING]
     if blank:
@@ -538,13 +564,10 @@ def _times(rec: Record, role: Role, cells: Sequence[Any], unit: str | None) -> t
     stamps: list[datetime] = []
     for i, v in enumerate(cells):
         text = str(v).strip()
-        try:
-            float(text)
+        if is_decimal(text):
             raise rec.error(
-                i, role.name, f"{text!r} is a number among ISO 8601 timestamps (one form per column)"
+                i, role.name, f"{shorten(text)} is a number among ISO 8601 timestamps (one form per column)"
             )
-        except ValueError:
-            pass
         if text.lower() in MISSING:
             raise rec.error(i, role.name, "missing time")
         try:
@@ -553,7 +576,7 @@ def _times(rec: Record, role: Role, cells: Sequence[Any], unit: str | None) -> t
             raise rec.error(
                 i,
                 role.name,
-                f"{text!r} is neither seconds nor an ISO 8601 time (e.g. 2026-05-01T12:00:00.5Z)",
+                f"{shorten(text)} is neither seconds nor an ISO 8601 time (e.g. 2026-05-01T12:00:00.5Z)",
             ) from None
         if (stamps[-1].tzinfo is None) != (stamps[0].tzinfo is None):
             raise rec.error(i, role.name, "mixes timestamps with and without a time zone")

@@ -19,10 +19,13 @@ Writing files (atomically) and standard streams is the command layer's job (:mod
 from __future__ import annotations
 
 import csv
+import errno
 import io
 import json
 import math
+import os
 import re
+import stat
 import sys
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -34,7 +37,16 @@ import numpy as np
 from motionsig_cli import __version__
 from motionsig_cli.errors import InputError  # re-exported: the table readers raise it
 
-__all__ = ["FORMATS", "InputError", "Table", "make_meta", "read_table", "render"]
+__all__ = [
+    "FORMATS",
+    "InputError",
+    "Table",
+    "is_decimal",
+    "make_meta",
+    "read_regular",
+    "read_table",
+    "render",
+]
 
 FORMATS = ("csv", "json")
 
@@ -50,6 +62,7 @@ class Table:
         lines: For tables read from a file, the 1-based source line of each row (for errors).
         source: For tables read from a file, its name (``<stdin>`` for ``-``).
         header_line: For tables read from a file, the 1-based line of the header (0: unknown).
+        meta_lines: For tables read from a file, the 1-based line of each metadata key (for errors).
     """
 
     columns: tuple[str, ...]
@@ -58,12 +71,18 @@ class Table:
     lines: tuple[int, ...] = ()
     source: str = ""
     header_line: int = 0
+    meta_lines: dict[str, int] = field(default_factory=dict, compare=False)
+
+    def meta_where(self, key: str) -> str:
+        """``file:line`` of the metadata key ``key`` (``file`` where its line is unknown)."""
+        line = self.meta_lines.get(key, 0)
+        return f"{self.source}:{line}" if line else self.source
 
     def column(self, name: str) -> list[Any]:
         """The raw values of one column (raises :class:`InputError` naming the file if absent)."""
         if name not in self.columns:
             where = f"{self.source}: " if self.source else ""
-            raise InputError(f"{where}missing column {name!r} (columns: {', '.join(self.columns)})")
+            raise InputError(f"{where}missing column {name!r} (columns: {name_list(self.columns)})")
         j = self.columns.index(name)
         return [row[j] for row in self.rows]
 
@@ -73,6 +92,8 @@ class Table:
         out = np.empty(len(values), dtype=np.int64 if integer else np.float64)
         for i, v in enumerate(values):
             try:
+                if isinstance(v, str) and not is_decimal(v):
+                    raise ValueError
                 x = float(v)
                 if integer:
                     if not math.isfinite(x) or x != int(x):
@@ -83,8 +104,48 @@ class Table:
             except (TypeError, ValueError, OverflowError):
                 kind = "an integer" if integer else "a number"
                 line = self.lines[i] if i < len(self.lines) else i + 2
-                raise InputError(f"{self.source}:{line}: column {name!r}: {v!r} is not {kind}") from None
+                raise InputError(
+                    f"{self.source}:{line}: column {name!r}: {shorten(v)} is not {kind}"
+                ) from None
         return out
+
+
+MAX_CELL_CHARS = 100
+"""Longest number accepted in a cell (a longer digit string is refused, not converted)."""
+_DECIMAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_NON_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
+def is_decimal(text: str) -> bool:
+    """Whether ``text`` (blanks around it ignored) is an ASCII decimal number (``1``, ``-2.5e3``, ``.5``),
+    ``nan`` or ``inf``, of at most :data:`MAX_CELL_CHARS` characters: what :func:`float` reads *beside*
+    (``1_0``, Arabic-Indic or full-width digits) is not a number in a table."""
+    t = text.strip()
+    return len(t) <= MAX_CELL_CHARS and bool(_DECIMAL.fullmatch(t) or _NON_FINITE.fullmatch(t))
+
+
+def all_decimal(cells: Sequence[Any]) -> bool:
+    """Whether every cell is a number or a text :func:`is_decimal` accepts (fast for the common case:
+    plain ASCII without underscores is what :func:`float` and NumPy read as the same number)."""
+    texts = [c for c in cells if isinstance(c, str)]
+    if not texts:
+        return True
+    joined = "".join(texts)
+    if joined.isascii() and "_" not in joined and max(map(len, texts)) <= MAX_CELL_CHARS:
+        return True
+    return all(is_decimal(t) for t in texts)
+
+
+def shorten(value: Any, limit: int = 60) -> str:
+    """``repr(value)``, at most ``limit`` characters (a cell quoted in a message)."""
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 4] + "…" + text[-3:]
+
+
+def name_list(names: Sequence[str], limit: int = 12) -> str:
+    """Column names for a message: the first ``limit`` and how many more."""
+    shown = ", ".join(shorten(n, 40) if len(n) > 40 else n for n in names[:limit])
+    return shown + (f", … ({len(names) - limit} more)" if len(names) > limit else "")
 
 
 def make_meta(command: str, **params: Any) -> dict[str, Any]:
@@ -158,64 +219,218 @@ def render(table: Table, fmt: str) -> str:
 
 MAX_ROWS = 10_000_000
 """Default row limit of :func:`read_table`: a longer input is refused before it is held in memory."""
+MAX_BYTES = 1 << 30
+"""Default byte limit of :func:`read_table` (1 GiB): reading stops with an error at the next byte."""
+MAX_JSON_BYTES = 128 << 20
+"""Largest JSON table (a JSON document is parsed whole: a larger one is refused before it is parsed;
+CSV, read line by line, has :data:`MAX_BYTES`)."""
+MAX_JSON_VALUES = 4_000_000
+"""Most values (commas) of a JSON table: a parsed value costs ~200 bytes until the table is built, so this
+keeps reading one under 1 GiB (measured: 2·10⁶ values, 510 MiB); larger tables are read as CSV."""
+MAX_LINE_BYTES = 4 << 20
+"""Longest line of a CSV table (a longer one is refused as it is read: ``/dev/zero`` has no line end)."""
+MAX_JSON_DEPTH = 64
+"""Deepest nesting of a JSON table (a table is 4 deep: document, data, record, a list in a cell)."""
+_KIND = {
+    stat.S_IFDIR: "a directory",
+    stat.S_IFIFO: "a FIFO (named pipe)",
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFSOCK: "a socket",
+    stat.S_IFLNK: "a symbolic link",
+}
 
 
-def read_table(source: str | Path, *, required: Sequence[str] = (), max_rows: int = MAX_ROWS) -> Table:
+def _not_regular(name: str, mode: int) -> InputError:
+    kind = _KIND.get(stat.S_IFMT(mode), "not a regular file")
+    return InputError(f"{name}: is {kind}, not a regular file (only regular files, or - for stdin, are read)")
+
+
+def open_regular(path: str | Path, *, name: str | None = None, follow: bool = True) -> io.BufferedReader:
+    """``path`` opened for reading in binary, if it is a regular file; refused by name otherwise.
+
+    The file is checked with :func:`os.stat` before it is opened (a FIFO, a device, a directory or a
+    symlink loop is never opened) and again with :func:`os.fstat` once open (it cannot be swapped in
+    between); it is opened with ``O_NONBLOCK``, so that even a FIFO put in its place never blocks.
+    ``follow=False``: a symbolic link is refused too.
+
+    Raises:
+        InputError: ``name: …`` (default: the path): missing, unreadable, a symlink loop, not a regular file.
+    """
+    name = str(path) if name is None else name
+    try:
+        st = os.stat(path) if follow else os.lstat(path)
+        if not stat.S_ISREG(st.st_mode):
+            raise _not_regular(name, st.st_mode)
+        flags = os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0)
+        fd = os.open(path, flags if follow else flags | getattr(os, "O_NOFOLLOW", 0))
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            why = "a symbolic link loop (too many levels of links)" if follow else "a symbolic link"
+            raise InputError(f"{name}: cannot read ({why})") from None
+        raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
+    try:
+        st = os.fstat(fd)
+        if not stat.S_ISREG(st.st_mode):
+            raise _not_regular(name, st.st_mode)
+        os.set_blocking(fd, True)
+        return open(fd, "rb", closefd=True)  # the caller closes it
+    except BaseException:
+        os.close(fd)
+        raise
+
+
+def read_regular(path: str | Path, *, limit: int, what: str = "file", follow: bool = True) -> bytes:
+    """The bytes of the regular file ``path`` (:func:`open_regular`), at most ``limit`` of them.
+
+    Raises:
+        InputError: as :func:`open_regular`, or a file larger than ``limit`` bytes (the ``what`` named).
+    """
+    data = bytearray()
+    with open_regular(path, follow=follow) as fh:
+        while len(data) <= limit and (chunk := fh.read(min(1 << 20, limit + 1 - len(data)))):
+            data += chunk  # in chunks: read(limit) would allocate the limit at once
+    if len(data) > limit:
+        raise InputError(f"{path}: {what} larger than {limit} bytes")
+    return bytes(data)
+
+
+class _Limited(io.RawIOBase):
+    """A binary stream that raises :class:`InputError` once more than ``limit`` bytes have been read."""
+
+    def __init__(self, raw: Any, name: str, limit: int) -> None:
+        self.raw, self.name_, self.limit, self.count = raw, name, limit, 0
+
+    def readable(self) -> bool:
+        return True
+
+    def readinto(self, b: Any) -> int:
+        want = min(len(b), self.limit + 1 - self.count)
+        if want <= 0:
+            raise InputError(f"{self.name_}: larger than {self.limit} bytes (the limit for this input)")
+        data = self.raw.read1(want) if hasattr(self.raw, "read1") else self.raw.read(want)
+        n = len(data)
+        b[:n] = data
+        self.count += n
+        if self.count > self.limit:
+            raise InputError(f"{self.name_}: larger than {self.limit} bytes (the limit for this input)")
+        return n
+
+
+def _lines(stream: io.BufferedReader, name: str) -> Any:
+    """(line number, text) of each line of a UTF-8 stream (a BOM at the start dropped; ``\\r\\n``, ``\\n``
+    and ``\\r`` end lines, and are kept as the CSV parser wants them). A line that is not UTF-8 is an
+    :class:`InputError` naming its line; so is a line longer than :data:`MAX_LINE_BYTES`."""
+    lineno = 0
+    first = True
+    while True:
+        raw = stream.readline(MAX_LINE_BYTES + 1)
+        if not raw:
+            return
+        if len(raw) > MAX_LINE_BYTES and not raw.endswith(b"\n"):
+            raise InputError(f"{name}:{lineno + 1}: a line longer than {MAX_LINE_BYTES} bytes")
+        if first:
+            raw = raw.removeprefix(b"\xef\xbb\xbf")
+            first = False
+        try:
+            text = raw.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            raise InputError(
+                f"{name}:{lineno + 1}:{len(raw[: exc.start].decode('utf-8')) + 1}: not a UTF-8 text file "
+                f"(byte {raw[exc.start]:#04x})"
+            ) from None
+        pieces = _CR_LINES.findall(text) if "\r" in text.rstrip("\r\n") else (text,)
+        for piece in pieces:
+            lineno += 1
+            yield lineno, piece
+
+
+_CR_LINES = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+")
+
+
+def read_table(
+    source: str | Path,
+    *,
+    required: Sequence[str] = (),
+    max_rows: int = MAX_ROWS,
+    max_bytes: int = MAX_BYTES,
+) -> Table:
     """Read a table written by :func:`format_csv` or :func:`format_json` (or any CSV with a header row).
 
     The format is recognised from the content: a document whose first non-blank character is ``{`` is
     the JSON the commands write (``{"meta": {...}, "columns": [...], "data": [{...}, ...]}``), anything
     else CSV with optional leading ``# key: value`` metadata lines (values JSON; other text is kept as
-    a string). CSV is read line by line, and reading stops with an error at row ``max_rows + 1``, so a
-    file far too long for the command is refused without being held in memory.
+    a string). CSV is read line by line, and reading stops with an error at row ``max_rows + 1``, at byte
+    ``max_bytes + 1`` or at a line longer than :data:`MAX_LINE_BYTES`, so a file far too long for the
+    command is refused without being held in memory. A JSON document is refused if it is longer than
+    :data:`MAX_JSON_BYTES`, nested deeper than :data:`MAX_JSON_DEPTH` or has more than ``max_rows``
+    records, all before it is parsed; a number longer than :data:`MAX_CELL_CHARS` characters or a key
+    repeated in an object is refused while it is parsed.
+
+    Only a regular file (or ``-``, standard input) is read: a FIFO, a device, a directory or a symbolic
+    link loop is refused by name before any read (:func:`open_regular`).
 
     Args:
         source: A path, or ``-`` for standard input.
         required: Columns that must be present.
         max_rows: Most data rows accepted.
+        max_bytes: Most bytes read.
 
     Raises:
-        InputError: unreadable file, no header, ragged row, too many rows or missing column; the
-            message names the file and, for row errors, the line.
+        InputError: unreadable or special file, not UTF-8, no header, ragged row, too many rows or bytes,
+            repeated (also in letter case) or missing column; the message names the file and, where
+            there is one, the line.
     """
     name = "<stdin>" if str(source) == "-" else str(source)
     try:
         if str(source) == "-":
-            buffer = getattr(sys.stdin, "buffer", None)  # bytes, decoded strictly like a file
-            stream: Any = (
-                io.TextIOWrapper(buffer, encoding="utf-8-sig", errors="strict", newline="")
-                if buffer is not None
-                else sys.stdin
-            )
+            raw = getattr(sys.stdin, "buffer", None)
+            if raw is None:  # a text stream (tests): its text, as UTF-8 bytes
+                raw = io.BytesIO(sys.stdin.read(max_bytes + 1).encode("utf-8"))
+            stream = io.BufferedReader(_Limited(raw, name, max_bytes), buffer_size=1 << 16)
             table = _read_stream(stream, name, max_rows)
         else:
-            with open(source, encoding="utf-8-sig", errors="strict", newline="") as stream:
+            with open_regular(source) as fh:
+                stream = io.BufferedReader(_Limited(fh, name, max_bytes), buffer_size=1 << 16)
                 table = _read_stream(stream, name, max_rows)
     except OSError as exc:
         raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
-    except UnicodeDecodeError:
-        raise InputError(f"{name}: not a UTF-8 text file") from None
     for col in required:
         table.column(col)
     return table
 
 
-def _read_stream(stream: Any, name: str, max_rows: int) -> Table:
-    """CSV (line by line) or JSON from an open text stream."""
-    first = ""
-    head: list[str] = []
-    for line in stream:
-        head.append(line)
-        if line.strip():
-            first = line.lstrip().removeprefix("\ufeff")[:1]
-            break
-    if first in "{[" and first:
-        return _read_json("".join(head) + stream.read(), name, max_rows)
+def _read_stream(stream: io.BufferedReader, name: str, max_rows: int) -> Table:
+    """CSV (line by line) or JSON from an open binary stream."""
+    start = stream.peek(1 << 16)[: 1 << 16].removeprefix(b"\xef\xbb\xbf").lstrip()
+    if start[:1] in (b"{", b"["):  # JSON: read whole (bounded), as one text; a one-line document may be long
+        chunks: list[bytes] = []
+        total = 0
+        while total <= MAX_JSON_BYTES and (chunk := stream.read(1 << 20)):  # read(n) would allocate n at once
+            chunks.append(chunk)
+            total += len(chunk)
+        data = b"".join(chunks).removeprefix(b"\xef\xbb\xbf")
+        del chunks
+        if total > MAX_JSON_BYTES:
+            raise InputError(
+                f"{name}: a JSON table larger than {MAX_JSON_BYTES} bytes (JSON is parsed whole; write "
+                "larger tables as CSV, which is read line by line)"
+            )
+        try:
+            text = data.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            at = data.count(b"\n", 0, exc.start) + 1
+            raise InputError(f"{name}:{at}: not a UTF-8 text file (byte {data[exc.start]:#04x})") from None
+        del data
+        return _read_json(text, name, max_rows)
+    lines = _lines(stream, name)
+    head: list[tuple[int, str]] = []
     meta: dict[str, Any] = {}
+    meta_lines: dict[str, int] = {}
     linenos: list[int] = []  # line of each non-comment line handed to the CSV parser
 
     def body() -> Any:
-        for lineno, line in enumerate(_chain(head, stream), start=1):
+        for lineno, line in _chain(head, lines):
             stripped = line.strip()
             if not stripped:
                 continue
@@ -224,19 +439,25 @@ def _read_stream(stream: Any, name: str, max_rows: int) -> Table:
                     key, sep, value = stripped[1:].partition(":")
                     if sep:
                         value = value.strip()
+                        key = key.strip()
                         try:
-                            meta[key.strip()] = json.loads(value)
+                            meta[key] = _loads(value)
                         except json.JSONDecodeError:
-                            meta[key.strip()] = value
+                            meta[key] = value
+                        except (ValueError, RecursionError) as exc:
+                            raise InputError(f"{name}:{lineno}: metadata {shorten(key, 40)}: {exc}") from None
+                        meta_lines[key] = lineno
                 continue
             linenos.append(lineno)
             yield line
 
     try:
-        return _parse_csv(csv.reader(body(), strict=True), linenos, meta, name, max_rows)
+        table = _parse_csv(csv.reader(body(), strict=True), linenos, meta, name, max_rows)
     except csv.Error as exc:
         at = f"{name}:{linenos[-1]}" if linenos else name
         raise InputError(f"{at}: not readable as CSV ({exc})") from None
+    table.meta_lines.update(meta_lines)
+    return table
 
 
 def _parse_csv(reader: Any, linenos: list[int], meta: dict[str, Any], name: str, max_rows: int) -> Table:
@@ -249,11 +470,10 @@ def _parse_csv(reader: Any, linenos: list[int], meta: dict[str, Any], name: str,
     columns = tuple(c.strip() for c in header)
     if len(columns) == 1 and ";" in columns[0]:
         raise InputError(
-            f"{name}:{linenos[0]}: the header {columns[0]!r} is one column: the file looks separated by ';' "
-            "(fields must be separated by commas)"
+            f"{name}:{linenos[0]}: the header {shorten(columns[0])} is one column: the file looks separated by "
+            "';' (fields must be separated by commas)"
         )
-    if len(set(columns)) != len(columns):
-        raise InputError(f"{name}:{linenos[0]}: duplicate column names in header")
+    _check_columns(columns, f"{name}:{linenos[0]}")
     n = len(columns)
     rows: list[tuple[Any, ...]] = []
     for cells in reader:
@@ -273,17 +493,73 @@ def _parse_csv(reader: Any, linenos: list[int], meta: dict[str, Any], name: str,
     )
 
 
-def _chain(head: list[str], stream: Any) -> Any:
+def _check_columns(columns: Sequence[str], where: str) -> None:
+    """Refuse a header whose names repeat, also in letter case (``y`` and ``Y`` are one column to a
+    reader that matches names case-insensitively, as :mod:`motionsig_cli.records` does)."""
+    seen: dict[str, str] = {}
+    for c in columns:
+        low = c.casefold()
+        if low in seen:
+            what = (
+                f"column {shorten(c, 40)}"
+                if seen[low] == c
+                else f"columns {shorten(seen[low], 40)} and {shorten(c, 40)} (names differ only in letter case)"
+            )
+            raise InputError(f"{where}: duplicate {what} in the header")
+        seen[low] = c
+
+
+def _chain(head: list[tuple[int, str]], rest: Any) -> Any:
     yield from head
-    yield from stream
+    yield from rest
+
+
+def _unique(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out = dict(pairs)
+    if len(out) != len(pairs):
+        seen: set[str] = set()
+        key = next(k for k, _ in pairs if k in seen or seen.add(k))  # type: ignore[func-returns-value]
+        raise ValueError(f"key {shorten(key, 40)} repeats in an object")
+    return out
+
+
+_LONG_DIGITS = re.compile(rf"[0-9]{{{MAX_CELL_CHARS + 1},}}")
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
+
+
+def _long_number(text: str) -> int:
+    """The offset of the first number longer than :data:`MAX_CELL_CHARS` digits outside a string, or −1 (a
+    C-speed search; the strings are looked at only where it finds a long run of digits)."""
+    strings = _JSON_STRING.finditer(text)
+    s = None
+    for m in _LONG_DIGITS.finditer(text):
+        while s is None or s.end() <= m.start():  # the strings are scanned once, as far as the digits
+            if (s := next(strings, None)) is None:
+                return m.start()
+        if s.start() > m.start():
+            return m.start()
+    return -1
+
+
+def _loads(text: str) -> Any:
+    """JSON with limits: no repeated key, no number longer than :data:`MAX_CELL_CHARS` digits, no nesting
+    deeper than :data:`MAX_JSON_DEPTH` (``ValueError``; a syntax error is ``JSONDecodeError``)."""
+    if len(text) > 64 and _depth(text, 1 << 30)[0] > MAX_JSON_DEPTH:
+        raise ValueError(f"nested deeper than {MAX_JSON_DEPTH} levels")
+    if _long_number(text) >= 0:
+        raise ValueError(f"a number of more than {MAX_CELL_CHARS} digits")
+    return json.loads(text, object_pairs_hook=_unique)
 
 
 _JSON_TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|[{}\[\]\n]')
 
 
-def _json_record_lines(text: str) -> list[int]:
-    """1-based line of each object that is an element of a top-level array (the records of ``data``)."""
+def _depth(text: str, max_records: int) -> tuple[int, list[int]]:
+    """(deepest nesting, the 1-based line of each object that is an element of an array at depth ≤ 2, the
+    records of ``data``), scanning tokens; it stops at a nesting deeper than :data:`MAX_JSON_DEPTH` or
+    at record ``max_records + 1``."""
     lines: list[int] = []
+    depth = deepest = 0
     stack: list[str] = []
     line = 1
     for m in _JSON_TOKEN.finditer(text):
@@ -291,56 +567,81 @@ def _json_record_lines(text: str) -> list[int]:
         if tok == "\n":
             line += 1
         elif tok in "{[":
-            if tok == "{" and stack == ["{", "["]:
+            if tok == "{" and stack and stack[-1] == "[" and len(stack) <= 2:
                 lines.append(line)
+                if len(lines) > max_records:
+                    break
             stack.append(tok)
+            depth += 1
+            if depth > deepest:
+                deepest = depth
+                if deepest > MAX_JSON_DEPTH:
+                    break
         elif tok in "}]":
             if stack:
                 stack.pop()
+                depth -= 1
         else:
             line += tok.count("\n")
-    return lines
+    return deepest, lines
+
+
+def _json_error(name: str, text: str, exc: Exception) -> InputError:
+    if isinstance(exc, json.JSONDecodeError):
+        return InputError(f"{name}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg})")
+    return InputError(f"{name}: not a valid table ({exc})")
 
 
 def _read_json(text: str, name: str, max_rows: int) -> Table:
     """The JSON document of :func:`format_json`; each record's line is found for error messages."""
+    deepest, record_lines = _depth(text, max_rows)
+    if deepest > MAX_JSON_DEPTH:
+        raise InputError(f"{name}: JSON nested deeper than {MAX_JSON_DEPTH} levels")
+    if len(record_lines) > max_rows:
+        raise InputError(
+            f"{name}:{record_lines[-1]}: more than {max_rows} data records (the limit for this input)"
+        )
+    if text.count(",") >= MAX_JSON_VALUES:
+        raise InputError(
+            f"{name}: a JSON table of more than {MAX_JSON_VALUES} values (JSON is parsed whole; write larger "
+            "tables as CSV, which is read line by line)"
+        )
+    if (at := _long_number(text)) >= 0:
+        raise InputError(
+            f"{name}:{text.count(chr(10), 0, at) + 1}: a number of more than {MAX_CELL_CHARS} digits"
+        )
     try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{name}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg})") from None
-    if isinstance(doc, list):  # a bare list of records (pandas: to_json(orient="records"))
-        doc = {"data": doc}
-    # the data's numbers as their text, like CSV cells: a reader can then convert them exactly
-    raw = json.loads(text, parse_float=str, parse_int=str)
-    raw_data = raw if isinstance(raw, list) else raw.get("data") if isinstance(raw, dict) else None
+        raw = json.loads(text, object_pairs_hook=_unique)
+    except (ValueError, RecursionError) as exc:
+        raise _json_error(name, text, exc) from None
+    doc = {"data": raw} if isinstance(raw, list) else raw  # a bare list of records (pandas: orient="records")
     if not isinstance(doc, dict) or not isinstance(doc.get("data"), list):
         raise InputError(
             f'{name}: a JSON table is {{"meta": {{...}}, "columns": [...], "data": [{{...}}, ...]}} (as the commands '
             'write it) or a list of records [{"column": value, ...}, ...]'
         )
-    data = raw_data if isinstance(raw_data, list) and len(raw_data) == len(doc["data"]) else doc["data"]
+    data = doc["data"]  # its numbers become text, like CSV cells (repr: the same float back)
     meta = doc.get("meta", {})
     if not isinstance(meta, dict):
         raise InputError(f'{name}: "meta" must be an object')
     if len(data) > max_rows:
         raise InputError(f"{name}: more than {max_rows} data records (the limit for this input)")
-    record_lines = _json_record_lines(text) if "\n" in text else []
     if len(record_lines) != len(data):
-        record_lines = [1] * len(data)  # records on one line, or objects nested oddly: no line numbers
+        record_lines = [1] * len(data)  # objects nested oddly: no line numbers
     columns = doc.get("columns")
     if columns is None:
         columns = list(dict.fromkeys(k for rec in data if isinstance(rec, dict) for k in rec))
     if not isinstance(columns, list) or not all(isinstance(c, str) for c in columns):
         raise InputError(f'{name}: "columns" must be a list of names')
-    if len(set(columns)) != len(columns):
-        raise InputError(f"{name}: duplicate column names")
+    _check_columns(columns, name)
+    known = set(columns)
     rows: list[tuple[Any, ...]] = []
     for rec, ln in zip(data, record_lines, strict=True):
         if not isinstance(rec, dict):
             raise InputError(f"{name}:{ln}: a record is not an object")
-        extra = set(rec) - set(columns)
-        if extra:
-            raise InputError(f"{name}:{ln}: field {sorted(extra)[0]!r} is not one of the columns")
+        if not known.issuperset(rec):
+            extra = sorted(set(rec) - known)
+            raise InputError(f"{name}:{ln}: field {shorten(extra[0], 40)} is not one of the columns")
         rows.append(tuple(_json_cell(rec.get(c)) for c in columns))
     return Table(
         columns=tuple(columns), rows=rows, meta=meta, lines=tuple(record_lines), source=name, header_line=1
@@ -353,8 +654,10 @@ def _json_cell(value: Any) -> Any:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
-    if isinstance(value, int | float):
-        return value
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        return repr(value)  # the shortest text of the same float
     if isinstance(value, str):
         return value
     return json.dumps(value)

@@ -62,7 +62,7 @@ def test_checkpoint_resumes_only_the_missing_tasks(tmp_path):
     fn = functools.partial(_draws, 1.0)
     ident = {"command": "test", "n": 12}
     full = run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
-    (tmp_path / "ck" / "task-0000002.pkl").unlink()
+    (tmp_path / "ck" / "task-0000002.task").unlink()
     CALLS.clear()
     again = run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
     assert CALLS == [6]  # only task 2 ran again
@@ -176,7 +176,7 @@ def test_a_task_file_copied_from_another_task_is_recomputed(tmp_path):
     tasks = tasks_of(9, 3)
     ident = {"command": "a"}
     full = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
-    (tmp_path / "task-0000001.pkl").write_bytes((tmp_path / "task-0000000.pkl").read_bytes())
+    (tmp_path / "task-0000001.task").write_bytes((tmp_path / "task-0000000.task").read_bytes())
     CALLS.clear()
     again = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
     assert CALLS == [3]
@@ -383,7 +383,7 @@ def test_checkpoint_resume_with_2_workers_including_tasks_done_here(tmp_path, mo
     there = [i for i, (pid, _) in enumerate(first) if pid != os.getpid()]
     assert here and there, "the run did not share its tasks between this process and the pool"
     for i in here[-2:] + there[-2:]:
-        (ck / f"task-{i:07d}.pkl").unlink()
+        (ck / f"task-{i:07d}.task").unlink()
     again = run_tasks(_pid_and_draw, tasks, Engine(2, None, ck), identity=ident)
     plain = run_tasks(_pid_and_draw, tasks, Engine(1))
     assert [d for _, d in again] == [d for _, d in plain]
@@ -491,3 +491,136 @@ def test_the_run_time_rule_divides_by_the_workers_and_names_the_ways_out():
         )  # the workers (a remote scheduler's, say) are counted only when the limit is exceeded
         check_run_time("runs", 10, 2000.0, 600.0)
         assert asked
+
+
+# ------------------------------------------------------------------ hostile checkpoint directories (issue 39)
+class _Marker:
+    """A pickle that would create a file when unpickled."""
+
+    def __init__(self, path):
+        self.path = str(path)
+
+    def __reduce__(self):
+        return (open, (self.path, "w"))
+
+
+def _index_line(i: int, data: bytes) -> str:
+    import hashlib
+    import json
+
+    return json.dumps({"task": i, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}) + "\n"
+
+
+def test_a_crafted_pickle_in_a_checkpoint_never_runs(tmp_path):
+    """A pickle under the old name and under the new one, with a forged index entry that matches it: never
+    unpickled (the marker file never appears), the task recomputed, the result that of a clean run."""
+    import pickle
+
+    fn = functools.partial(_draws, 1.0)
+    tasks = tasks_of(6, 2)
+    ident = {"command": "a"}
+    ck = tmp_path / "ck"
+    clean = run_tasks(fn, tasks, Engine(1), identity=ident)
+    run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    marker = tmp_path / "marker"
+    bomb = pickle.dumps(("range(0, 2)", _Marker(marker)))
+    (ck / "task-0000000.pkl").write_bytes(bomb)
+    (ck / "task-0000000.task").write_bytes(bomb)
+    with open(ck / "tasks.jsonl", "a") as fh:
+        fh.write(_index_line(0, bomb))
+    CALLS.clear()
+    again = run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    assert not marker.exists()
+    assert CALLS == [0]
+    assert np.concatenate(again).tobytes() == np.concatenate(clean).tobytes()
+
+
+def test_an_altered_task_file_is_detected_and_recomputed(tmp_path, caplog):
+    """Numbers changed in a task file (its size kept): the digest differs from the index's, so the task is
+    recomputed, counted and reported in one warning; the result is that of an uninterrupted run."""
+    fn = functools.partial(_draws, 1.0)
+    tasks = tasks_of(6, 2)
+    ident = {"command": "a"}
+    full = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    path = tmp_path / "task-0000001.task"
+    data = bytearray(path.read_bytes())
+    data[-1] ^= 0x40  # the last byte of the last float
+    path.write_bytes(bytes(data))
+    CALLS.clear()
+    with caplog.at_level("WARNING", logger="motionsig_cli.engine"):
+        again = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    assert CALLS == [2]
+    assert np.concatenate(again).tobytes() == np.concatenate(full).tobytes()
+    assert "1 task file(s) did not match" in caplog.text and "task-0000001.task" in caplog.text
+    CALLS.clear()
+    run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    assert CALLS == []  # the recomputed file is in the index: used from now on
+
+
+def test_an_oversized_task_file_is_not_read(tmp_path, monkeypatch):
+    """A file over the size limit, with a matching forged index entry, is recomputed without being read."""
+    fn = functools.partial(_draws, 1.0)
+    tasks = tasks_of(4, 2)
+    ident = {"command": "a"}
+    run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    big = b"\0" * 4096
+    (tmp_path / "task-0000000.task").write_bytes(big)
+    with open(tmp_path / "tasks.jsonl", "a") as fh:
+        fh.write(_index_line(0, big))
+    monkeypatch.setattr(eng, "MAX_TASK_BYTES", 1024)
+    import motionsig_cli.tables as tables
+
+    read, real = [], tables.read_regular
+    monkeypatch.setattr(tables, "read_regular", lambda *a, **k: read.append(a) or real(*a, **k))
+    CALLS.clear()
+    run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    assert 0 in CALLS and not any("task-0000000" in str(a[0]) for a in read)
+
+
+def test_special_entries_in_a_checkpoint_are_refused_by_name(tmp_path):
+    """A task file that is a directory or a FIFO, a manifest that is a FIFO or not a JSON object, a checkpoint
+    of the pickle format: one EngineError naming the path, at once (no hang, no internal error)."""
+    import json
+    import os
+
+    fn = functools.partial(_draws, 1.0)
+    tasks = tasks_of(4, 2)
+    ident = {"command": "a"}
+    ck = tmp_path / "ck"
+    run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    (ck / "task-0000000.task").unlink()
+    (ck / "task-0000000.task").mkdir()
+    with pytest.raises(EngineError, match=r"task-0000000\.task is not a regular file"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    (ck / "task-0000000.task").rmdir()
+    os.mkfifo(ck / "task-0000000.task")
+    with pytest.raises(EngineError, match=r"task-0000000\.task is not a regular file"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    (ck / "task-0000000.task").unlink()
+    outside = tmp_path / "outside.txt"
+    outside.write_text("mine\n")
+    index = ck / "tasks.jsonl"
+    kept = index.read_bytes()
+    index.unlink()
+    index.symlink_to(outside)  # the run must not append to a file outside the checkpoint
+    with pytest.raises(EngineError, match=r"tasks\.jsonl: is a symbolic link"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    assert outside.read_text() == "mine\n"
+    index.unlink()
+    index.write_bytes(kept)
+    manifest = ck / "manifest.json"
+    text = manifest.read_text()
+    manifest.unlink()
+    os.mkfifo(manifest)
+    with pytest.raises(EngineError, match=r"manifest\.json: is a FIFO"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    manifest.unlink()
+    manifest.write_text("[1, 2]")
+    with pytest.raises(EngineError, match="not a JSON object"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    manifest.write_text("[" * 100_000)
+    with pytest.raises(EngineError, match="unreadable manifest"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)
+    manifest.write_text(json.dumps({**json.loads(text), "version": 1}))
+    with pytest.raises(EngineError, match=r"format version 1 .*pickled task files, which are never read"):
+        run_tasks(fn, tasks, Engine(1, None, ck), identity=ident)

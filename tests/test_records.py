@@ -255,7 +255,7 @@ def test_pandas_style_json_list_of_records(tmp_path):
     ("text", "match"),
     [
         ("t;x;y\n0;1;2\n", r"r.csv:1: the header 't;x;y' is one column: the file looks separated by ';'"),
-        ("# units: x=km\nt,x,y\n0,1,2\n", r"r.csv: metadata 'units' must be a JSON object"),
+        ("# units: x=km\nt,x,y\n0,1,2\n", r"r.csv:1: metadata 'units' must be a JSON object"),
         ("t,x,y\n0,1,2\n1,1,2\n,1,2\n", r"r.csv:4: column 't': missing time"),
     ],
 )

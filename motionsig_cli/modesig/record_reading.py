@@ -350,6 +350,7 @@ def read_vehicle_record(
         raise InputError(f"{src}: no measurement: every sample of the record is missing")
     first = _first_missing(rec, layout, k, lines, times, miss)
     m = _Model(meta, opts, layout, src)
+    m.lines = dict(table.meta_lines)  # the line of each metadata key, for its errors
     vehicle, codes, m_rho, f_c = m.resolve(T, T_source, first_xy)
     truth = _truth(meta, m, codes, src)
     prov = _provenance(rec, layout, m, int(miss.sum()), n)
@@ -618,8 +619,14 @@ class _Model:
 
     def __init__(self, meta: dict[str, Any], opts: ModelOptions, layout: str, src: str) -> None:
         self.meta, self.opts, self.layout, self.src = meta, opts, layout, src
+        self.lines: dict[str, int] = {}
         self.values: dict[str, Any] = {}
         self.sources: dict[str, str] = {}
+
+    def at(self, name: str) -> str:
+        """``file:line`` of the metadata key ``name`` (``file`` where its line is unknown)."""
+        line = self.lines.get(name, 0)
+        return f"{self.src}:{line}" if line else self.src
 
     def from_record(self, name: str) -> bool:
         return self.sources.get(name, RECORD) in (RECORD, f"{OPTION} (as the record)")
@@ -644,11 +651,11 @@ class _Model:
             return fn(raw)
         except ConfigError as exc:
             if self.sources.get(name) == RECORD:
-                raise InputError(f"{self.src}: bad metadata: {exc}") from None
+                raise InputError(f"{self.at(name)}: bad metadata: {exc}") from None
             raise
         except (TypeError, ValueError) as exc:  # a value of the wrong type or shape
             if self.sources.get(name) == RECORD:
-                raise InputError(f"{self.src}: bad metadata: {name} = {raw!r} {exc}") from None
+                raise InputError(f"{self.at(name)}: bad metadata: {name} = {raw!r} {exc}") from None
             raise ConfigError(name, raw, str(exc)) from None
 
     def resolve(
@@ -663,7 +670,9 @@ class _Model:
         raw = self.pick("a_sig", o.a_sig, 0.5)
         a_sig = self.check("a_sig", raw, lambda v: in_range("a_sig", _number(v), 0.0))
         raw = self.pick("codes", o.codes, "corrected")
-        codes = self.check("codes", raw, lambda v: parse_codes(str(v)))
+        # a code table file only from the command line: the record's metadata is data (issue 39)
+        files = self.sources.get("codes") != RECORD
+        codes = self.check("codes", raw, lambda v: parse_codes(str(v), files=files))
         K = self._gain(T)
         fields: dict[str, Any] = dict(T=T, K=K, a_sig=a_sig)
         for name, default in (("a_r", 10.0), ("f_r", 0.01), ("sigma_a", 0.01)):  # simulate's defaults

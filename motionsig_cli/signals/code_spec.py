@@ -40,6 +40,8 @@ SYNTAX = (
     "corrected, printed, gold:P1,P2[:K or :MEMBERS], mseq:P[,P...], gps:PRNS, or a code table file "
     "(code,chip,value as 'motionsig encode' writes it)"
 )
+BUILTIN = "corrected, printed, gold:P1,P2[:K or :MEMBERS], mseq:P[,P...] or gps:PRNS"
+NO_FILES = "a record's metadata never names a file: give a code table file on the command line (--codes FILE)"
 _INT = re.compile(r"-?\d+")
 _RANGE = re.compile(r"(\d+)-(\d+)")
 
@@ -68,8 +70,12 @@ class ModeCodes:
         return int(self.chips.shape[1])
 
 
-def parse_codes(text: str) -> ModeCodes:
+def parse_codes(text: str, *, files: bool = True) -> ModeCodes:
     """The code set that ``text`` names (see the module docstring).
+
+    ``files=False`` for a text that is data, not a command line (a record's metadata): it may name a
+    built-in set only; a path (``file:PATH`` or a bare one) is refused without being looked at. Files
+    come from the command line only (``--codes FILE``).
 
     Raises:
         ConfigError: naming ``codes``: malformed text, a polynomial that is not primitive or a pair that is
@@ -91,13 +97,24 @@ def parse_codes(text: str) -> ModeCodes:
     if raw.lower() in ("corrected", "printed"):
         return _table1(raw.lower())
     if sep and kind == "file":
+        if not files:
+            raise ConfigError(
+                "codes", _clip(text), f"names a file, not a built-in code set ({BUILTIN}); {NO_FILES}"
+            )
         return _file(rest)
-    if sep and kind in ("gold", "mseq", "gps") and not Path(raw).is_file():
+    if sep and kind in ("gold", "mseq", "gps") and not (files and Path(raw).is_file()):
         return {"gold": _gold, "mseq": _mseq, "gps": _gps}[kind](raw, rest)
+    if not files:
+        raise ConfigError("codes", _clip(text), f"is not a built-in code set ({BUILTIN}); {NO_FILES}")
     if raw and raw != "-" and Path(raw).is_file():
         return _file(raw)
     what = "is not a code set" if sep else "is neither a code set nor an existing file"
     raise ConfigError("codes", text, f"{what}: write one of {SYNTAX}")
+
+
+def _clip(text: str, limit: int = 80) -> str:
+    """``text`` cut to ``limit`` characters (a record's value quoted in a message)."""
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def _bipolar(bits: np.ndarray) -> np.ndarray:

@@ -58,7 +58,7 @@ def task_count(tmp_path, capsys, *args: str) -> int:
         capsys, *args, "--workers", "1", "--checkpoint", str(ckpt), "-o", str(tmp_path / "n.csv"), "-q"
     )
     assert rc == 0, err
-    return len(list(ckpt.glob("task-*.pkl")))
+    return len(list(ckpt.glob("task-*.task")))
 
 
 def checkpoint_resume(capsys, tmp_path, args: tuple[str, ...], drop: slice) -> tuple[Path, int]:
@@ -71,13 +71,13 @@ def checkpoint_resume(capsys, tmp_path, args: tuple[str, ...], drop: slice) -> t
     assert rc == 0, err
     rc, _, err = run(capsys, *args, "--workers", "1", "--checkpoint", str(ckpt), "-o", str(first), "-q")
     assert rc == 0, err
-    files = sorted(ckpt.glob("task-*.pkl"))
+    files = sorted(ckpt.glob("task-*.task"))
     for f in files[drop]:
         f.unlink()
     rc, _, err = run(capsys, *args, "--workers", "2", "--checkpoint", str(ckpt), "-o", str(resumed), "-q")
     assert rc == 0, err
     assert resumed.read_bytes() == first.read_bytes() == whole.read_bytes()
-    assert len(list(ckpt.glob("task-*.pkl"))) == len(files)
+    assert len(list(ckpt.glob("task-*.task"))) == len(files)
     return ckpt, len(files)
 
 

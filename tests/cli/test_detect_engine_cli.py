@@ -81,7 +81,7 @@ def test_checkpoint_resume_is_identical_and_foreign_checkpoints_are_refused(caps
         capsys, *MC_1D, "--workers", "1", "--checkpoint", str(ck), "-o", str(tmp_path / "a.csv"), "-q"
     )
     assert rc == 0, err
-    files = sorted(ck.glob("task-*.pkl"))
+    files = sorted(ck.glob("task-*.task"))
     assert len(files) == 12
     for f in files[::3]:
         f.unlink()
@@ -125,9 +125,9 @@ def test_ctrl_c_stops_cleanly_and_the_checkpoint_resumes_to_the_same_result(tmp_
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
     )  # fmt: skip
     deadline = time.time() + 120
-    while time.time() < deadline and len(list(ck.glob("task-*.pkl"))) < 2:
+    while time.time() < deadline and len(list(ck.glob("task-*.task"))) < 2:
         time.sleep(0.05)
-    assert len(list(ck.glob("task-*.pkl"))) >= 2, "no task finished"
+    assert len(list(ck.glob("task-*.task"))) >= 2, "no task finished"
     os.killpg(proc.pid, signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
@@ -135,7 +135,7 @@ def test_ctrl_c_stops_cleanly_and_the_checkpoint_resumes_to_the_same_result(tmp_
     assert "interrupted after" in err and "--checkpoint" in err
     assert not (tmp_path / "out.csv").exists()
     assert not [p for p in tmp_path.iterdir() if p.name not in ("ck",)]  # no temporary or partial file
-    done = len(list(ck.glob("task-*.pkl")))
+    done = len(list(ck.glob("task-*.task")))
     assert done < 24, "the run had finished before the interrupt; the test proves nothing"
     subprocess.run(
         [*exe, *args, "--checkpoint", str(ck), "-o", "resumed.csv", "-q"], cwd=tmp_path, env=env, check=True

@@ -220,7 +220,8 @@ def test_gold_codes_from_simulate_are_detected(tmp_path, capsys):
 
 def test_a_code_table_written_by_numpy(tmp_path, capsys):
     """Four random 31-chip codes (numpy, bits 0/1) in encode's long table: simulate --codes FILE --mode 4 and
-    detect (codes from the record's metadata, and from --codes on the stripped record) find mode 4."""
+    detect --codes FILE (on the record, and on the stripped record) find mode 4. Without --codes, detect
+    refuses the record, whose metadata names the file: a record never makes the tool open a file (issue 39)."""
     codes = np.random.default_rng(7).integers(0, 2, size=(4, 31))
     table_path = _write_csv(
         tmp_path / "codes.csv", ["code", "chip", "value"],
@@ -232,7 +233,9 @@ def test_a_code_table_written_by_numpy(tmp_path, capsys):
         "--duration", "20", "-q", "-o", str(rec),
     )  # fmt: skip
     assert rc == 0, err
-    rc, out, err = run(capsys, "detect", str(rec), *HORIZONS)
+    err = one_line_error(capsys, "detect", str(rec), *HORIZONS)
+    assert f"{rec}:" in err and "bad metadata: codes" in err and "--codes FILE" in err
+    rc, out, err = run(capsys, "detect", str(rec), "--codes", str(table_path), *HORIZONS)
     assert rc == 0, err
     assert _argmax(out, tmp_path) == [(4, 180), (4, 180)]
     stripped = _stripped(rec, tmp_path, rename=())
@@ -404,7 +407,7 @@ BAD_FILES = [
     ("k.csv", "t,y\n" + _rows(40), ("--K", "1,2,3"), ("--K", "is not a list of two numbers")),
     ("both.csv", "t,y\n" + _rows(40), ("--pfa", "0.1", "--threshold", "1"), ("--pfa", "not both")),
     ("meta.csv", '# command: "simulate"\n# example: "1d"\n# T: 0.05\nt,y\n' + _rows(40), (), ("missing metadata 'm_rho'",)),
-    ("badmeta.csv", "# m_rho: 2.5\nt,y\n" + _rows(40), (), ("{f}: bad metadata: m_rho = 2.5 is not an integer",)),
+    ("badmeta.csv", "# m_rho: 2.5\nt,y\n" + _rows(40), (), ("{f}:1: bad metadata: m_rho = 2.5 is not an integer",)),
     ("example.csv", '# example: "3d"\nt,y\n' + _rows(40), (), ("{f}: unknown example '3d'",)),
 ]
 # fmt: on

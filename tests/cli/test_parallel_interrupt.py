@@ -32,9 +32,9 @@ def test_ctrl_c_of_a_local_cluster_run_resumes_from_its_checkpoint(tmp_path):
     proc = _motionsig(*run)
     try:
         deadline = time.monotonic() + 90
-        while time.monotonic() < deadline and len(list(ck.glob("task-*.pkl"))) < 3:
+        while time.monotonic() < deadline and len(list(ck.glob("task-*.task"))) < 3:
             time.sleep(0.05)
-        saved = len(list(ck.glob("task-*.pkl")))
+        saved = len(list(ck.glob("task-*.task")))
         assert 3 <= saved < 40, "the run did not save some of its tasks before the interrupt"
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=60)

@@ -148,3 +148,23 @@ def test_a_bad_code_table_is_an_input_error_naming_the_file(tmp_path):
     path.write_text("name,chip,value\na,0,1\n")
     with pytest.raises(InputError, match="code"):
         parse_codes(str(path))
+
+
+def test_a_text_that_is_data_never_names_a_file(tmp_path, monkeypatch):
+    """files=False (a record's metadata, issue 39): a path, bare or as file:, is refused without being
+    opened or even looked at; the built-in sets read as before, even beside a file of the same name."""
+    import motionsig_cli.signals.code_sets as code_sets
+
+    path = tmp_path / "codes.csv"
+    path.write_text("code,chip,value\na,0,1\na,1,0\n")
+    opened = []
+    monkeypatch.setattr(code_sets, "load_codes", lambda p: opened.append(p))
+    for text in (str(path), f"file:{path}", "file:/dev/zero", "/etc/passwd", "-"):
+        with pytest.raises(ConfigError, match="never names a file") as exc:
+            parse_codes(text, files=False)
+        assert exc.value.field == "codes"
+    assert opened == []
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "gold:45,75:3").write_text("code,chip,value\n")  # a file named like a set: still the set
+    assert parse_codes("gold:45,75:3", files=False).n_modes == 3
+    assert parse_codes("corrected", files=False).spec == "corrected"
