@@ -13,6 +13,7 @@ import contextlib
 import functools
 import inspect
 import math
+import os
 import sys
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -129,19 +130,85 @@ def check_outputs(
                 f"unsupported figure type {path.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
                 param_hint=option,
             )
-    seen: dict[Path, str] = {}
-    for option, path in {"--out": out, **figures}.items():
-        if path is None:
-            continue
-        key = path.resolve()
-        if key in seen:
-            raise typer.BadParameter(f"is the same file as {seen[key]}", param_hint=option)
-        seen[key] = option
-    for option, path in {"--out": out, **figures}.items():
+    targets = {"--out": out, **figures}
+    for option, path in targets.items():
         try:
             check_output_path(path, option)
         except InputError as exc:
             raise typer.BadParameter(str(exc).removeprefix(f"{option}: "), param_hint=option) from None
+    seen: dict[str, str] = {}
+    for option, path in targets.items():
+        if path is None:
+            continue
+        key = os.path.realpath(path)
+        if key in seen:
+            raise typer.BadParameter(f"is the same file as {seen[key]}", param_hint=option)
+        seen[key] = option
+
+
+# Parameters of a string value that name a file the command reads (a record, ``--codes FILE``,
+# ``--code file:PATH``), and how an error names the positional ones.
+_INPUT_TEXT = {
+    "source": "the input record",
+    "file": "the input record",
+    "measurements": "the measurement record",
+    "input_file": "",
+    "codes": "",
+    "code": "",
+}
+_NOT_INPUTS = frozenset({"out", "plot", "checkpoint"})
+
+
+def _named_files(value: str) -> Iterator[str]:
+    """The existing paths a string option names: itself, ``file:PATH``, and each of a ``;`` list."""
+    for part in value.split(";"):
+        part = part.strip()
+        if part[:5].lower() == "file:":
+            part = part[5:]
+        if part and part != "-" and os.path.lexists(part):
+            yield part
+
+
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether two paths name one file (a link, ``..``, a hard link), never raising."""
+    try:
+        return os.path.samefile(a, b)
+    except (OSError, ValueError):
+        return False
+
+
+def refuse_overwrite(kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]) -> None:
+    """Before any work: ``--out``, ``--plot`` and every ``--plot-*`` figure are checked
+    (:func:`check_output_path`), and none may be a file the command reads — a record, ``--receivers``,
+    ``--sensor-table``, ``--codes FILE``, ``--code file:PATH`` — which would destroy it. ``params``: each
+    parameter's option name and whether it is positional."""
+    outputs = {
+        params.get(name, ("--" + name.replace("_", "-"), False))[0]: value
+        for name, value in kwargs.items()
+        if isinstance(value, Path) and (name in ("out", "plot") or name.startswith("plot_"))
+    }
+    if not outputs:
+        return
+    for option, path in outputs.items():
+        try:
+            check_output_path(path, option)
+        except InputError as exc:
+            raise typer.BadParameter(str(exc).removeprefix(f"{option}: "), param_hint=option) from None
+    for name, value in kwargs.items():
+        if value is None or name in _NOT_INPUTS or name.startswith("plot_"):
+            continue
+        option, positional = params.get(name, ("--" + name.replace("_", "-"), False))
+        if isinstance(value, Path):
+            paths: list[str | Path] = [value]
+        elif isinstance(value, str) and name in _INPUT_TEXT:
+            paths = list(_named_files(value))
+        else:
+            continue
+        what = (_INPUT_TEXT.get(name) if positional else "") or f"the {option} file"
+        for path in paths:
+            for out_option, target in outputs.items():
+                if same_file(path, target):
+                    raise typer.BadParameter(f"is {what} ({str(path)!r})", param_hint=out_option)
 
 
 def save_figure(fig: Any, path: Path) -> None:
@@ -366,8 +433,8 @@ class Output:
         naming --out: it "is ``what``"."""
         if self.out is None or path is None or str(path) == "-":
             return
-        if Path(path).resolve() == self.out.resolve():
-            raise typer.BadParameter(f"is {what}", param_hint="--out")
+        if same_file(path, self.out):
+            raise typer.BadParameter(f"is {what} ({str(path)!r})", param_hint="--out")
 
     def result(self, result: Any, figure: str) -> None:
         """A Monte Carlo result: with ``--plot`` its figure (``figure``: the function of
@@ -461,6 +528,17 @@ def option_name(field: str, options: Mapping[str, str] | None = None) -> str:
     return OPTION_NAMES.get(field, "--" + field.replace("_", "-"))
 
 
+def _param_names(cmd: Any) -> dict[str, tuple[str, bool]]:
+    """Each parameter of a click command: its option name (an argument's metavar) and whether it is
+    positional."""
+    out: dict[str, tuple[str, bool]] = {}
+    for p in getattr(cmd, "params", ()):
+        positional = p.param_type_name == "argument"
+        opts = [o for o in p.opts if o.startswith("--")] or p.opts
+        out[p.name] = ((p.metavar or p.name.upper()) if positional else opts[0], positional)
+    return out
+
+
 def command(
     *,
     output: bool = True,
@@ -498,6 +576,7 @@ def command(
             ctx = get_current_context(silent=True)
             if ctx is not None:
                 set_command_path(ctx.command_path)
+                refuse_overwrite(kwargs, _param_names(ctx.command))
             extra: dict[str, Any] = {}
             if output:
                 extra["output"] = Output(**{k: kwargs.pop(k) for k in list(kwargs) if k in _OUTPUT_PARAMS})
