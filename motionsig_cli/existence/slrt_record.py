@@ -11,6 +11,10 @@ scan by scan, and Wald's test decides. The files are read with :func:`motionsig_
   rows may differ, as a rotating antenna stamps them), else 1 s (assumed, without times). With times
   alone, the rows of a scan share its time and the scans lie on a uniform grid of period T (``--T``,
   else the metadata ``T``, else estimated from the times); a time between grid points is refused.
+  Times are finite and within ±:data:`MAX_TIME` s; with scan numbers each scan's time is after the
+  previous scan's, and every row's time within one period of its scan's grid point; a period (given or
+  estimated) that contradicts the times — ``T: 1e-300`` beside rows 1 s apart, a time a century late — is
+  refused naming both values, the file, the line and the column.
 - ``sensor``: a label of the sensors table.
 - ``range,bearing`` (polar, relative to the sensor; bearing counter-clockwise from the x axis,
   atan2(y − y_s, x − x_s), radians unless the header, the metadata or ``--units`` say ``deg``) or
@@ -614,15 +618,16 @@ def _check_scan_order(rec: Record, first: np.ndarray) -> None:
 
 
 def _check_scan_times(rec: Record, k: np.ndarray, first: np.ndarray, T: float, source: str) -> None:
-    """With scan numbers and times, every row's time lies within half a period of its scan's point on the
-    grid of period T (the times may jitter, not contradict T): a period that contradicts the times (the
+    """With scan numbers and times, every row's time lies within one period of its scan's point on the
+    grid of period T (a rotating antenna stamps a detection anywhere in its scan; the times may jitter so,
+    not contradict T): a period that contradicts the times (the
     metadata's ``T: 1e-300`` beside rows 1 s apart) or a time that jumps (a century) is refused, naming
     both values."""
     t = rec["time"]
     kf = k.astype(float)
     phase = float(np.median(t[first] - kf[first] * T))
     off = np.abs(t - phase - kf * T)
-    bad = np.flatnonzero(~(off <= 0.5 * T))
+    bad = np.flatnonzero(~(off <= T))
     if not bad.size:
         return
     i = int(bad[0])
