@@ -44,7 +44,10 @@ CASES = [
     (dict(meta_T="1e-300"), r":15: column 'time': .*T = 1e-300 s \(the file's metadata 'T'\).*period of 1 s"),
     (dict(scan=3, time="0.5"), r":\d+: column 'time': time goes backwards: 0.5 s at scan 3, after 2 s"),
     (dict(scan=3, time="2.0"), r":\d+: column 'time': time repeats: 2 s at scan 3"),
-    (dict(scan=4, time="3155760004.0"), r":\d+: column 'time': time 3.15576e\+09 s at scan 4 is .* periods off"),
+    (
+        dict(scan=4, time="3155760004.0"),
+        r":\d+: column 'time': time 3.15576e\+09 s at scan 4 is .* periods off",
+    ),
     (dict(scan=4, time="1e300"), r":\d+: column 'time': time 1e\+300 s is not a time"),
     (dict(meta_T="1e-300", drop_scan=True), r":\d+: column 'time': the period T = 1e-300 s .*1 s apart"),
     (dict(scan=4, time="1e300", drop_scan=True), r":\d+: column 'time': time 1e\+300 s is not a time"),
