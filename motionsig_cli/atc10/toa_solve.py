@@ -150,6 +150,8 @@ MAX_RECEIVERS = 1000
 MAX_SLOTS = 20_000_000
 """Most epochs × receivers (the arrays the solver holds)."""
 MAX_TOA_OFFSET_S = 60.0
+MAX_TIME = 1e12
+"""Largest time of an epoch after the record's first [s] (about 31,700 years): beyond it a time is garbage."""
 """Largest |arrival time − the epoch's time| accepted [s] (assumed: a TOA further from its epoch's time is
 in another time frame, e.g. seconds of the day against epochs counted from zero)."""
 OTHER_SIDE_CHI2 = 25.0
@@ -436,6 +438,14 @@ def read_measurements(
             ctx.prec = DECIMAL_DIGITS
             t0 = t_dec[0].to_integral_value(rounding=ROUND_FLOOR)
             t_rel = np.array([float(d - t0) for d in t_dec])
+        absurd = np.flatnonzero(~(np.abs(t_rel) <= MAX_TIME))
+        if absurd.size:  # 1e300, a century later: garbage, refused before any arithmetic overflows
+            i = int(absurd[0])
+            raise rec.error(
+                i,
+                "time",
+                f"time {float(t_dec[i]):.6g} s is {t_rel[i]:.3g} s from the first (at most {MAX_TIME:.0e})",
+            )
     group, start, epochs, _ = epoch_groups(rec, t_rel)
     times = None if t_dec is None else np.array([float(t_dec[i]) for i in start.tolist()])
     E = len(start)
@@ -856,7 +866,10 @@ def _steps(meas: Measurements) -> tuple[np.ndarray, float | None]:
     """The epochs' steps on the clock model's grid: the epoch numbers, or the uniform grid of the times."""
     rec = meas.record
     if rec.has("epoch"):
-        return meas.epoch - meas.epoch[0], None
+        steps = meas.epoch - meas.epoch[0]
+        if meas.time is not None and meas.E > 1:
+            _check_epoch_times(meas, steps)
+        return steps, None
     if meas.time is None or meas.E == 1:
         return np.arange(meas.E, dtype=np.int64), None
     first = np.zeros(len(rec), dtype=bool)
@@ -874,6 +887,29 @@ def _steps(meas: Measurements) -> tuple[np.ndarray, float | None]:
         i = int(same[0]) + 1
         raise sub.error(i, "time", "two epochs on one step of the time grid (give an epoch column)")
     return k, T
+
+
+def _check_epoch_times(meas: Measurements, steps: np.ndarray) -> None:
+    """The clock model steps once per epoch number, whatever the times (uneven times are fine): but a time
+    more than one period from its epoch number's point on the grid of the median step (a time a century
+    late beside epochs 1 s apart) contradicts the epoch numbers, and is refused naming both."""
+    assert meas.time is not None
+    k = steps.astype(float)
+    t = meas.time - meas.time[0]
+    with np.errstate(all="ignore"):
+        T = float(np.median(np.diff(t) / np.diff(k)))  # robust: one absurd time does not move it
+        off = np.abs(t - float(np.median(t - k * T)) - k * T)
+    limit = T if math.isfinite(T) and T > 0 else -1.0
+    bad = np.flatnonzero(~(off <= limit))
+    if bad.size:
+        e = int(bad[0])
+        raise meas.record.error(
+            int(meas.first_row[e]),
+            "time",
+            f"epoch {int(meas.epoch[e])} at {meas.time[e]:.9g} s is {off[e]:.6g} s off the grid the epoch numbers "
+            f"and times give (period {T:.6g} s, the median step): the epoch numbers and the times contradict "
+            "each other (--clock track steps once per epoch number)",
+        )
 
 
 def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
