@@ -10,6 +10,7 @@ a small command start in a fraction of a second.
 from __future__ import annotations
 
 import contextlib
+import errno
 import functools
 import inspect
 import math
@@ -159,14 +160,17 @@ _INPUT_TEXT = {
 _NOT_INPUTS = frozenset({"out", "plot", "checkpoint"})
 
 
-def _named_files(value: str) -> Iterator[str]:
-    """The existing paths a string option names: itself, ``file:PATH``, and each of a ``;`` list."""
-    for part in value.split(";"):
-        part = part.strip()
-        if part[:5].lower() == "file:":
+def _named_files(value: str, *, record: bool) -> Iterator[tuple[str, bool]]:
+    """The paths a string option reads, and whether each must be a regular file: a record argument's
+    value itself; of a code option, each ``file:PATH`` of a ``;`` list (which must be a regular file) and
+    each bare value that names a file (a code set's spec otherwise)."""
+    for part in value.split(";") if not record else [value]:
+        part = part.strip() if not record else part
+        explicit = part[:5].lower() == "file:"
+        if explicit:
             part = part[5:]
-        if part and part != "-" and os.path.lexists(part):
-            yield part
+        if part and part != "-" and (record or explicit or os.path.lexists(part)):
+            yield part, record or explicit
 
 
 def same_file(a: str | Path, b: str | Path) -> bool:
@@ -175,6 +179,53 @@ def same_file(a: str | Path, b: str | Path) -> bool:
         return os.path.samefile(a, b)
     except (OSError, ValueError):
         return False
+
+
+def _inputs(
+    kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]
+) -> Iterator[tuple[str, str, str | Path, bool]]:
+    """Each file the command reads: (option, how an error names it, path, whether it must be a regular
+    file)."""
+    for name, value in kwargs.items():
+        if value is None or name in _NOT_INPUTS or name.startswith("plot_"):
+            continue
+        option, positional = params.get(name, ("--" + name.replace("_", "-"), False))
+        what = (_INPUT_TEXT.get(name) if positional else "") or f"the {option} file"
+        if isinstance(value, Path):
+            yield option, what, value, str(value) != "-"
+        elif isinstance(value, str) and name in _INPUT_TEXT:
+            for path, regular in _named_files(value, record=name not in ("codes", "code")):
+                yield option, what, path, regular
+
+
+def refuse_special_inputs(kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]) -> None:
+    """Before any read: every file the command reads is a regular file (or ``-``, stdin). A FIFO would
+    hang, ``/dev/zero`` would exhaust memory, a directory or a symbolic link loop cannot be read: each is
+    refused by name, without opening it."""
+    import stat
+
+    for option, _, path, regular in _inputs(kwargs, params):
+        if not regular:
+            continue
+        try:
+            mode = os.stat(path).st_mode
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise InputError(f"{path}: a symbolic link loop ({option})") from None
+            continue  # missing, unreadable: the reader says so, naming the file
+        if stat.S_ISDIR(mode):
+            raise InputError(f"{path}: is a directory, not a file ({option})")
+        if not stat.S_ISREG(mode):
+            kind = (
+                "a FIFO"
+                if stat.S_ISFIFO(mode)
+                else "a device"
+                if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
+                else "a socket"
+                if stat.S_ISSOCK(mode)
+                else "not a regular file"
+            )
+            raise InputError(f"{path}: {kind}, not a regular file ({option}; give - to read stdin)")
 
 
 def refuse_overwrite(kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]) -> None:
@@ -194,21 +245,10 @@ def refuse_overwrite(kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, 
             check_output_path(path, option)
         except InputError as exc:
             raise typer.BadParameter(str(exc).removeprefix(f"{option}: "), param_hint=option) from None
-    for name, value in kwargs.items():
-        if value is None or name in _NOT_INPUTS or name.startswith("plot_"):
-            continue
-        option, positional = params.get(name, ("--" + name.replace("_", "-"), False))
-        if isinstance(value, Path):
-            paths: list[str | Path] = [value]
-        elif isinstance(value, str) and name in _INPUT_TEXT:
-            paths = list(_named_files(value))
-        else:
-            continue
-        what = (_INPUT_TEXT.get(name) if positional else "") or f"the {option} file"
-        for path in paths:
-            for out_option, target in outputs.items():
-                if same_file(path, target):
-                    raise typer.BadParameter(f"is {what} ({str(path)!r})", param_hint=out_option)
+    for _, what, path, _ in _inputs(kwargs, params):
+        for out_option, target in outputs.items():
+            if same_file(path, target):
+                raise typer.BadParameter(f"is {what} ({str(path)!r})", param_hint=out_option)
 
 
 def save_figure(fig: Any, path: Path) -> None:
@@ -576,7 +616,9 @@ def command(
             ctx = get_current_context(silent=True)
             if ctx is not None:
                 set_command_path(ctx.command_path)
-                refuse_overwrite(kwargs, _param_names(ctx.command))
+                names = _param_names(ctx.command)
+                refuse_overwrite(kwargs, names)
+                refuse_special_inputs(kwargs, names)
             extra: dict[str, Any] = {}
             if output:
                 extra["output"] = Output(**{k: kwargs.pop(k) for k in list(kwargs) if k in _OUTPUT_PARAMS})
