@@ -3,7 +3,9 @@ that is one of its input files — by the same name, through ``..``, a symbolic 
 unwritable target, a symbolic link loop and a FIFO that no process reads; a full device fails the write in
 one line. Nothing is written, nothing half-written, no traceback (``--debug`` shows one)."""
 
+import contextlib
 import os
+import threading
 from pathlib import Path
 
 import pytest
@@ -69,6 +71,19 @@ def test_a_figure_that_is_the_input_is_refused(capsys, tmp_path, option):
     assert src.read_text() == CONTENT
 
 
+def _release(fifo: Path, done: threading.Event) -> None:
+    """Unless ``done`` is set within 3 s, open ``fifo`` for reading and drain it."""
+    if done.wait(3):
+        return
+    fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+    try:
+        while not done.wait(0.01):
+            with contextlib.suppress(BlockingIOError):
+                os.read(fd, 1 << 16)
+    finally:
+        os.close(fd)
+
+
 def _listing(tmp_path: Path) -> list[str]:
     return sorted(p.name for p in tmp_path.iterdir())
 
@@ -88,7 +103,14 @@ def test_unwritable_output_targets_are_one_line(capsys, tmp_path, target, needle
     (tmp_path / "loop").symlink_to(tmp_path / "loop")
     os.mkfifo(tmp_path / "fifo")
     before = _listing(tmp_path)
-    err = one_line_error(capsys, "encode", "gold", "-o", target.replace("{tmp}", str(tmp_path)))
+    done = threading.Event()
+    guard = threading.Thread(target=_release, args=(tmp_path / "fifo", done), daemon=True)
+    guard.start()  # a command that blocks opening the FIFO for writing is released (and fails), not hung
+    try:
+        err = one_line_error(capsys, "encode", "gold", "-o", target.replace("{tmp}", str(tmp_path)))
+    finally:
+        done.set()
+        guard.join()
     assert needle in err, err
     assert _listing(tmp_path) == before  # no temporary file left behind
 
