@@ -11,8 +11,7 @@ scan by scan, and Wald's test decides. The files are read with :func:`motionsig_
   rows may differ, as a rotating antenna stamps them), else 1 s (assumed, without times). With times
   alone, the rows of a scan share its time and the scans lie on a uniform grid of period T (``--T``,
   else the metadata ``T``, else estimated from the times); a time between grid points is refused.
-  Times are finite and within ±:data:`MAX_TIME` s; with scan numbers each scan's time is after the
-  previous scan's, and every row's time within one period of its scan's grid point; a period (given or
+  With scan numbers each scan's time is after the previous scan's, and every row's time within one period of its scan's grid point; a period (given or
   estimated) that contradicts the times — ``T: 1e-300`` beside rows 1 s apart, a time a century late — is
   refused naming both values, the file, the line and the column.
 - ``sensor``: a label of the sensors table.
@@ -115,8 +114,6 @@ MAX_SENSORS = 64
 MAX_SCANS = 100_000
 """Most scans of a record (from its first scan to its last), as the simulated scenario."""
 MAX_TRACKS = 200
-#: The largest time [s] a record may give (about 31,700 years): beyond it a time is a unit error or garbage.
-MAX_TIME = 1e12
 """Most tentative tracks of the one-point initialisation (detections of the first scan)."""
 MAX_OUTPUT_ROWS = 2_000_000
 """Most rows of the per-scan table (tracks × methods × scans)."""
@@ -531,8 +528,6 @@ def _grid(rec: Record, T_given: float | None) -> tuple[np.ndarray, float, str, n
     T_meta = _metadata_number(rec, "T")
     T, source = (T_given, "--T") if T_given is not None else (T_meta, "the file's metadata 'T'")
     has_time = rec.has("time")
-    if has_time:
-        _check_time_values(rec)
     if rec.has("scan"):
         sc = rec["scan"]
         k = sc - sc[0]
@@ -590,15 +585,6 @@ def _grid(rec: Record, T_given: float | None) -> tuple[np.ndarray, float, str, n
             f"is {int(k[-1]) + 1} scans after the first row's (at most {MAX_SCANS})",
         )
     return k.astype(np.int64), float(T), source, times
-
-
-def _check_time_values(rec: Record) -> None:
-    """Every time is finite and within ±:data:`MAX_TIME` s (``1e300``, ``inf``: garbage, refused)."""
-    t = rec["time"]
-    bad = np.flatnonzero(~(np.abs(t) <= MAX_TIME) & ~np.isnan(t))
-    if bad.size:
-        i = int(bad[0])
-        raise rec.error(i, "time", f"time {t[i]:.6g} s is not a time (beyond ±{MAX_TIME:.0e} s)")
 
 
 def _check_scan_order(rec: Record, first: np.ndarray) -> None:

@@ -102,8 +102,6 @@ measurement at the grid time; at 450 m/s and T = 1 s, 5 % is a position error of
 σ of the paper's scenario (100–200 m). Further from the grid, the sampling is non-uniform and refused."""
 T_AGREE = 1e-3
 """Largest relative difference between a given T (``--T``, metadata) and the period of the record's times."""
-MAX_TIME = 1e12
-"""The largest time [s] a record may give (about 31,700 years): beyond it a time is garbage."""
 MIN_SIGMA_DIFFS = 10
 """Fewest second differences (three consecutive measured scans each) to estimate σ from (assumed: the
 relative standard error of :func:`estimate_sigma` is then about 30 %)."""
@@ -307,10 +305,6 @@ def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
     and with the least squares on its own grid, within :data:`T_AGREE`.
     """
     times = rec["time"]
-    absurd = np.flatnonzero(~(np.abs(times) <= MAX_TIME) & ~np.isnan(times))
-    if absurd.size:  # 1e300, inf: garbage or a unit error, refused before any arithmetic overflows
-        i = int(absurd[0])
-        raise rec.error(i, "time", f"time {times[i]:.6g} s is not a time (beyond ±{MAX_TIME:.0e} s)")
     meta_T = _meta_number(rec, "T", *T_RANGE, "s")
     given, src = (float(T), "--T") if T is not None else (meta_T, "metadata 'T'")
     estimate: tuple[np.ndarray, float] | None = None

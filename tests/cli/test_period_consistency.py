@@ -40,7 +40,7 @@ def _time(text: str, row: int, value: str) -> str:
         (lambda t: _time(t, 5, "0.5"), r":\d+: column 't': time goes backwards"),
         (lambda t: _time(t, 5, "3"), r":\d+: column 't': time repeats"),
         (lambda t: _time(t, -1, "3155760004"), r":\d+: column 'scan': .* its time is 3155760004 periods of 1 s"),
-        (lambda t: _time(t, -1, "1e300"), r":\d+: column 't': time 1e\+300 s is not a time"),
+        (lambda t: _time(t, -1, "1e300"), r":\d+: column 't': time '?1e\+?300'? (s is not a time|is beyond)"),
     ],
     ids=["T", "backwards", "repeat", "century", "1e300"],
 )  # fmt: skip
@@ -83,7 +83,7 @@ def _shift_epoch(text: str, epoch: int, by: float, *, toa: bool = True) -> str:
             r":\d+: column 'time': epoch 119 at .* off the grid .*period 1 s.* contradict",
         ),
         (2.5, "track", r":\d+: column 'time': epoch 119 at .* off the grid"),
-        (1e300, "snapshot", r":\d+: column 'time': time 1e\+300 s is"),
+        (1e300, "snapshot", r":\d+: column 'time': time '?1e\+?300'? (s is|is beyond)"),
     ],
 )
 def test_track_sat_solve_refuses_epoch_numbers_that_contradict_the_times(

@@ -48,9 +48,12 @@ CASES = [
         dict(scan=4, time="3155760004.0"),
         r":\d+: column 'time': time 3.15576e\+09 s at scan 4 is .* periods off",
     ),
-    (dict(scan=4, time="1e300"), r":\d+: column 'time': time 1e\+300 s is not a time"),
+    (dict(scan=4, time="1e300"), r":\d+: column 'time': time '?1e\+?300'? (s is not a time|is beyond)"),
     (dict(meta_T="1e-300", drop_scan=True), r":\d+: column 'time': the period T = 1e-300 s .*1 s apart"),
-    (dict(scan=4, time="1e300", drop_scan=True), r":\d+: column 'time': time 1e\+300 s is not a time"),
+    (
+        dict(scan=4, time="1e300", drop_scan=True),
+        r":\d+: column 'time': time '?1e\+?300'? (s is not a time|is beyond)",
+    ),
     (dict(meta_T="2", drop_scan=True), r":\d+: column 'time': the period T = 2 s .* 1 s after"),
 ]
 
