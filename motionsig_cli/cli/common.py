@@ -15,6 +15,7 @@ import functools
 import inspect
 import math
 import os
+import stat
 import sys
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -198,12 +199,18 @@ def _inputs(
                 yield option, what, path, regular
 
 
+_SPECIAL: tuple[tuple[Callable[[int], bool], str], ...] = (
+    (stat.S_ISFIFO, "a FIFO"),
+    (stat.S_ISCHR, "a device"),
+    (stat.S_ISBLK, "a device"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
 def refuse_special_inputs(kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]) -> None:
     """Before any read: every file the command reads is a regular file (or ``-``, stdin). A FIFO would
     hang, ``/dev/zero`` would exhaust memory, a directory or a symbolic link loop cannot be read: each is
     refused by name, without opening it."""
-    import stat
-
     for option, _, path, regular in _inputs(kwargs, params):
         if not regular:
             continue
@@ -216,15 +223,7 @@ def refuse_special_inputs(kwargs: Mapping[str, Any], params: Mapping[str, tuple[
         if stat.S_ISDIR(mode):
             raise InputError(f"{path}: is a directory, not a file ({option})")
         if not stat.S_ISREG(mode):
-            kind = (
-                "a FIFO"
-                if stat.S_ISFIFO(mode)
-                else "a device"
-                if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
-                else "a socket"
-                if stat.S_ISSOCK(mode)
-                else "not a regular file"
-            )
+            kind = next((k for test, k in _SPECIAL if test(mode)), "not a regular file")
             raise InputError(f"{path}: {kind}, not a regular file ({option}; give - to read stdin)")
 
 
