@@ -414,6 +414,12 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
         if role.name in colmap:
             want = colmap[role.name]
             hits = [c for c in t.columns if c == want] or [c for c in t.columns if base[c] == want.lower()]
+            if len(hits) > 1:
+                raise InputError(
+                    f"{where}: columns {shorten(hits[0], 40)} and {shorten(hits[1], 40)} could both be "
+                    f"{spec.columns_option} {role.name}={want[:60]} (names differ only in letter case or "
+                    "unit); name the column exactly"
+                )
             if not hits:
                 raise InputError(
                     f"{where}: no column {shorten(want)} for {spec.columns_option} {role.name}={want[:60]} "

@@ -494,19 +494,14 @@ def _parse_csv(reader: Any, linenos: list[int], meta: dict[str, Any], name: str,
 
 
 def _check_columns(columns: Sequence[str], where: str) -> None:
-    """Refuse a header whose names repeat, also in letter case (``y`` and ``Y`` are one column to a
-    reader that matches names case-insensitively, as :mod:`motionsig_cli.records` does)."""
-    seen: dict[str, str] = {}
+    """Refuse a header whose names repeat. Names that differ in letter case only (``A_r`` and ``a_r``) are
+    two columns of a table; a record reader that matches names to roles case-insensitively refuses them
+    where both could be one role (:mod:`motionsig_cli.records`)."""
+    seen: set[str] = set()
     for c in columns:
-        low = c.casefold()
-        if low in seen:
-            what = (
-                f"column {shorten(c, 40)}"
-                if seen[low] == c
-                else f"columns {shorten(seen[low], 40)} and {shorten(c, 40)} (names differ only in letter case)"
-            )
-            raise InputError(f"{where}: duplicate {what} in the header")
-        seen[low] = c
+        if c in seen:
+            raise InputError(f"{where}: duplicate column {shorten(c, 40)} in the header")
+        seen.add(c)
 
 
 def _chain(head: list[tuple[int, str]], rest: Any) -> Any:

@@ -135,8 +135,15 @@ def test_json_limits_are_enforced_before_parsing(tmp_path, monkeypatch):
     _refused(p, r"t\.json: a JSON table of more than 4000000 values")
     p.write_text('[{"t": 1, "x": 2, "x": 3}]')
     _refused(p, r"key 'x' repeats in an object")
-    p.write_text('[{"t": 1, "y": 2, "Y": 3}]')
-    _refused(p, r"duplicate columns 'y' and 'Y' \(names differ only in letter case\)")
+    p.write_text('[{"t": 1, "A_r": 2, "a_r": 3}]')  # two columns of a table (the search tables have both)
+    assert read_table(p).columns == ("t", "A_r", "a_r")
+    # ... but a record reader matching names case-insensitively refuses them where both could be one role
+    p.write_text('[{"t": 1, "x": 2, "X": 3}]')
+    with pytest.raises(InputError, match=r"columns 'x' and 'X' could both be the x"):
+        read_record(p, SPEC)
+    p.write_text('[{"t": 1, "Xx": 2, "XX": 3}]')  # a mapping that matches neither exactly, both by case
+    with pytest.raises(InputError, match=r"columns 'Xx' and 'XX' could both be --columns x=xx"):
+        read_record(p, SPEC, columns={"x": "xx"})
     p.write_bytes(b'[{"t": 1,\n "x": "\xff"}]')
     _refused(p, r"t\.json:2: not a UTF-8 text file")
 
@@ -206,8 +213,11 @@ def test_errors_give_their_line_and_stay_short(tmp_path):
         read_record(p, SPEC)
     p.write_text("# a: " + "[" * 1000 + "\nt,x\n")
     _refused(p, r"r\.csv:1: metadata 'a': nested deeper than 64")
-    p.write_text("t,Y,y\n")
-    _refused(p, r"r\.csv:1: duplicate columns 'Y' and 'y'")
+    p.write_text("t,y,y\n")
+    _refused(p, r"r\.csv:1: duplicate column 'y'")
+    p.write_text("t,X,x\n0,1,2\n")
+    with pytest.raises(InputError, match=r"r\.csv:1: columns 'X' and 'x' could both be the x"):
+        read_record(p, SPEC)
     p.write_text(",".join(f"c{i}" for i in range(100_000)) + "\n" + ",".join("1" * 100_000) + "\n")
     with pytest.raises(InputError, match=r"missing column 'time'.*\(99988 more\)") as exc:
         read_record(p, SPEC)

@@ -678,7 +678,7 @@ def constellation_report(
             aircraft=list(con.aircraft),
             earth="sphere, R_E = 6378.137 km",
             convention=Convention(convention).value,
-            units="c = 1 (unit direction vectors); GDOP k = sqrt(tr + b/beta)",
+            constants_units="c = 1 (unit direction vectors); GDOP k = sqrt(tr + b/beta)",
         )
         if units is not Units.report or con.provenance:
             meta.update(con.provenance)
@@ -691,7 +691,7 @@ def constellation_report(
             aircraft_frame="WGS-84 geodetic latitude, longitude [deg], altitude [km]",
             earth=EARTH_WGS84,
             convention=Convention(convention).value,
-            units="c = 1 (unit direction vectors); GDOP k = sqrt(tr + b/beta)",
+            constants_units="c = 1 (unit direction vectors); GDOP k = sqrt(tr + b/beta)",
             column_units=UNIT_TEXT[units],
         )
     if view == "satellites":

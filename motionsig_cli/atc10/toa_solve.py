@@ -856,7 +856,10 @@ def _steps(meas: Measurements) -> tuple[np.ndarray, float | None]:
     """The epochs' steps on the clock model's grid: the epoch numbers, or the uniform grid of the times."""
     rec = meas.record
     if rec.has("epoch"):
-        return meas.epoch - meas.epoch[0], None
+        steps = meas.epoch - meas.epoch[0]
+        if meas.time is not None and meas.E > 1:
+            _check_epoch_times(meas, steps)
+        return steps, None
     if meas.time is None or meas.E == 1:
         return np.arange(meas.E, dtype=np.int64), None
     first = np.zeros(len(rec), dtype=bool)
@@ -874,6 +877,29 @@ def _steps(meas: Measurements) -> tuple[np.ndarray, float | None]:
         i = int(same[0]) + 1
         raise sub.error(i, "time", "two epochs on one step of the time grid (give an epoch column)")
     return k, T
+
+
+def _check_epoch_times(meas: Measurements, steps: np.ndarray) -> None:
+    """The clock model steps once per epoch number, whatever the times (uneven times are fine): but a time
+    more than one period from its epoch number's point on the grid of the median step (a time a century
+    late beside epochs 1 s apart) contradicts the epoch numbers, and is refused naming both."""
+    assert meas.time is not None
+    k = steps.astype(float)
+    t = meas.time - meas.time[0]
+    with np.errstate(all="ignore"):
+        T = float(np.median(np.diff(t) / np.diff(k)))  # robust: one absurd time does not move it
+        off = np.abs(t - float(np.median(t - k * T)) - k * T)
+    limit = T if math.isfinite(T) and T > 0 else -1.0
+    bad = np.flatnonzero(~(off <= limit))
+    if bad.size:
+        e = int(bad[0])
+        raise meas.record.error(
+            int(meas.first_row[e]),
+            "time",
+            f"epoch {int(meas.epoch[e])} at {meas.time[e]:.9g} s is {off[e]:.6g} s off the grid the epoch numbers "
+            f"and times give (period {T:.6g} s, the median step): the epoch numbers and the times contradict "
+            "each other (--clock track steps once per epoch number)",
+        )
 
 
 def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:

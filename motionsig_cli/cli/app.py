@@ -185,6 +185,20 @@ def _plain(message: str) -> str:
     return message.replace("Value error, ", "")
 
 
+MAX_ERROR_CHARS = 1000
+"""Longest error message: a longer one (a 5,000-digit cell, 100,000 column names) keeps its start and its
+end."""
+
+
+def _one_line(message: str) -> str:
+    """An error message as one line of at most :data:`MAX_ERROR_CHARS` characters (line breaks of a cell's
+    text become spaces; the middle of a long message is cut, saying how long it was)."""
+    text = " ".join(message.splitlines())
+    if len(text) <= MAX_ERROR_CHARS:
+        return text
+    return f"{text[:700]} … ({len(text):,} characters) … {text[-200:]}"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the CLI; return the process exit code (0 ok, 2 bad input or usage, 1 internal error)."""
     args = list(sys.argv[1:] if argv is None else argv)
@@ -213,12 +227,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         if debug:
             raise
         path = exc.ctx.command_path if getattr(exc, "ctx", None) else command_path()
-        typer.echo(f"{path}: error: {_plain(exc.format_message())}", err=True)
+        typer.echo(f"{path}: error: {_one_line(_plain(exc.format_message()))}", err=True)
         return 2
     except InputError as exc:
         if debug:
             raise
-        typer.echo(f"{command_path()}: error: {exc}", err=True)
+        typer.echo(f"{command_path()}: error: {_one_line(str(exc))}", err=True)
         return 2
     except Abort:
         typer.echo(f"{command_path()}: aborted", err=True)
@@ -227,7 +241,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if debug:
             raise
         typer.echo(
-            f"{command_path()}: internal error: {type(exc).__name__}: {exc} "
+            f"{command_path()}: internal error: {_one_line(f'{type(exc).__name__}: {exc}')} "
             "(rerun with --debug for the traceback)",
             err=True,
         )

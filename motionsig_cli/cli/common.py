@@ -10,9 +10,12 @@ a small command start in a fraction of a second.
 from __future__ import annotations
 
 import contextlib
+import errno
 import functools
 import inspect
 import math
+import os
+import stat
 import sys
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -129,19 +132,122 @@ def check_outputs(
                 f"unsupported figure type {path.suffix or '(none)'!r}; use one of {', '.join(PLOT_SUFFIXES)}",
                 param_hint=option,
             )
-    seen: dict[Path, str] = {}
-    for option, path in {"--out": out, **figures}.items():
-        if path is None:
-            continue
-        key = path.resolve()
-        if key in seen:
-            raise typer.BadParameter(f"is the same file as {seen[key]}", param_hint=option)
-        seen[key] = option
-    for option, path in {"--out": out, **figures}.items():
+    targets = {"--out": out, **figures}
+    for option, path in targets.items():
         try:
             check_output_path(path, option)
         except InputError as exc:
             raise typer.BadParameter(str(exc).removeprefix(f"{option}: "), param_hint=option) from None
+    seen: dict[str, str] = {}
+    for option, path in targets.items():
+        if path is None:
+            continue
+        key = os.path.realpath(path)
+        if key in seen:
+            raise typer.BadParameter(f"is the same file as {seen[key]}", param_hint=option)
+        seen[key] = option
+
+
+# Parameters of a string value that name a file the command reads (a record, ``--codes FILE``,
+# ``--code file:PATH``), and how an error names the positional ones.
+_INPUT_TEXT = {
+    "source": "the input record",
+    "file": "the input record",
+    "measurements": "the measurement record",
+    "input_file": "",
+    "codes": "",
+    "code": "",
+}
+_NOT_INPUTS = frozenset({"out", "plot", "checkpoint"})
+
+
+def _named_files(value: str, *, record: bool) -> Iterator[tuple[str, bool]]:
+    """The paths a string option reads, and whether each must be a regular file: a record argument's
+    value itself; of a code option, each ``file:PATH`` of a ``;`` list (which must be a regular file) and
+    each bare value that names a file (a code set's spec otherwise)."""
+    for part in value.split(";") if not record else [value]:
+        part = part.strip() if not record else part
+        explicit = part[:5].lower() == "file:"
+        if explicit:
+            part = part[5:]
+        if part and part != "-" and (record or explicit or os.path.lexists(part)):
+            yield part, record or explicit
+
+
+def same_file(a: str | Path, b: str | Path) -> bool:
+    """Whether two paths name one file (a link, ``..``, a hard link), never raising."""
+    try:
+        return os.path.samefile(a, b)
+    except (OSError, ValueError):
+        return False
+
+
+def _inputs(
+    kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]
+) -> Iterator[tuple[str, str, str | Path, bool]]:
+    """Each file the command reads: (option, how an error names it, path, whether it must be a regular
+    file)."""
+    for name, value in kwargs.items():
+        if value is None or name in _NOT_INPUTS or name.startswith("plot_"):
+            continue
+        option, positional = params.get(name, ("--" + name.replace("_", "-"), False))
+        what = (_INPUT_TEXT.get(name) if positional else "") or f"the {option} file"
+        if isinstance(value, Path):
+            yield option, what, value, str(value) != "-"
+        elif isinstance(value, str) and name in _INPUT_TEXT:
+            for path, regular in _named_files(value, record=name not in ("codes", "code")):
+                yield option, what, path, regular
+
+
+_SPECIAL: tuple[tuple[Callable[[int], bool], str], ...] = (
+    (stat.S_ISFIFO, "a FIFO"),
+    (stat.S_ISCHR, "a device"),
+    (stat.S_ISBLK, "a device"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
+def refuse_special_inputs(kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]) -> None:
+    """Before any read: every file the command reads is a regular file (or ``-``, stdin). A FIFO would
+    hang, ``/dev/zero`` would exhaust memory, a directory or a symbolic link loop cannot be read: each is
+    refused by name, without opening it."""
+    for option, _, path, regular in _inputs(kwargs, params):
+        if not regular:
+            continue
+        try:
+            mode = os.stat(path).st_mode
+        except OSError as exc:
+            if exc.errno == errno.ELOOP:
+                raise InputError(f"{path}: a symbolic link loop ({option})") from None
+            continue  # missing, unreadable: the reader says so, naming the file
+        if stat.S_ISDIR(mode):
+            raise InputError(f"{path}: is a directory, not a file ({option})")
+        if not stat.S_ISREG(mode):
+            kind = next((k for test, k in _SPECIAL if test(mode)), "not a regular file")
+            raise InputError(f"{path}: {kind}, not a regular file ({option}; give - to read stdin)")
+
+
+def refuse_overwrite(kwargs: Mapping[str, Any], params: Mapping[str, tuple[str, bool]]) -> None:
+    """Before any work: ``--out``, ``--plot`` and every ``--plot-*`` figure are checked
+    (:func:`check_output_path`), and none may be a file the command reads — a record, ``--receivers``,
+    ``--sensor-table``, ``--codes FILE``, ``--code file:PATH`` — which would destroy it. ``params``: each
+    parameter's option name and whether it is positional."""
+    outputs = {
+        params.get(name, ("--" + name.replace("_", "-"), False))[0]: value
+        for name, value in kwargs.items()
+        if isinstance(value, Path) and (name in ("out", "plot") or name.startswith("plot_"))
+    }
+    if not outputs:
+        return
+    for option, path in outputs.items():
+        try:
+            check_output_path(path, option)
+        except InputError as exc:
+            raise typer.BadParameter(str(exc).removeprefix(f"{option}: "), param_hint=option) from None
+    for _, what, path, _ in _inputs(kwargs, params):
+        for out_option, target in outputs.items():
+            if same_file(path, target):
+                raise typer.BadParameter(f"is {what} ({str(path)!r})", param_hint=out_option)
 
 
 def save_figure(fig: Any, path: Path) -> None:
@@ -366,8 +472,8 @@ class Output:
         naming --out: it "is ``what``"."""
         if self.out is None or path is None or str(path) == "-":
             return
-        if Path(path).resolve() == self.out.resolve():
-            raise typer.BadParameter(f"is {what}", param_hint="--out")
+        if same_file(path, self.out):
+            raise typer.BadParameter(f"is {what} ({str(path)!r})", param_hint="--out")
 
     def result(self, result: Any, figure: str) -> None:
         """A Monte Carlo result: with ``--plot`` its figure (``figure``: the function of
@@ -461,6 +567,17 @@ def option_name(field: str, options: Mapping[str, str] | None = None) -> str:
     return OPTION_NAMES.get(field, "--" + field.replace("_", "-"))
 
 
+def _param_names(cmd: Any) -> dict[str, tuple[str, bool]]:
+    """Each parameter of a click command: its option name (an argument's metavar) and whether it is
+    positional."""
+    out: dict[str, tuple[str, bool]] = {}
+    for p in getattr(cmd, "params", ()):
+        positional = p.param_type_name == "argument"
+        opts = [o for o in p.opts if o.startswith("--")] or p.opts
+        out[p.name] = ((p.metavar or p.name.upper()) if positional else opts[0], positional)
+    return out
+
+
 def command(
     *,
     output: bool = True,
@@ -498,6 +615,9 @@ def command(
             ctx = get_current_context(silent=True)
             if ctx is not None:
                 set_command_path(ctx.command_path)
+                names = _param_names(ctx.command)
+                refuse_overwrite(kwargs, names)
+                refuse_special_inputs(kwargs, names)
             extra: dict[str, Any] = {}
             if output:
                 extra["output"] = Output(**{k: kwargs.pop(k) for k in list(kwargs) if k in _OUTPUT_PARAMS})

@@ -7,7 +7,9 @@ a failed or interrupted run never leaves a partial file behind.
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
+import stat
 import sys
 import tempfile
 from collections.abc import Iterator
@@ -45,16 +47,52 @@ __all__ = [
 
 
 def check_output_path(path: Path | None, option: str) -> None:
-    """Validate an output path before any work is done (so a bad ``--out`` leaves no ``--plot`` behind)."""
+    """Validate an output path before any work is done (so a bad ``--out`` leaves no ``--plot`` behind):
+    refuse an empty name, a symlink loop, a directory, a missing directory, a special file that cannot be
+    written, and a directory where no file can be created (read-only, ``/sys``, ``/proc``: probed by
+    creating and removing a temporary file, as the atomic write will)."""
     if path is None:
         return
     if str(path) == "":
         raise InputError(f"{option}: empty file name")
+    try:
+        os.stat(path)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise InputError(f"{option}: {str(path)!r} is a symbolic link loop") from None
     target = Path(os.path.realpath(path))
     if target.is_dir():
         raise InputError(f"{option}: {str(path)!r} is a directory")
     if not target.parent.is_dir():
         raise InputError(f"{option}: directory {str(target.parent)!r} does not exist")
+    if target.exists() and not target.is_file():  # a device or a FIFO: written in place
+        if not os.access(target, os.W_OK):
+            raise InputError(f"{option}: {str(path)!r} is not writable")
+        return
+    try:
+        fd, probe = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".probe", dir=target.parent)
+    except OSError as exc:
+        raise InputError(
+            f"{option}: cannot write in directory {str(target.parent)!r} ({exc.strerror or exc})"
+        ) from None
+    os.close(fd)
+    os.unlink(probe)
+
+
+def _open_special(target: Path) -> int:
+    """A descriptor to write a special file in place; a FIFO that no process reads is refused (opening it
+    would wait for a reader forever)."""
+    flags = os.O_WRONLY
+    if stat.S_ISFIFO(os.stat(target).st_mode):
+        try:
+            fd = os.open(target, flags | os.O_NONBLOCK)
+        except OSError as exc:
+            if exc.errno == errno.ENXIO:
+                raise InputError(f"{target}: a FIFO that no process reads") from None
+            raise
+        os.set_blocking(fd, True)
+        return fd
+    return os.open(target, flags)
 
 
 @contextlib.contextmanager
@@ -87,13 +125,26 @@ def atomic_path(path: Path) -> Iterator[Path]:
 
 
 def write_text(text: str, out: Path | None) -> None:
-    """Write to ``out`` atomically, or to stdout when ``out`` is None."""
+    """Write to ``out`` atomically, or to stdout when ``out`` is None; a failed write (a full device, a
+    vanished directory) is an :class:`InputError` naming the file, and leaves no partial file."""
     if out is None:
-        sys.stdout.write(text)
-        sys.stdout.flush()
+        try:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise InputError(f"standard output: cannot write ({exc.strerror or exc})") from None
         return
-    with atomic_path(out) as tmp:
-        tmp.write_text(text, encoding="utf-8")
+    try:
+        with atomic_path(out) as tmp:
+            if tmp.exists() and not tmp.is_file():
+                with os.fdopen(_open_special(tmp), "w", encoding="utf-8") as fh:
+                    fh.write(text)
+            else:
+                tmp.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"{out}: cannot write ({exc.strerror or exc})") from None
 
 
 def emit(table: Table, fmt: str, out: Path | None) -> None:

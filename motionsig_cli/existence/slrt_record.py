@@ -11,6 +11,9 @@ scan by scan, and Wald's test decides. The files are read with :func:`motionsig_
   rows may differ, as a rotating antenna stamps them), else 1 s (assumed, without times). With times
   alone, the rows of a scan share its time and the scans lie on a uniform grid of period T (``--T``,
   else the metadata ``T``, else estimated from the times); a time between grid points is refused.
+  With scan numbers each scan's time is after the previous scan's, and every row's time within one period of its scan's grid point; a period (given or
+  estimated) that contradicts the times — ``T: 1e-300`` beside rows 1 s apart, a time a century late — is
+  refused naming both values, the file, the line and the column.
 - ``sensor``: a label of the sensors table.
 - ``range,bearing`` (polar, relative to the sensor; bearing counter-clockwise from the x axis,
   atan2(y − y_s, x − x_s), radians unless the header, the metadata or ``--units`` say ``deg``) or
@@ -75,6 +78,7 @@ from motionsig_cli.errors import InputError
 from motionsig_cli.existence import slrt as exp
 from motionsig_cli.models.radar import MeasurementModel, cv_model
 from motionsig_cli.records import (
+    GRID_TOL,
     Record,
     RecordSpec,
     Role,
@@ -530,6 +534,7 @@ def _grid(rec: Record, T_given: float | None) -> tuple[np.ndarray, float, str, n
         new = np.r_[True, np.diff(k) > 0]
         first = np.flatnonzero(new)
         if has_time:
+            _check_scan_order(rec, first)
             t, kf = rec["time"][first], k[first].astype(float)
             if T is None and first.size > 1:
                 dk = kf - kf.mean()
@@ -541,6 +546,7 @@ def _grid(rec: Record, T_given: float | None) -> tuple[np.ndarray, float, str, n
                     )
             if T is None:
                 raise rec.error(0, "time", "all rows share one scan: give the scan period with --T")
+            _check_scan_times(rec, k, first, T, source)
         elif T is None:
             T, source = 1.0, "assumed: 1 s (scan numbers without times; give --T)"
         times = (rec["time"][0] if has_time else 0.0) + np.arange(int(k[-1]) + 1) * T
@@ -564,6 +570,8 @@ def _grid(rec: Record, T_given: float | None) -> tuple[np.ndarray, float, str, n
         else:
             if T is None:
                 source = "estimated from the time column"
+            else:
+                _check_span(rec, u, first, T, source)
             k_u, T = uniform_grid(replace(rec, lines=rec.lines[first]), u, T)
         k = k_u[np.cumsum(new) - 1]
         times = u[0] + np.arange(int(k[-1]) + 1) * T
@@ -577,6 +585,73 @@ def _grid(rec: Record, T_given: float | None) -> tuple[np.ndarray, float, str, n
             f"is {int(k[-1]) + 1} scans after the first row's (at most {MAX_SCANS})",
         )
     return k.astype(np.int64), float(T), source, times
+
+
+def _check_scan_order(rec: Record, first: np.ndarray) -> None:
+    """With scan numbers, each scan's time is after the previous scan's: a time that goes backwards or
+    repeats from one scan to the next contradicts the scan numbers."""
+    t = rec["time"][first]
+    bad = np.flatnonzero(np.diff(t) <= 0)
+    if bad.size:
+        j = int(bad[0]) + 1
+        how = "repeats" if t[j] == t[j - 1] else "goes backwards"
+        raise rec.error(
+            int(first[j]),
+            "time",
+            f"time {how}: {t[j]:.9g} s at scan {rec['scan'][first[j]]:.0f}, after {t[j - 1]:.9g} s at scan "
+            f"{rec['scan'][first[j - 1]]:.0f}",
+        )
+
+
+def _check_scan_times(rec: Record, k: np.ndarray, first: np.ndarray, T: float, source: str) -> None:
+    """With scan numbers and times, every row's time lies within one period of its scan's point on the
+    grid of period T (a rotating antenna stamps a detection anywhere in its scan; the times may jitter so,
+    not contradict T): a period that contradicts the times (the
+    metadata's ``T: 1e-300`` beside rows 1 s apart) or a time that jumps (a century) is refused, naming
+    both values."""
+    t = rec["time"]
+    kf = k.astype(float)
+    phase = float(np.median(t[first] - kf[first] * T))
+    off = np.abs(t - phase - kf * T)
+    bad = np.flatnonzero(~(off <= T))
+    if not bad.size:
+        return
+    i = int(bad[0])
+    implied = ""
+    if first.size > 1:
+        dk = kf[first] - kf[first].mean()
+        tf = t[first]
+        est = float(np.dot(dk, tf - tf.mean()) / np.dot(dk, dk))
+        implied = f"; the scans' times give a period of {est:.6g} s"
+    raise rec.error(
+        i,
+        "time",
+        f"time {t[i]:.9g} s at scan {rec['scan'][i]:.0f} is {off[i] / T:.3g} periods off the grid of the "
+        f"period T = {T:.6g} s ({source}){implied}: the period and the times contradict each other",
+    )
+
+
+def _check_span(rec: Record, u: np.ndarray, first: np.ndarray, T: float, source: str) -> None:
+    """A given period under which the times would span more than :data:`MAX_SCANS` scans contradicts
+    them (``T: 1e-300`` beside rows 1 s apart), and so does one longer than the shortest step."""
+    steps = np.diff(u)
+    i = int(np.argmin(steps)) + 1
+    if steps[i - 1] < (1 - GRID_TOL) * T:
+        raise rec.error(
+            int(first[i]),
+            "time",
+            f"the period T = {T:.6g} s ({source}) contradicts the times: {u[i]:.9g} s is {steps[i - 1]:.6g} s "
+            f"after {u[i - 1]:.9g} s",
+        )
+    span = float(u[-1] - u[0])
+    if span / T + 1 > MAX_SCANS:
+        step = float(np.min(steps))
+        raise rec.error(
+            int(first[-1]),
+            "time",
+            f"the period T = {T:.6g} s ({source}) contradicts the times ({step:.6g} s apart at the least): "
+            f"they would span {span / T + 1:.3g} scans (at most {MAX_SCANS})",
+        )
 
 
 def read_detections(
