@@ -7,7 +7,8 @@ number of workers; results come back **in task order** and are reduced in that o
 output of a command is byte-identical for 1 worker, N workers and a Dask cluster.
 
 ``checkpoint``: a directory that keeps every finished task's result (data, never a pickle:
-:mod:`motionsig_cli.taskdata`; written atomically, its size and SHA-256 in an index checked before use)
+:mod:`motionsig_cli.taskdata`; written atomically, its size and an HMAC-SHA256 under the account's
+checkpoint key (:mod:`motionsig_cli.checkpoint_key`) in an index checked before use)
 next to a manifest naming the command and its parameters. A rerun with the same directory loads
 the finished tasks and runs only the others, so an interrupted sweep resumes to the result of an
 uninterrupted one. A directory made by another command or parameter set is refused.
@@ -38,6 +39,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import hashlib
+import hmac
 import json
 import logging
 import math
@@ -69,7 +71,8 @@ POOL_MIN_SECONDS = (
 MANIFEST = "manifest.json"
 CHECKPOINT_VERSION = 2  # 1: pickled task files (never read: a pickle can run code)
 TASK_INDEX = "tasks.jsonl"
-"""The checkpoint's index: one line ``{"task": i, "bytes": n, "sha256": h}`` per task file written."""
+"""The checkpoint's index: one line ``{"task": i, "bytes": n, "hmac": h}`` per task file written, h the
+HMAC-SHA256 under the checkpoint key of the manifest's SHA-256 and the file's bytes."""
 TASK_SUFFIX = ".task"
 MAX_TASK_BYTES = 256 << 20
 """Largest task file written or read (a larger result is not kept; a larger file is recomputed)."""
@@ -312,18 +315,21 @@ class Checkpoint:
 
     The directory is untrusted input. Each task file holds data only (:mod:`motionsig_cli.taskdata`:
     arrays, numbers, dataclasses of this package; nothing in it can run code), at most
-    :data:`MAX_TASK_BYTES`; the index :data:`TASK_INDEX` records each file's size and SHA-256 when it is
-    written, and a file is used only if it is a regular file of that size and digest, decodes, and holds
-    the task's own description. Any other file is recomputed and counted (:attr:`rejected`, one warning);
+    :data:`MAX_TASK_BYTES`; the index :data:`TASK_INDEX` records each file's size and its HMAC-SHA256
+    under the account's secret key (:func:`~motionsig_cli.checkpoint_key.checkpoint_key`) of the run's
+    manifest and the file's bytes, and a file is used only if it is a regular file of that size and
+    HMAC, decodes, and holds the task's own description. Any other file is recomputed and counted (:attr:`rejected`, one warning);
     an entry that is not a regular file (a directory, a FIFO, a link) is refused by name, before any
     work (the manifest, the index and the task files are never followed as symbolic links, and the index
     is appended to only as a regular file). Checkpoints of version 1 (pickled task files) are refused,
     never read.
 
-    What the digests do and do not promise: they catch a damaged file, a copied one, one edited alone;
-    the directory holds its own index, so whoever can rewrite both a task file and its index line can
-    still choose a task's numbers (as whoever writes an input file chooses its data). They can never run
-    code, read other files or exhaust memory.
+    What this promises: whoever writes into the directory without the key (a shared or downloaded
+    checkpoint, another account) cannot make the run use a file of their choosing — a task file and index
+    line forged, edited, or copied from another task or another run (the manifest is in the HMAC) fail
+    the check, and the task is recomputed. Nothing in the directory can run code, read other files or
+    exhaust memory. Checkpoints are shared between accounts by giving each run the same key
+    (:data:`~motionsig_cli.checkpoint_key.KEY_ENV`); a checkpoint written under another key is recomputed.
     """
 
     def __init__(self, directory: Path, identity: Mapping[str, Any], tasks: Sequence[Any]) -> None:
@@ -340,6 +346,14 @@ class Checkpoint:
             "task_list_sha256": digest,  # the chunk boundaries: another chunking must not mix in
             **_canonical(identity),
         }
+        from motionsig_cli.checkpoint_key import checkpoint_key
+
+        try:
+            self._key = checkpoint_key()
+        except InputError as exc:
+            raise EngineError("checkpoint", str(exc)) from None
+        # the run's manifest goes into every task file's HMAC: a file of another run never verifies
+        self._run = hashlib.sha256(json.dumps(want, sort_keys=True).encode()).digest()
         manifest = directory / MANIFEST
         if directory.exists() and not directory.is_dir():
             raise EngineError("checkpoint", f"{directory} exists and is not a directory")
@@ -380,8 +394,12 @@ class Checkpoint:
     def _path(self, i: int) -> Path:
         return self.dir / f"task-{i:07d}{TASK_SUFFIX}"
 
+    def _mac(self, data: bytes) -> str:
+        """HMAC-SHA256 under the checkpoint key of this run's manifest digest and a task file's bytes."""
+        return hmac.new(self._key, self._run + data, hashlib.sha256).hexdigest()
+
     def _read_index(self, n: int) -> dict[int, tuple[int, str]]:
-        """Task → (bytes, SHA-256) of its file, from :data:`TASK_INDEX` (the last line of a task wins); a line
+        """Task → (bytes, HMAC) of its file, from :data:`TASK_INDEX` (the last line of a task wins); a line
         that is not an entry (a torn write, an edit) is skipped: its task is recomputed."""
         path = self.dir / TASK_INDEX
         if not (path.exists() or path.is_symlink()):
@@ -403,9 +421,9 @@ class Checkpoint:
                 entry = json.loads(line) if len(line) <= INDEX_LINE_BYTES else None
             except ValueError:
                 entry = None
-            if not (isinstance(entry, dict) and set(entry) == {"task", "bytes", "sha256"}):
+            if not (isinstance(entry, dict) and set(entry) == {"task", "bytes", "hmac"}):
                 continue
-            i, size, sha = entry["task"], entry["bytes"], entry["sha256"]
+            i, size, sha = entry["task"], entry["bytes"], entry["hmac"]
             if type(i) is int and 0 <= i < n and type(size) is int and isinstance(sha, str):
                 out[i] = (size, sha)
         return out
@@ -441,8 +459,10 @@ class Checkpoint:
             data = read_regular(path, limit=MAX_TASK_BYTES, what="task file", follow=False)
         except InputError as exc:
             raise EngineError("checkpoint", str(exc)) from None
-        if hashlib.sha256(data).hexdigest() != sha:
-            return self._reject(path, "its SHA-256 differs from the index's")
+        if not hmac.compare_digest(self._mac(data), sha):
+            return self._reject(
+                path, "its HMAC differs from the index's (edited, or written under another key)"
+            )
         try:
             key, result = decode(data)
         except TaskDataError as exc:
@@ -471,13 +491,14 @@ class Checkpoint:
             )  # fmt: skip
             return
         path = self._path(i)
-        line = json.dumps({"task": i, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()})
+        mac = self._mac(data)
+        line = json.dumps({"task": i, "bytes": len(data), "hmac": mac})
         try:
             _atomic_write(path, data)
             _append(self.dir / TASK_INDEX, (line + "\n").encode())
         except OSError as exc:
             raise EngineError("checkpoint", f"{path}: cannot write ({exc.strerror or exc})") from None
-        self.index[i] = (len(data), hashlib.sha256(data).hexdigest())
+        self.index[i] = (len(data), mac)
 
     def report(self) -> None:
         """One warning if task files were recomputed because they did not match the index."""

@@ -29,7 +29,7 @@ NAME = "motionsig_cli"
 # The floors, lowest first. A module may import modules of its own floor or below, never above; the
 # system packages (floor 3) may not import one another: what two systems share moves down a floor.
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "config", "rng", "roots", "cache", "refdata", "tables", "records", "geodesy", "engine", "taskdata"),
+    ("errors", "config", "rng", "roots", "cache", "refdata", "tables", "records", "geodesy", "engine", "taskdata", "checkpoint_key"),
     ("signals", "models"),
     ("surveillance", "filters", "detection"),
     ("modesig", "existence", "maneuver", "atc10"),

@@ -1,8 +1,15 @@
 """Shared fixtures: one Dask LocalCluster for the whole session (engine tests pass its address)."""
 
 import logging
+import os
+import tempfile
 
 import pytest
+
+# The checkpoint key (motionsig_cli.checkpoint_key) of the test session: a key file made in a directory of
+# its own, never the user's configuration directory; subprocesses inherit it.
+os.environ.pop("MOTIONSIG_CHECKPOINT_KEY", None)
+os.environ["XDG_CONFIG_HOME"] = tempfile.mkdtemp(prefix="motionsig-tests-config-")
 
 
 @pytest.fixture(scope="session")

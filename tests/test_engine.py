@@ -504,11 +504,71 @@ class _Marker:
         return (open, (self.path, "w"))
 
 
-def _index_line(i: int, data: bytes) -> str:
+def _index_line(i: int, data: bytes, key: bytes = b"an attacker's key", run: bytes = b"") -> str:
+    """An index line for ``data`` as a forger writes it: the right format, an HMAC under a key of theirs."""
+    import hashlib
+    import hmac
+    import json
+
+    mac = hmac.new(key, run + data, hashlib.sha256).hexdigest()
+    return json.dumps({"task": i, "bytes": len(data), "hmac": mac}) + "\n"
+
+
+def test_a_forged_task_file_with_a_matching_index_line_cannot_change_a_result(tmp_path):
+    """The issue's case: numbers changed in a task file and its index line rewritten to match (size, and a
+    digest the forger can compute: SHA-256 or an HMAC under any key but the account's). The task is
+    recomputed; the result is that of a clean run. A genuine file copied from another run of other
+    parameters (same chunking, same key) is recomputed too: the run's manifest is in the HMAC."""
     import hashlib
     import json
 
-    return json.dumps({"task": i, "bytes": len(data), "sha256": hashlib.sha256(data).hexdigest()}) + "\n"
+    from motionsig_cli.taskdata import decode, encode
+
+    fn = functools.partial(_draws, 1.0)
+    tasks = tasks_of(6, 2)
+    ident = {"command": "a"}
+    full = run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
+    path = tmp_path / "ck" / "task-0000001.task"
+    key, result = decode(path.read_bytes())
+    forged = encode(key, result * 0 + 42.0)
+    path.write_bytes(forged)
+    sha_line = json.dumps({"task": 1, "bytes": len(forged), "sha256": hashlib.sha256(forged).hexdigest()})
+    with open(tmp_path / "ck" / "tasks.jsonl", "a") as fh:
+        fh.write(sha_line + "\n" + _index_line(1, forged))
+    CALLS.clear()
+    again = run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
+    assert CALLS == [2]
+    assert np.concatenate(again).tobytes() == np.concatenate(full).tobytes()
+    # a genuine task file (and its index line) of another run, of other parameters
+    other = run_tasks(
+        functools.partial(_draws, 2.0), tasks, Engine(1, None, tmp_path / "o"), identity={"command": "b"}
+    )
+    (tmp_path / "ck" / "task-0000002.task").write_bytes((tmp_path / "o" / "task-0000002.task").read_bytes())
+    lines = (tmp_path / "o" / "tasks.jsonl").read_text().splitlines()
+    with open(tmp_path / "ck" / "tasks.jsonl", "a") as fh:
+        fh.write(next(line for line in lines if json.loads(line)["task"] == 2) + "\n")
+    CALLS.clear()
+    again = run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
+    assert CALLS == [4]
+    assert (
+        np.concatenate(again).tobytes() == np.concatenate(full).tobytes() != np.concatenate(other).tobytes()
+    )
+
+
+def test_a_checkpoint_of_another_key_is_recomputed_and_one_of_the_same_key_resumes(tmp_path, monkeypatch):
+    """The account's key signs; MOTIONSIG_CHECKPOINT_KEY shares a checkpoint between accounts."""
+    fn = functools.partial(_draws, 1.0)
+    tasks = tasks_of(6, 2)
+    ident = {"command": "a"}
+    monkeypatch.setenv("MOTIONSIG_CHECKPOINT_KEY", "the cluster's key")
+    full = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    CALLS.clear()
+    run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    assert CALLS == []  # same key: every task resumed
+    monkeypatch.setenv("MOTIONSIG_CHECKPOINT_KEY", "another account's key")
+    again = run_tasks(fn, tasks, Engine(1, None, tmp_path), identity=ident)
+    assert sorted(CALLS) == [0, 2, 4]  # another key: every task recomputed
+    assert np.concatenate(again).tobytes() == np.concatenate(full).tobytes()
 
 
 def test_a_crafted_pickle_in_a_checkpoint_never_runs(tmp_path):
