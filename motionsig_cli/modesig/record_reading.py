@@ -581,6 +581,15 @@ def _truth(meta: dict[str, Any], m: _Model, codes: ModeCodes, src: str) -> tuple
         raise InputError(f"{src}: bad metadata: mode {meta.get('mode')!r}, tau {meta.get('tau')!r}") from None
     if truth is None or not (m.from_record("codes") and m.from_record("m_rho")):
         return None
+    chips = meta.get("tau_chips")
+    m_rho = m.values["m_rho"]
+    if chips is not None and (
+        not isinstance(chips, int | float) or abs(chips * m_rho - truth[1]) > 1e-9 * m_rho
+    ):
+        raise InputError(
+            f"{src}: metadata contradicts itself: tau {truth[1]} samples, but tau_chips {chips!r} x m_rho "
+            f"{m_rho} = {chips * m_rho if isinstance(chips, int | float) else '?'} samples"
+        )
     if not 0 <= truth[0] < codes.n_modes:
         raise InputError(f"{src}: bad metadata: mode {truth[0] + 1} is not one of the {codes.n_modes} modes")
     return truth

@@ -69,6 +69,16 @@ def test_2d_round_trip_and_degrees(rec2, tmp_path):
         (lambda s: s.replace("# R: 0.001", "# R: -1"), "bad metadata: R = -1"),
         (lambda s: s.replace('# codes: "corrected"', '# codes: "gold"'), "bad metadata"),
         (lambda s: s.replace("# T: 0.05", '# T: "fast"'), "metadata 'T' must be a positive number"),
+        # issue 39: metadata that contradicts itself (tau = tau_chips * m_rho) is refused with both values
+        (
+            lambda s: s.replace("# m_rho: 20", "# m_rho: 10"),
+            r"tau 140 samples, but tau_chips 7.0 x m_rho 10 = 70",
+        ),
+        (lambda s: s.replace("# tau_chips: 7.0", "# tau_chips: 6.0"), r"tau_chips 6.0 x m_rho 20 = 120"),
+        (
+            lambda s: s.replace("# tau_chips: 7.0", '# tau_chips: "7"'),
+            r"tau_chips '7' x m_rho 20 = \? samples",
+        ),
     ],
 )
 def test_bad_1d_records(rec1, tmp_path, edit, message):
