@@ -1,4 +1,4 @@
-"""The secret key that signs a checkpoint's task files (issue 39: a checkpoint directory is untrusted input).
+"""The secret key that signs a checkpoint's task files: a checkpoint directory is untrusted input.
 
 The index of a checkpoint records, for each task file, an HMAC-SHA256 under this key of the run's manifest
 and the file's bytes (:class:`motionsig_cli.engine.Checkpoint`). Whoever can write the directory but does

@@ -5,7 +5,7 @@ Monte Carlo over runs or one measurement record.
 Views: ``scans`` (eqs 14–15 per scan, RMS error, mean model probabilities, declaration rate), ``events``
 (detection delay and onset error after each true input change), ``summary`` (one row per σ and method: RMS
 error per phase, false alarms, detection of each change — the comparison table), ``measurements`` (the
-simulated records, to pipe into ``--input``) and, with ``--input``, the per-scan track of one record: a CSV or
+simulated records, to pipe into ``maneuver FILE``) and, with a record FILE, the per-scan track of one record: a CSV or
 JSON export with a time (seconds or ISO 8601) and/or scan column and the positions x, y (``--columns``,
 ``--units``); missed scans are predict-only steps, σ is given, in the metadata or estimated
 (:mod:`motionsig_cli.maneuver.record`).
@@ -303,13 +303,13 @@ def maneuver(
     if path is not None:
         if front_end is not FrontEnd.gaussian:
             raise typer.BadParameter(
-                "with --input the record holds the measurements", param_hint="--front-end"
+                "with a record (FILE) the record holds the measurements", param_hint="--front-end"
             )
         _track_record(path, methods, cfg, sigma, T, record, view, plot_compare, output)
         return
     record.refuse_without_file()
     if sigma is not None and sigma.strip().lower() == "estimate":
-        raise typer.BadParameter("'estimate' estimates σ from an --input record", param_hint="--sigma")
+        raise typer.BadParameter("'estimate' estimates σ from a record (FILE)", param_hint="--sigma")
     sigmas = (
         (100.0, 200.0) if sigma is None else common.checked("--sigma", common.float_list, sigma, what="σ")
     )
@@ -441,21 +441,21 @@ def _track_record(
 
     if view is not View.scans:
         raise typer.BadParameter(
-            "with --input the output is the per-scan track; leave --view out", param_hint="--view"
+            "with a record (FILE) the output is the per-scan track; leave --view out", param_hint="--view"
         )
     if plot_compare is not None:
         raise typer.BadParameter(
-            "compares Monte Carlo runs; with --input, --plot draws the record's tracks",
+            "compares Monte Carlo runs; with a record (FILE), --plot draws the record's tracks",
             param_hint="--plot-compare",
         )
-    output.refuse_input(path, "the --input file")
+    output.refuse_input(path, "the input file")
     s: float | str | None = None
     if sigma is not None and sigma.strip().lower() == "estimate":
         s = "estimate"
     elif sigma is not None:
         vals = common.checked("--sigma", common.float_list, sigma, what="σ")
         if len(vals) != 1:
-            raise typer.BadParameter("give one σ with --input (or 'estimate')", param_hint="--sigma")
+            raise typer.BadParameter("give one σ with a record (FILE) (or 'estimate')", param_hint="--sigma")
         s = vals[0]
     rec = mr.read_track_record(path, columns=record.columns, units=record.units, T=T)
     result = mr.track_record(rec, methods, cfg, sigma=s)

@@ -10,7 +10,7 @@ the experiment (:class:`~motionsig_cli.existence.slrt.SlrtStudy`), not here; the
 (``--gate-pg``, ``--feedback-every``, ``--ldf-prior``, ``--ldf-weights``, ``--lkf-mean``) are the fields of
 :class:`~motionsig_cli.detection.track_existence.FusionOptions`.
 
-With ``--input DETECTIONS --sensor-table SENSORS`` the methods score the user's own record instead
+With ``slrt DETECTIONS --sensor-table SENSORS`` the methods score the user's own record instead
 (:mod:`motionsig_cli.existence.slrt_record`: the files' format and rules); ``--view detections`` and
 ``--view sensors`` write run 0 of the first simulated case as such files.
 """
@@ -60,7 +60,7 @@ METHODS_HELP = (
 )
 
 
-# the scenario options an --input record replaces (option name → parameter, and what replaces it)
+# the scenario options a detections file replaces (option name → parameter, and what replaces it)
 SIMULATION_ONLY = {
     "--pd": ("pd", "the sensors table's pd"),
     "--no-target/--target-only": ("no_target", "the record"),
@@ -204,7 +204,7 @@ class Scenario:
     T: Annotated[
         float | None,
         typer.Option(
-            "--T", help="Scan period [s] (default 1; with --input: the file's metadata T or time grid)."
+            "--T", help="Scan period [s] (default 1; with a detections FILE: its metadata T or time grid)."
         ),
     ] = None
     scans: Annotated[int, typer.Option("--scans", help="Scans per run.")] = 30
@@ -350,7 +350,7 @@ def slrt(
         for option, value in (("--workers", parallel.workers), ("--scheduler", parallel.scheduler),
                               ("--checkpoint", parallel.checkpoint)):  # fmt: skip
             if value is not None:
-                raise typer.BadParameter("does not apply with --input (no Monte Carlo)", param_hint=option)
+                raise typer.BadParameter("does not apply with a detections FILE (no Monte Carlo)", param_hint=option)
         _score_record(
             output, path, given_input, record, view, scenario.meas, q=scenario.q, T=scenario.T, alpha=alpha,
             beta=beta, methods=method_names, stop=stop, plot_scan=plot_scan, fusion=fused,
@@ -358,7 +358,7 @@ def slrt(
         return
     for option, name in INPUT_ONLY.items():
         if _given(name):
-            raise typer.BadParameter("applies only with --input DETECTIONS", param_hint=option)
+            raise typer.BadParameter("applies only with a detections FILE", param_hint=option)
     study = _study(scenario, view, seed, alpha, beta, method_names, stop, fused)
     if scenario.meas is Meas.cartesian:
         output.note("slrt: --meas cartesian: --sigma-r applies to both axes, --sigma-phi-deg is unused")
@@ -467,25 +467,25 @@ def _score_record(
     q: float, T: float | None, alpha: float, beta: float, methods: tuple[str, ...], stop: bool,
     plot_scan: Path | None, fusion: dict[str, object],
 ) -> None:  # fmt: skip
-    """``--input``: score the user's detections with every method."""
+    """A detections FILE: score the user's detections with every method."""
     from motionsig_cli.existence import slrt_record as rec
 
     for option, (name, instead) in SIMULATION_ONLY.items():
         if _given(name):
-            raise typer.BadParameter(f"does not apply with --input (given by {instead})", param_hint=option)
+            raise typer.BadParameter(f"does not apply with a detections FILE (given by {instead})", param_hint=option)
     if plot_scan is not None:
-        raise typer.BadParameter("draws a simulated scan; not with --input", param_hint="--plot-scan")
+        raise typer.BadParameter("draws a simulated scan; not with a detections FILE", param_hint="--plot-scan")
     if view not in (View.curves, View.decisions):
         raise typer.BadParameter(
-            f"{view.value} is for the simulation; with --input choose curves or decisions",
+            f"{view.value} is for the simulation; with a detections FILE choose curves or decisions",
             param_hint="--view",
         )
     sensors, init, init_sd = given_input.sensor_table, given_input.init, given_input.init_sd
     if sensors is None:
         raise typer.BadParameter(
-            "is needed with --input (the sensors of the detections)", param_hint="--sensor-table"
+            "is needed with a detections FILE (the sensors of the detections)", param_hint="--sensor-table"
         )
-    output.refuse_input(path, "the --input file")
+    output.refuse_input(path, "the input file")
     output.refuse_input(sensors, "the --sensor-table file")
     cfg = rec.SlrtRecordConfig(
         q=q, T=T, meas=meas.value.replace("-", "_") if _given("meas") else None,

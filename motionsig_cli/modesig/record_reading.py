@@ -679,7 +679,7 @@ class _Model:
         raw = self.pick("a_sig", o.a_sig, 0.5)
         a_sig = self.check("a_sig", raw, lambda v: in_range("a_sig", _number(v), 0.0))
         raw = self.pick("codes", o.codes, "corrected")
-        # a code table file only from the command line: the record's metadata is data (issue 39)
+        # a code table file only from the command line: the record's metadata is data, never a path
         files = self.sources.get("codes") != RECORD
         codes = self.check("codes", raw, lambda v: parse_codes(str(v), files=files))
         K = self._gain(T)

@@ -400,7 +400,7 @@ MAN_REC = [
 ]
 MAN_META = [
     (("--sigma", "0"), "", "Invalid value for --sigma: 0 is not in [0.001, 1e+07] m"),
-    (("--sigma", "100,200"), "", "Invalid value for --sigma: give one σ with --input"),
+    (("--sigma", "100,200"), "", "Invalid value for --sigma: give one σ with a record"),
     (("--T", "0"), "# sigma: 100\n", "Invalid value for --T: 0 is not in [0.001, 3600] s"),
     ((), "# sigma: 1e8\n", "r.csv: metadata 'sigma' = 1e+08 is not in [0.001, 1e+07] m"),
     ((), "# sigma: 100\n# T: 7200\n", "r.csv: metadata 'T' = 7200 is not in [0.001, 3600] s"),

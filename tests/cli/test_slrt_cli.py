@@ -262,10 +262,10 @@ def test_a_record_over_the_row_limit_is_refused(capsys, tmp_path, monkeypatch):
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
-        (("--pd", "0.5"), "--pd: does not apply with --input"),
-        (("--runs", "3"), "--runs: does not apply with --input"),
-        (("--target-only",), "--no-target/--target-only: does not apply with --input"),
-        (("--workers", "2"), "--workers: does not apply with --input"),
+        (("--pd", "0.5"), "--pd: does not apply with a detections FILE"),
+        (("--runs", "3"), "--runs: does not apply with a detections FILE"),
+        (("--target-only",), "--no-target/--target-only: does not apply with a detections FILE"),
+        (("--workers", "2"), "--workers: does not apply with a detections FILE"),
         (("--view", "sensors"), "--view"),
         (("--plot-scan", "x.png"), "--plot-scan"),
         (("--init", "1,2,3"), "--init: [1.0, 2.0, 3.0] is not four numbers"),
@@ -289,11 +289,11 @@ def test_options_that_do_not_fit_an_input_are_one_line(capsys, tmp_path, args, n
 @pytest.mark.parametrize(
     ("args", "needle"),
     [
-        (("--sensor-table", "s.csv"), "--sensor-table: applies only with --input"),
-        (("--init", "0,0,0,0"), "--init: applies only with --input"),
+        (("--sensor-table", "s.csv"), "--sensor-table: applies only with a detections FILE"),
+        (("--init", "0,0,0,0"), "--init: applies only with a detections FILE"),
         (("--view", "detections", "--runs", "5"), "--runs: --view detections writes one run"),
         (("--view", "sensors", "--plot", "p.png"), "--plot: --view sensors draws no figure"),
-        (("--input", "d.csv"), "--sensor-table: is needed with --input"),
+        (("--input", "d.csv"), "--sensor-table: is needed with a detections FILE"),
         (("--input", "d.csv", "--sensor-table", "s.csv", "-o", "d.csv"), "--out: is the --input file"),
     ],
 )
