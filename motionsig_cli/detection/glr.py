@@ -62,6 +62,22 @@ acceleration in the model, and declarations cascade.
 and scan (e.g. a location step whose accuracy changes along the track): S_j = H P_{j|j−1} Hᵀ + R_j enters the
 gains, the bias propagation and the statistics above unchanged in form. Entries at a missed scan are ignored.
 With the model's single R the recursion is the one above, bit for bit.
+
+**Irregular time.** With ``dt`` (each step's time since the step before), F, G and Q are those of the step:
+F_ξ(Δt_k) = [[F(Δt_k), G(Δt_k)], [0, I]] (:attr:`InputModel.steps`), and the signature matrices propagate
+with the same per-step transitions,
+
+    M_{k+1}(n) = F_ξ(Δt_{k+1}) (I − K_k H_ξ) M_k(n),                                  (bias propagation, Δt_k)
+
+because the truth minus the prediction obeys the same recursion as on a grid, only with the transition of
+each step (the derivation of §III never uses F's constancy). A jump of u at onset n still enters at the
+prediction after scan n, so M_{n+1}(n) = G(Δt_{n+1}). Δt_k = T at every step gives the recursion above to
+rounding.
+
+**Consistency** (``consistency``: :mod:`motionsig_cli.filters.consistency`): the H0 innovation's NIS gates
+outliers (a gated measurement is a missed scan: no evidence for the detector either), the checks restart
+a track from two points (its onset buffer emptied), and a declaration whose corrected input
+|û_cur + û| exceeds the plausible acceleration is rejected (``rejected``).
 """
 
 from __future__ import annotations
@@ -72,8 +88,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, integer, one_of
+from collections.abc import Callable
+
+from motionsig_cli.filters.consistency import Consistency, Monitor
 from motionsig_cli.filters.imm import scan_covariances
 from motionsig_cli.filters.kalman import joseph_update, spd_inv_logdet
+from motionsig_cli.models.motion import two_point_restart
 
 __all__ = [
     "CHI2_2_999",
@@ -101,13 +121,19 @@ SIGMA_U_RANGE = (1e-3, 1e6)
 
 @dataclass(frozen=True)
 class InputModel:
-    """Linear model with an additive input, x_{k+1} = F x_k + G u_k + w_k, z_k = H x_k + v_k."""
+    """Linear model with an additive input, x_{k+1} = F x_k + G u_k + w_k, z_k = H x_k + v_k.
+
+    ``steps``: None (one period), or F, G, Q as functions of the step: ``steps(dt)`` for an array of Δt of
+    shape S gives (F (S, n, n), G (S, n, p), Q (S, n, n)), e.g.
+    :func:`~motionsig_cli.models.motion.cv_input_steps` (irregular times: module docstring).
+    """
 
     F: np.ndarray
     G: np.ndarray
     Q: np.ndarray
     H: np.ndarray
     R: np.ndarray
+    steps: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
 
     def __post_init__(self) -> None:
         F, G, Q, H, R = (np.asarray(a, float) for a in (self.F, self.G, self.Q, self.H, self.R))
@@ -178,6 +204,10 @@ class InputTrack:
         onset: (B, N) the estimated onset n̂ of a declared maneuver (−1 elsewhere).
         u_jump: (B, N, p) the estimated input jump û at a declaration (0 elsewhere).
         u_cur: (B, N, p) the input used in the prediction from k to k+1.
+        nis, gated, reinit, rejected: (B, N) with ``consistency``: the H0 innovation's NIS (NaN where not
+            measured), the validation gate's rejections, the restarts' reason codes
+            (:data:`~motionsig_cli.filters.consistency.REASONS`) and the declarations rejected as implausible;
+            None without.
     """
 
     x: np.ndarray
@@ -189,6 +219,10 @@ class InputTrack:
     onset: np.ndarray
     u_jump: np.ndarray
     u_cur: np.ndarray
+    nis: np.ndarray | None = None
+    gated: np.ndarray | None = None
+    reinit: np.ndarray | None = None
+    rejected: np.ndarray | None = None
 
 
 def _quad(e: np.ndarray, A: np.ndarray) -> np.ndarray:
@@ -205,6 +239,8 @@ def input_tracker(
     *,
     keep_P: bool = False,
     R: np.ndarray | None = None,
+    dt: np.ndarray | None = None,
+    consistency: Consistency | None = None,
 ) -> InputTrack:
     """Track with GLR or MLR maneuver detection, state correction and continuation.
 
@@ -223,6 +259,9 @@ def input_tracker(
         keep_P: also return the covariance of every scan.
         R: (B, N, m, m) measurement covariance per run and scan, in place of ``model.R`` (module docstring);
             None: ``model.R`` for every scan.
+        dt: (B, N) or (N,) each step's time since the step before [s] (> 0), with ``model.steps``; None: the
+            model's one period.
+        consistency: the checks of :mod:`motionsig_cli.filters.consistency` (None: unwatched; needs ``dt``).
     """
     z = np.asarray(z, float)
     if z.ndim != 3:
@@ -275,13 +314,42 @@ def input_tracker(
     out_ucur = np.zeros((B, N, p))
     rows = np.arange(B)
     detecting = cfg.method != "none"
+    if dt is not None:
+        dt = np.broadcast_to(np.asarray(dt, float), (B, N))
+        if not np.all(dt > 0):
+            raise ValueError("dt must be > 0 at every step [s]")
+        if model.steps is None:
+            raise ValueError("this input model has one period (no steps): irregular times need InputModel.steps")
+        Fs = np.zeros((B, na, na))
+        Fs[:, n:, n:] = np.eye(p)
+        Qs = np.zeros((B, na, na))
+    mon = Monitor(consistency, B, N, m) if consistency is not None else None
+    if mon is not None:
+        if dt is None:
+            raise ValueError("consistency needs dt (a restart's velocity is a difference over time)")
+        pos = np.flatnonzero(np.any(model.H != 0, axis=0))  # the measured state components
+        P0b = np.broadcast_to(np.asarray(P0, float), (B, n, n))
+        z_last = x[:, pos].copy()
+        R_last = P0b[:, pos][:, :, pos].copy()  # the initial position covariance (R of z_b)
+        since = np.zeros(B)
+        rejected = np.zeros((B, N), dtype=bool)
     for k in range(N):
-        xp = x @ F.T  # ξ_{k|k−1} = F_ξ ξ_{k−1|k−1}: x̂ = F x̂ + G û, the current input estimate as the input
-        Pp = F @ P @ F.T + Q
+        if dt is not None:  # F_ξ(Δt_k), Q(Δt_k)
+            assert model.steps is not None
+            Fk, Gk, Qk = model.steps(dt[:, k])
+            Fs[:, :n, :n], Fs[:, :n, n:], Qs[:, :n, :n] = Fk, Gk, Qk
+            F, Q = Fs, Qs
+            xp = np.einsum("bij,bj->bi", F, x)
+            Pp = F @ P @ np.swapaxes(F, -1, -2) + Q
+        else:
+            xp = x @ F.T  # ξ_{k|k−1} = F_ξ ξ_{k−1|k−1}: x̂ = F x̂ + G û, the current input estimate as the input
+            Pp = F @ P @ F.T + Q
         Pp = 0.5 * (Pp + np.swapaxes(Pp, -1, -2))
         Rk = R[:, k] if varying else R
         up = joseph_update(xp, Pp, z[:, k], H, Rk)
         seen = None if every else measured[:, k]  # (B,) runs measured at scan k (None: all of them)
+        if mon is not None:
+            seen = mon.screen(k, measured[:, k], up.nis)  # C1: a gated measurement is a missed scan
         if seen is not None and seen.all():
             seen = None
         if seen is None:
@@ -319,6 +387,13 @@ def input_tracker(
                 hit = np.isfinite(stat) & (stat > cfg.threshold)
                 if seen is not None:
                     hit &= seen  # no new evidence at a missed scan: no declaration
+                if mon is not None and np.any(hit):  # C4: an implausible corrected input is rejected
+                    hb = np.flatnonzero(hit)
+                    cov_h = Sigma[hb, best[hb]] if cfg.method == "glr" else post[hb, best[hb]]
+                    u_h = (cov_h @ e[hb, best[hb]][..., None])[..., 0]
+                    wild = ~(np.linalg.norm(x[hb, n:] + u_h, axis=-1) <= mon.cfg.max_accel)
+                    rejected[hb[wild], k] = True
+                    hit[hb[wild]] = False
                 if np.any(hit):
                     b = np.flatnonzero(hit)
                     Mb = M[b, best[b]]  # M_k(n̂), (b, n + p, p)
@@ -352,8 +427,35 @@ def input_tracker(
             onset_of[:, slot] = k
             fed[:, slot] = False
             M = (F @ (eye - K @ H))[:, None] @ M  # = F_ξ M_k(n) at a missed scan (K_k = 0)
+        if mon is not None:
+            since = since + dt[:, k]
+            Pd = np.diagonal(P, axis1=-2, axis2=-1)[:, pos]
+            bad = mon.verdict(k, np.linalg.norm(x[:, pos + 1], axis=-1), np.linalg.norm(x[:, n:], axis=-1),
+                              Pd.max(axis=-1), np.isfinite(P).all(axis=(1, 2)))  # fmt: skip
+            restart = bad & measured[:, k]
+            if restart.any():  # a two-point restart; the onset buffer is emptied
+                b = np.flatnonzero(restart)
+                Rb = R[b, k] if varying else np.broadcast_to(R, (b.size, m, m))
+                x_new, P_new = two_point_restart(z_last[b], z[b, k], since[b], R_last[b], Rb, n=n)
+                x_new, P_new = mon.cfg.restart(x_new, P_new)
+                x[b] = 0.0
+                x[b, :n] = x_new
+                P[b] = 0.0
+                P[b, :n, :n] = P_new
+                if detecting:
+                    onset_of[b] = -1
+                    M[b], info[b], e[b], fed[b] = 0.0, 0.0, 0.0, False
+                mon.reset(restart)
+            took = (measured[:, k] if seen is None else seen) | restart
+            z_last[took] = z[took, k]
+            if varying:
+                R_last[took] = R[took, k]
+            since[took] = 0.0
         out_x[:, k] = x[:, :n]
         if out_P is not None:
             out_P[:, k] = P[:, :n, :n]
         out_ucur[:, k] = x[:, n:]
+    if mon is not None:
+        return InputTrack(out_x, out_P, out_stat, out_dJ, out_score, out_det, out_onset, out_jump, out_ucur,
+                          mon.nis, mon.gated, mon.reason, rejected)  # fmt: skip
     return InputTrack(out_x, out_P, out_stat, out_dJ, out_score, out_det, out_onset, out_jump, out_ucur)

@@ -24,6 +24,16 @@ and scan, (B, N, m, m) — e.g. the covariance of a location step whose accuracy
 with R(k), eq (11) with S_j(k) = H P_j(k|k−1) Hᵀ + R(k)). Entries of R at a missed scan are ignored (they may be
 NaN). With a single (m, m) R the recursion is the one above, bit for bit.
 
+**Irregular time.** With ``dt`` (the time of each step since the one before, per run), every step uses
+the model set at its own Δt (:attr:`~motionsig_cli.models.motion.ModelSet.steps`): Φ_j(Δt_k), the process
+noise of Δt_k and Π(Δt_k) in steps 1–4. With Δt_k = T at every step the recursion is the one above, bit for
+bit.
+
+**Consistency** (``consistency``: :mod:`motionsig_cli.filters.consistency`). The IMM's innovation is that of
+the combined prediction, ν = z − H x̄, S = H P̄ Hᵀ + R with x̄ = Σ_j c̄_j X̂_j(k|k−1) and P̄ = Σ_j c̄_j [P_j(k|k−1)
++ (X̂_j − x̄)(·)ᵀ]; a gated measurement makes the step predict-only (as a missed scan), and a track that
+fails a check restarts from two points with μ = μ₀.
+
 Steps 1, 2 and 6 run in the log domain (log-sum-exp), so a model whose likelihood underflows a double
 keeps a finite log-probability and the probabilities never become 0/0. A model with c̄_j = 0 (unreachable,
 e.g. switched off with p_ij = 0 and μ_j = 0) gets the mixing weights μ_{i|j} = μ_i: its estimate stays
@@ -36,8 +46,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from motionsig_cli.filters.kalman import joseph_update
-from motionsig_cli.models.motion import ModelSet
+from motionsig_cli.filters.consistency import Consistency, Monitor
+from motionsig_cli.filters.kalman import joseph_update, spd_inv_logdet
+from motionsig_cli.models.motion import ModelSet, two_point_restart
 
 __all__ = ["IMMTrack", "imm_filter", "logsumexp", "scan_covariances"]
 
@@ -83,12 +94,18 @@ class IMMTrack:
         log_mu: (B, N, r) log model probabilities log μ_j(k).
         loglik: (B, N, r) model-conditioned innovation log-likelihoods log Λ_j(k), eq (11); 0 at a missed
             scan (likelihood 1 for every model).
+        nis, gated, reinit: (B, N) with ``consistency``: the combined prediction's normalised innovation
+            squared (NaN where not measured), the validation gate's rejections, and the re-initialisations'
+            reason codes (:data:`~motionsig_cli.filters.consistency.REASONS`); None without.
     """
 
     x: np.ndarray
     P: np.ndarray | None
     log_mu: np.ndarray
     loglik: np.ndarray
+    nis: np.ndarray | None = None
+    gated: np.ndarray | None = None
+    reinit: np.ndarray | None = None
 
     @property
     def mu(self) -> np.ndarray:
@@ -105,6 +122,8 @@ def imm_filter(
     P0: np.ndarray,
     *,
     keep_P: bool = False,
+    dt: np.ndarray | None = None,
+    consistency: Consistency | None = None,
 ) -> IMMTrack:
     """Run the IMM over measurement records.
 
@@ -119,6 +138,9 @@ def imm_filter(
         x0: (B, n) or (n,) initial estimate, shared by every model-conditioned filter (§IV).
         P0: (n, n) or (B, n, n) initial covariance.
         keep_P: also return the combined covariance of every scan.
+        dt: (B, N) or (N,) the time of each step since the step before [s] (the first: since the
+            initialisation), > 0; uses ``models.steps`` (module docstring). None: the model set's one period.
+        consistency: the checks of :mod:`motionsig_cli.filters.consistency` (None: unwatched).
 
     Returns:
         The combined estimates, model probabilities and likelihoods of every scan.
@@ -140,9 +162,12 @@ def imm_filter(
     z = np.asarray(z, dtype=float)
     if z.ndim == 2:  # one record (N, m): run it as a batch of one and drop the batch axis
         one = imm_filter(
-            z[None], H, np.asarray(R)[None] if np.ndim(R) == 3 else R, models, x0, P0, keep_P=keep_P
-        )
-        return IMMTrack(one.x[0], None if one.P is None else one.P[0], one.log_mu[0], one.loglik[0])
+            z[None], H, np.asarray(R)[None] if np.ndim(R) == 3 else R, models, x0, P0, keep_P=keep_P,
+            dt=None if dt is None else np.asarray(dt, float)[None], consistency=consistency,
+        )  # fmt: skip
+        first = (lambda a: None if a is None else a[0])
+        return IMMTrack(one.x[0], first(one.P), one.log_mu[0], one.loglik[0], first(one.nis),
+                        first(one.gated), first(one.reinit))  # fmt: skip
     if z.ndim != 3:
         raise ValueError(f"z must be (scans, m) or (runs, scans, m); got shape {z.shape}")
     B, N, m = z.shape
@@ -163,20 +188,42 @@ def imm_filter(
         z = np.where(measured[..., None], z, 0.0)  # any finite value: the update is discarded there
     if varying:
         R = scan_covariances(R, measured)
+    steps = None
+    if dt is not None:
+        dt = np.broadcast_to(np.asarray(dt, float), (B, N))
+        if not np.all(dt > 0):
+            raise ValueError("dt must be > 0 at every step [s]")
+        if models.steps is None:
+            raise ValueError("this model set has one period (no steps): irregular times need ModelSet.steps")
+        steps = models.steps
     Phi, Qd = models.Phi, models.Qd
-    PhiT = np.swapaxes(Phi, 1, 2)
+    PhiT = np.swapaxes(Phi, -1, -2)
     with np.errstate(divide="ignore"):
         log_Pi = np.log(models.Pi)  # (r, r); −inf where p_ij = 0
-        log_mu = np.broadcast_to(np.log(models.mu0), (B, r)).copy()
+        log_mu0 = np.log(models.mu0)
+        log_mu = np.broadcast_to(log_mu0, (B, r)).copy()
     X = np.broadcast_to(np.asarray(x0, float), (B, n))[:, None, :].repeat(r, axis=1)  # (B, r, n)
     P = np.broadcast_to(np.asarray(P0, float), (B, n, n))[:, None].repeat(r, axis=1)  # (B, r, n, n)
     x_out = np.empty((B, N, n))
     P_out = np.empty((B, N, n, n)) if keep_P else None
     lm_out = np.empty((B, N, r))
     ll_out = np.empty((B, N, r))
+    mon = Monitor(consistency, B, N, m) if consistency is not None else None
+    if mon is not None:  # the last accepted measurement, its covariance and the time since (for a restart)
+        if dt is None:
+            raise ValueError("consistency needs dt (a restart's velocity is a difference over time)")
+        P0b = np.broadcast_to(np.asarray(P0, float), (B, n, n))
+        z_last = np.broadcast_to(np.asarray(x0, float), (B, n))[:, [0, 2]].copy()
+        R_last = P0b[:, [0, 2]][:, :, [0, 2]].copy()  # the initial position covariance (R of z_b)
+        since = np.zeros(B)
     for k in range(N):
+        if steps is not None:  # per-step models (B, r, n, n) and Π (B, r, r)
+            Phi, Qd, Pi_k = steps(dt[:, k])
+            PhiT = np.swapaxes(Phi, -1, -2)
+            with np.errstate(divide="ignore"):
+                log_Pi = np.log(Pi_k)
         # 1–2: c̄_j and μ_{i|j} in the log domain
-        a = log_Pi[None] + log_mu[:, :, None]  # log p_ij μ_i, (B, i, j)
+        a = (log_Pi if log_Pi.ndim == 3 else log_Pi[None]) + log_mu[:, :, None]  # log p_ij μ_i, (B, i, j)
         log_cbar = logsumexp(a, axis=1)  # (B, j)
         reachable = np.isfinite(log_cbar)
         with np.errstate(invalid="ignore"):
@@ -188,10 +235,23 @@ def imm_filter(
         WD = w[..., None] * D
         P0j = np.einsum("bij,binm->bjnm", w, P) + np.einsum("bijn,bijm->bjnm", WD, D)
         # 4: model-matched prediction and update
-        Xp = np.einsum("jnm,bjm->bjn", Phi, X0)  # X̂_j(k|k−1) = Φ_j X̂_0j
+        if Phi.ndim == 3:
+            Xp = np.einsum("jnm,bjm->bjn", Phi, X0)  # X̂_j(k|k−1) = Φ_j X̂_0j
+        else:
+            Xp = np.einsum("bjnm,bjm->bjn", Phi, X0)
         Pp = Phi @ P0j @ PhiT + Qd  # P_j(k|k−1) = Φ_j P_0j Φ_jᵀ + G_j Q_j G_jᵀ
-        up = joseph_update(Xp, Pp, z[:, k, None, :], H, R[:, k, None] if varying else R)
-        seen = None if every else measured[:, k]  # (B,) runs measured at scan k (None: all of them)
+        Rk = R[:, k, None] if varying else R
+        up = joseph_update(Xp, Pp, z[:, k, None, :], H, Rk)
+        seen = measured[:, k] if (mon is not None or not every) else None  # (B,) runs measured at scan k
+        if mon is not None:
+            cbar = np.exp(log_cbar)
+            xb = np.einsum("bj,bjn->bn", cbar, Xp)  # the combined prediction x̄, P̄
+            d = Xp - xb[:, None, :]
+            Pb = np.einsum("bj,bjnm->bnm", cbar, Pp) + np.einsum("bj,bjn,bjm->bnm", cbar, d, d)
+            nu = z[:, k] - xb @ H.T
+            S_inv, _, _ = spd_inv_logdet(H @ Pb @ H.T + (R[:, k] if varying else R))
+            nis = np.einsum("bi,bij,bj->b", nu, S_inv, nu)
+            seen = mon.screen(k, seen, nis)  # C1: a gated measurement is not used
         if seen is None or seen.all():
             X, P, loglik = up.x, up.P, up.loglik
         else:  # predict-only where missed, likelihood 1 for every model
@@ -204,10 +264,36 @@ def imm_filter(
         # 7: output, eqs (12)–(13) corrected
         mu = np.exp(log_mu)
         xc = np.einsum("bj,bjn->bn", mu, X)
+        Pc = None
+        if P_out is not None or mon is not None:
+            d = X - xc[:, None, :]
+            Pc = np.einsum("bj,bjnm->bnm", mu, P) + np.einsum("bj,bjn,bjm->bnm", mu, d, d)
+        if mon is not None:
+            assert Pc is not None
+            since = since + dt[:, k]
+            bad = mon.verdict(k, np.hypot(xc[:, 1], xc[:, 3]), np.hypot(xc[:, 4], xc[:, 5]),
+                              np.maximum(Pc[:, 0, 0], Pc[:, 2, 2]), np.isfinite(Pc).all(axis=(1, 2)))  # fmt: skip
+            restart = bad & measured[:, k]
+            if restart.any():  # a two-point restart on the last accepted and the current measurement
+                b = np.flatnonzero(restart)
+                Rb = (R[b, k] if varying else np.broadcast_to(R, (b.size, m, m)))
+                x_new, P_new = two_point_restart(z_last[b], z[b, k], since[b], R_last[b], Rb, n=n)
+                x_new, P_new = mon.cfg.restart(x_new, P_new)
+                X[b] = x_new[:, None, :]
+                P[b] = P_new[:, None]
+                log_mu[b] = log_mu0
+                xc[b], Pc[b] = x_new, P_new
+                mon.reset(restart)
+            took = seen | restart
+            z_last[took] = z[took, k]
+            if varying:
+                R_last[took] = R[took, k]
+            since[took] = 0.0
         x_out[:, k] = xc
         if P_out is not None:
-            d = X - xc[:, None, :]
-            P_out[:, k] = np.einsum("bj,bjnm->bnm", mu, P) + np.einsum("bj,bjn,bjm->bnm", mu, d, d)
+            P_out[:, k] = Pc
         lm_out[:, k] = log_mu
         ll_out[:, k] = loglik
+    if mon is not None:
+        return IMMTrack(x_out, P_out, lm_out, ll_out, mon.nis, mon.gated, mon.reason)
     return IMMTrack(x_out, P_out, lm_out, ll_out)

@@ -877,6 +877,7 @@ class Update:
         x, P: updated mean (..., n) and covariance (..., n, n) (Joseph form).
         nu: innovation (..., m); S_inv: its inverse covariance (..., m, m); K: gain (..., n, m).
         loglik: log N(ν; 0, S) (..., ), computed from log det S, never from a density value.
+        nis: the normalised innovation squared νᵀS⁻¹ν (..., ): χ²_m for a consistent filter.
     """
 
     x: np.ndarray
@@ -885,6 +886,7 @@ class Update:
     S_inv: np.ndarray
     K: np.ndarray
     loglik: np.ndarray
+    nis: np.ndarray
 
 
 def spd_inv_logdet(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -936,4 +938,4 @@ def joseph_update(x: np.ndarray, P: np.ndarray, z: np.ndarray, H: np.ndarray, R:
     x_new = x + (K @ nu[..., None])[..., 0]
     maha = (nu[..., None, :] @ S_inv @ nu[..., :, None])[..., 0, 0]
     loglik = -0.5 * (maha + logdet + m * np.log(2.0 * np.pi))
-    return Update(x_new, P_new, nu, S_inv, K, loglik)
+    return Update(x_new, P_new, nu, S_inv, K, loglik, maha)
