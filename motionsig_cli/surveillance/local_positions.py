@@ -61,11 +61,11 @@ The elevation comes from one of three sources:
 
   which needs |sin ε| ≤ 1 (a range shorter than the height difference is refused). That ε is then
   refined on the ellipsoid itself by Newton steps on f(ε) = h(ε) − h_t, with h(ε) the WGS-84 height of
-  the point of eq 6–7 and f'(ε) ≈ r B cos ε / (R_α + h_t) (eq 8 differentiated), until |f| < 1 µm;
+  the point of eq 6–7 and f'(ε) ≈ r B cos ε / (R_α + h_t) (eq 8 differentiated), until |f| < 0.1 µm;
 - neither: the range is taken as the ground range (ρ = r, u_s = 0: a point in the sensor's tangent
   plane). That is an assumption, and the result says so (:attr:`PolarPositions.notes`): for a target
-  at height Δh above the sensor the ground range is r cos ε ≈ r − Δh²/(2r) (5 km too long at 10 km
-  height and 10 km range, 0.5 km at 100 km).
+  at height Δh above the sensor the ground range is r cos ε ≈ r − Δh²/(2r), so a range taken as
+  ground range is 0.5 km too long at 10 km height and 100 km range, 2.7 km at 20 km.
 
 The point is then taken from the sensor's frame to ECEF and into the frame's (eq 2): the sensor need not
 be at the frame's origin. The altitude is the height above the WGS-84 ellipsoid; a barometric (Mode C)
@@ -168,7 +168,7 @@ NACP_EPU_M: dict[int, float] = {
     0: math.nan,
 }
 """NACp → the bound on the 95 % horizontal EPU [m] (RTCA DO-260B; NACp 0: unknown, ≥ 10 NM: NaN)."""
-_NEWTON_TOL_M = 1e-6
+_NEWTON_TOL_M = 1e-7
 _NEWTON_MAX = 20
 
 
@@ -219,7 +219,7 @@ class LocalFrame:
         >>> frame = LocalFrame(48.35, 11.78)
         >>> enu = frame.to_local(48.35, 11.78 + 1.0, 0.0)
         >>> round(float(enu[0, 0]) / 1e3, 2), round(float(enu[0, 2]))  # 1° of longitude east, below the plane
-        (74.07, -431)
+        (74.12, -430)
     """
 
     lat_deg: float
@@ -271,7 +271,7 @@ class LocalFrame:
         point is the one whose projection onto the plane is (east, north) and whose height above the
         ellipsoid is ``alt_m`` (default: the origin's): the inverse of :meth:`to_local` with up dropped,
         found by Newton steps on up, u ← u + (h_t − h(u)) (dh/du = cos of the angle between the two
-        normals, 1 − 10⁻⁴ at 100 km) until |h − h_t| < 1 µm.
+        normals, 1 − 10⁻⁴ at 100 km) until |h − h_t| < 0.1 µm.
 
         Raises:
             ConfigError: both ``up`` and ``alt_m`` given, or an infinite value.
@@ -389,6 +389,10 @@ def debiased_polar(
                    + σ_ρ² e^{−2s} [cos²φ_m (2 cosh 2s − cosh s) + sin²φ_m (2 sinh 2s − sinh s)],
              R₂₂ = the same with cos and sin exchanged,
              R₁₂ = sin φ_m cos φ_m e^{−4s} [σ_ρ² + (ρ_m² + σ_ρ²)(1 − e^{s})].
+
+    The debiased mean is unbiased to O(σ_φ⁴), and R is consistent: at ρ = 100 km, σ_φ = 0.1 rad,
+    σ_ρ = 10 m the Monte Carlo's mean normalised error eᵀR⁻¹e is 2.01 (2 expected), where the linearised
+    conversion's is 7400 (``tests/surveillance/test_local_positions.py``).
 
     Returns:
         (positions (N, 2), covariances (N, 2, 2)).
