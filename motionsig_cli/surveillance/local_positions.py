@@ -523,7 +523,8 @@ def polar_to_local(
 
     Raises:
         ConfigError: naming the argument: a negative or infinite range, a bearing beyond ±2π, an
-            elevation beyond ±π/2, both elevation and altitude, a negative σ, shapes that do not match,
+            elevation beyond ±π/2, both elevation and altitude, a negative σ, a σ of an elevation or
+            altitude not given, shapes that do not match,
             or a range too short for the height difference (no elevation solves eq 8).
 
     Examples:
@@ -557,14 +558,25 @@ def polar_to_local(
         extra = [eps_in, _sigma("sigma_elevation_rad", sigma_elevation_rad)]
     elif altitude_m is not None:
         extra = [_array("altitude_m", altitude_m), _sigma("sigma_altitude_m", sigma_altitude_m)]
-    try:
-        r, th, sr, sth, x_in, sx = (
-            a.reshape(-1) for a in np.broadcast_arrays(np.atleast_1d(r), th, sr, sth, *extra)
-        )
-    except ValueError:
-        raise ConfigError(
-            "bearing_rad", np.shape(th), f"does not match the ranges' shape {np.shape(r)}"
-        ) from None
+    for field, value, source in (
+        ("sigma_elevation_rad", sigma_elevation_rad, elevation_rad),
+        ("sigma_altitude_m", sigma_altitude_m, altitude_m),
+    ):
+        if source is None and np.any(np.asarray(value, dtype=float) != 0):
+            raise ConfigError(field, "given", f"without {field.removeprefix('sigma_')}: it would be ignored")
+    named = {"range_m": np.atleast_1d(r), "bearing_rad": th, "sigma_range_m": sr, "sigma_bearing_rad": sth}
+    named.update(zip(("elevation_rad", "sigma_elevation_rad") if elevation_rad is not None else
+                     ("altitude_m", "sigma_altitude_m"), extra, strict=True))  # fmt: skip
+    for field, value in named.items():
+        try:
+            np.broadcast_shapes(named["range_m"].shape, np.shape(value))
+        except ValueError:
+            raise ConfigError(
+                field, np.shape(value), f"does not match the ranges' shape {named['range_m'].shape}"
+            ) from None
+    r, th, sr, sth, x_in, sx = (
+        a.reshape(-1) for a in np.broadcast_arrays(np.atleast_1d(r), th, sr, sth, *extra)
+    )
     north_cw = convention == "north-clockwise"
     azimuth = th if north_cw else np.pi / 2 - th  # from north, clockwise
     notes: list[str] = []

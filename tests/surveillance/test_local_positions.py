@@ -310,6 +310,18 @@ def test_cartesian_covariance():
         (lambda: polar_to_local(1.0, 0.0, SENSOR, (1.0,), sigma_range_m=1, sigma_bearing_rad=1), "frame"),
         (
             lambda: polar_to_local(
+                [1.0, 2.0], 0.0, SENSOR, FRAME, sigma_range_m=[1, 2, 3], sigma_bearing_rad=1
+            ),
+            "sigma_range_m",
+        ),
+        (
+            lambda: polar_to_local(
+                1.0, 0.0, SENSOR, FRAME, sigma_range_m=1, sigma_bearing_rad=1, sigma_altitude_m=30
+            ),
+            "sigma_altitude_m",
+        ),
+        (
+            lambda: polar_to_local(
                 [1.0, 2.0], [0.0, 0.1, 0.2], SENSOR, FRAME, sigma_range_m=1, sigma_bearing_rad=1
             ),
             "bearing_rad",
@@ -317,6 +329,7 @@ def test_cartesian_covariance():
     ],
 )
 def test_bad_arguments_name_the_field(call, field):
+    """Each refusal is a ConfigError naming the argument (the command layer maps it to its option)."""
     with pytest.raises(ConfigError) as exc:
         call()
     assert exc.value.field == field
