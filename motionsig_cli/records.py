@@ -9,10 +9,16 @@ reads (:class:`Role`: ``time``, ``x``, ``y``, ``range``, ``bearing``, ``scan``, 
   as ``t`` or ``timestamp``), or where the user maps it: ``--columns time=timestamp,x=east,y=north``
   (:func:`parse_columns`). Two columns that could both be a role are refused (map one).
 - **Units.** Every physical role has an SI unit (metres, radians, seconds) into which it is converted. A
-  file states another unit in the header (``range [km]``, ``bearing (deg)``), in the metadata
-  (``# units: {"bearing": "deg"}``, or the older ``# bearing_unit: "deg"``), or the user does
-  (``--units bearing=deg``, :func:`parse_units`), in that order of precedence: option, header,
-  metadata. :data:`UNITS` lists the known units.
+  file states another unit in the header (``range [km]``, ``bearing (deg)``), in the column's name
+  (``range_nm``, ``bearing_deg``, ``altitude_ft``, ``speed_kt``: the text after the last ``_`` is a
+  known unit of the role's quantity and the text before it a name or alias of the role), in the
+  metadata (``# units: {"bearing": "deg"}``, or the older ``# bearing_unit: "deg"``), or the user does
+  (``--units bearing=deg``, :func:`parse_units`), in that order of precedence: option, header, name
+  suffix, metadata. :data:`UNITS` lists the known units (looked up case-insensitively where that is
+  unambiguous: :func:`canonical_unit`). A column named with a suffix is found as its role (and
+  ``--columns range=range_nm`` still reads the unit from the suffix), but a column whose name is a
+  role's own name or alias is never read as another role's suffix form, and a record with both
+  ``range`` and ``range_nm`` is refused as ambiguous, like any two columns that could both be a role.
 - **Times** are seconds (any unit above) or ISO 8601 timestamps (``2026-05-01T12:00:00.250Z``), read
   relative to the first one (recorded as :attr:`Record.time_origin`); naive and zoned timestamps are
   not mixed. A time role is finite and increasing (or non-decreasing, where several rows share a scan).
@@ -50,6 +56,7 @@ __all__ = [
     "Record",
     "RecordSpec",
     "Role",
+    "canonical_unit",
     "fit_period",
     "grid_period",
     "parse_columns",
@@ -67,14 +74,40 @@ UNITS: dict[str, dict[str, float]] = {
         "ft": 0.3048,
         "kft": 304.8,
         "nmi": 1852.0,
+        "NM": 1852.0,
+        "nm": 1852.0,
         "mi": 1609.344,
     },
-    "angle": {"rad": 1.0, "mrad": 1e-3, "deg": math.pi / 180.0, "°": math.pi / 180.0},
+    "angle": {
+        "rad": 1.0,
+        "mrad": 1e-3,
+        "deg": math.pi / 180.0,
+        "degree": math.pi / 180.0,
+        "degrees": math.pi / 180.0,
+        "°": math.pi / 180.0,
+    },
     "time": {"s": 1.0, "sec": 1.0, "ms": 1e-3, "us": 1e-6, "µs": 1e-6, "ns": 1e-9, "min": 60.0, "h": 3600.0},
-    "speed": {"m/s": 1.0, "km/h": 1 / 3.6, "kn": 1852.0 / 3600.0, "ft/s": 0.3048},
+    "speed": {
+        "m/s": 1.0,
+        "km/h": 1 / 3.6,
+        "kn": 1852.0 / 3600.0,
+        "kt": 1852.0 / 3600.0,
+        "kts": 1852.0 / 3600.0,
+        "knot": 1852.0 / 3600.0,
+        "knots": 1852.0 / 3600.0,
+        "ft/s": 0.3048,
+        "ft/min": 0.3048 / 60.0,
+        "fpm": 0.3048 / 60.0,
+    },
     "variance_length": {"m2": 1.0, "km2": 1e6},
 }
-"""Known units per quantity, as the factor to the SI unit (the first of each)."""
+"""Known units per quantity, as the factor to the SI unit (the first of each).
+
+Lengths include the nautical mile as aviation writes it: ``nmi``, ``NM`` and ``nm`` are all 1852 m.
+Nanometres are not a unit any position sensor read here reports, so ``nm`` is the nautical mile, not
+10⁻⁹ m. Speeds include knots (``kn``, ``kt``, ``kts``, ``knot``, ``knots``) and vertical rates in
+feet per minute (``ft/min``, ``fpm``). A unit is looked up exactly, else case-insensitively where that
+matches exactly one factor (``Deg``, ``KT``, ``Nm``: :func:`canonical_unit`)."""
 QUANTITIES = tuple(UNITS)
 TIME_ZONE_LABELS = frozenset({"utc", "gmt", "z", "local", "tai", "gps"})
 """Header annotations of a time column that name its time scale or zone, not a unit (``Time (UTC)``)."""
@@ -87,6 +120,28 @@ MAX_ABS_TIME_S = 1e12
 """Largest time accepted [s] (31,700 years, after unit conversion): a larger one is an absurd value, refused
 as a cell error before any arithmetic on it overflows."""
 _HEADER_UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]$")
+
+
+def canonical_unit(quantity: str, text: str) -> str | None:
+    """The key of :data:`UNITS` [``quantity``] that ``text`` names, or None.
+
+    An exact match first; else a case-insensitive one, where every unit that matches has one factor
+    (``Deg`` → ``deg``, ``KT`` → ``kt``, ``Nm`` → ``NM``: ``NM`` and ``nm`` are both the nautical mile);
+    a text that matches units of different factors, or none, is not a unit.
+
+    Examples:
+        >>> from motionsig_cli.records import canonical_unit
+        >>> canonical_unit("speed", "KTS"), canonical_unit("angle", "Deg"), canonical_unit("length", "parsec")
+        ('kts', 'deg', None)
+    """
+    known = UNITS[quantity]
+    text = str(text).strip()
+    if text in known:
+        return text
+    hits = [k for k in known if k.casefold() == text.casefold()]
+    if hits and len({known[k] for k in hits}) == 1:
+        return hits[0]
+    return None
 
 
 @dataclass(frozen=True)
@@ -318,8 +373,10 @@ def parse_units(text: str | Mapping[str, str] | None, spec: RecordSpec | None = 
             q = "time" if r.kind == "time" else r.quantity
             if q is None:
                 raise ConfigError("units", role, "has no unit")
-            if unit not in UNITS[q]:
+            known = canonical_unit(q, unit)
+            if known is None:
                 raise ConfigError("units", f"{role}={unit}", f"is not {_a(q)} unit ({', '.join(UNITS[q])})")
+            unit = known
         out[role] = unit
     return out
 
@@ -427,10 +484,16 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
                 )
             found[role.name] = hits[0]
     taken = set(found.values())
+    role_names = {n for r in spec.roles for n in r.names}
     for role in spec.roles:
         if role.name in found:
             continue
-        hits = [c for c in t.columns if c not in taken and base[c] in role.names]
+        hits = [
+            c
+            for c in t.columns
+            if c not in taken
+            and (base[c] in role.names or (base[c] not in role_names and _suffix_unit(c, role) is not None))
+        ]
         if len(hits) > 1:
             raise InputError(
                 f"{where}: columns {hits[0]!r} and {hits[1]!r} could both be the {role.name}; "
@@ -449,10 +512,25 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
     return found
 
 
+def _suffix_unit(col: str, role: Role) -> str | None:
+    """The unit a column's name ends in, where the name is ``NAME_UNIT`` with NAME a name or alias of
+    ``role`` and UNIT a unit of its quantity (``range_nm`` → ``nm``; a header ``[unit]`` is set aside);
+    else None."""
+    q = "time" if role.kind == "time" else role.quantity
+    if q is None:
+        return None
+    name = _HEADER_UNIT.sub(r"\1", col).strip()
+    stem, sep, suffix = name.rpartition("_")
+    if not sep or not suffix or stem.lower() not in role.names or name.lower() in role.names:
+        return None
+    return canonical_unit(q, suffix)
+
+
 def _unit(
     rec: Record, role: Role, col: str, unitmap: dict[str, str], meta_units: dict[str, Any]
 ) -> str | None:
-    """The unit of a role's column: --units, the header's ``[unit]``, the metadata, the role's default."""
+    """The unit of a role's column: --units, the header's ``[unit]``, the name's suffix (``range_nm``),
+    the metadata, the role's default."""
     q = "time" if role.kind == "time" else role.quantity
     if q is None:
         return None
@@ -464,13 +542,15 @@ def _unit(
     candidates = [
         (unitmap.get(role.name), "--units"),
         (header, "header"),
+        (_suffix_unit(col, role), "column name"),
         (meta_units.get(col, meta_units.get(role.name)), "metadata 'units'"),
         (rec.meta.get(f"{role.name}_unit"), f"metadata '{role.name}_unit'"),
     ]
     for unit, origin in candidates:
         if unit is None:
             continue
-        if str(unit) not in known:
+        canonical = canonical_unit(q, str(unit))
+        if canonical is None:
             where = rec.where(None, role.name) if origin == "header" else rec.source
             if origin.startswith("metadata") and rec.table is not None:
                 where = rec.table.meta_where("units" if origin == "metadata 'units'" else f"{role.name}_unit")
@@ -478,7 +558,7 @@ def _unit(
                 f"{where}: unknown {q.replace('_', ' ')} unit {shorten(unit)} in the {origin} "
                 f"(known: {', '.join(known)})"
             )
-        return str(unit)
+        return canonical
     return role.unit or next(iter(known))
 
 

@@ -272,3 +272,180 @@ def test_time_zone_annotation_and_unit_spellings(tmp_path):
     assert rec.provenance()["input_ignored_columns"] == ["SNR"]
     rec = read_record(_write(tmp_path, "t [sec],x,y\n0,1,2\n2,1,2\n"), SPEC)
     assert rec["time"].tolist() == [0.0, 2.0]
+
+
+# --- units people write, and unit suffixes in column names -----------------------------------------------
+
+NMI = 1852.0
+DEG = math.pi / 180.0
+KT = 1852.0 / 3600.0
+FT = 0.3048
+
+POLAR = RecordSpec(
+    (
+        Role("time", ("t",), kind="time", order="increasing"),
+        Role("range", ("r", "rho"), quantity="length"),
+        Role("bearing", ("azimuth",), quantity="angle"),
+        Role("altitude", ("alt",), quantity="length", required=False, missing=True),
+        Role("speed", ("gs",), quantity="speed", required=False),
+        Role("vertical_rate", ("vr",), quantity="speed", required=False),
+        Role("sigma_phi", (), quantity="angle", required=False),
+    ),
+    max_rows=100,
+)
+
+
+@pytest.mark.parametrize(
+    ("quantity", "text", "unit", "factor"),
+    [
+        ("length", "NM", "NM", NMI),
+        ("length", "nm", "nm", NMI),
+        ("length", "nmi", "nmi", NMI),
+        ("length", "Nm", "NM", NMI),
+        ("length", "FT", "ft", FT),
+        ("speed", "kt", "kt", KT),
+        ("speed", "KT", "kt", KT),
+        ("speed", "kts", "kts", KT),
+        ("speed", "Knots", "knots", KT),
+        ("speed", "knot", "knot", KT),
+        ("speed", "kn", "kn", KT),
+        ("speed", "fpm", "fpm", FT / 60.0),
+        ("speed", "ft/min", "ft/min", FT / 60.0),
+        ("speed", "M/S", "m/s", 1.0),
+        ("angle", "Deg", "deg", DEG),
+        ("angle", "degrees", "degrees", DEG),
+        ("angle", "°", "°", DEG),
+        ("time", "MS", "ms", 1e-3),
+    ],
+)
+def test_unit_spellings_and_case(quantity, text, unit, factor):
+    from motionsig_cli.records import UNITS, canonical_unit
+
+    assert canonical_unit(quantity, text) == unit
+    assert UNITS[quantity][unit] == pytest.approx(factor, rel=1e-15)
+
+
+@pytest.mark.parametrize(("quantity", "text"), [("length", "parsec"), ("angle", "grad"), ("speed", "mach")])
+def test_unknown_units_are_not_guessed(quantity, text):
+    from motionsig_cli.records import canonical_unit
+
+    assert canonical_unit(quantity, text) is None
+
+
+def test_unit_suffixes_in_column_names(tmp_path):
+    text = "t_ms,range_nm,bearing_deg,alt_ft,speed_kt,vr_fpm,sigma_phi_deg\n0,10,90,35000,450,-1000,0.1\n500,20,180,,460,0,0.1\n"
+    rec = read_record(_write(tmp_path, text), POLAR)
+    assert rec.columns == {
+        "time": "t_ms",
+        "range": "range_nm",
+        "bearing": "bearing_deg",
+        "altitude": "alt_ft",
+        "speed": "speed_kt",
+        "vertical_rate": "vr_fpm",
+        "sigma_phi": "sigma_phi_deg",
+    }
+    assert rec.units == {
+        "time": "ms",
+        "range": "nm",
+        "bearing": "deg",
+        "altitude": "ft",
+        "speed": "kt",
+        "vertical_rate": "fpm",
+        "sigma_phi": "deg",
+    }
+    np.testing.assert_allclose(rec["time"], [0.0, 0.5])
+    np.testing.assert_allclose(rec["range"], [10 * NMI, 20 * NMI])
+    np.testing.assert_allclose(rec["bearing"], [math.pi / 2, math.pi])
+    assert rec["altitude"][0] == pytest.approx(35000 * FT) and math.isnan(rec["altitude"][1])
+    np.testing.assert_allclose(rec["speed"], [450 * KT, 460 * KT])
+    np.testing.assert_allclose(rec["vertical_rate"], [-1000 * FT / 60, 0.0])
+    assert rec["sigma_phi"][0] == pytest.approx(0.1 * DEG)
+    assert rec.provenance()["input_units"]["range"] == "nm"
+
+
+def test_suffix_case_and_upper_case_units(tmp_path):
+    rec = read_record(_write(tmp_path, "T,Range_NM,Bearing_Deg\n0,1,45\n1,2,90\n"), POLAR)
+    assert rec.units["range"] == "NM" and rec.units["bearing"] == "deg"
+    np.testing.assert_allclose(rec["range"], [NMI, 2 * NMI])
+
+
+def test_unit_precedence_option_header_suffix_metadata(tmp_path):
+    """--units over the header over the name's suffix over the metadata over the default."""
+    meta = '# units: {"range": "km", "bearing": "rad"}\n'
+    p = _write(tmp_path, meta + "t,range_nm [km],bearing_deg\n0,1,90\n1,2,90\n")
+    rec = read_record(p, POLAR)
+    assert rec.units["range"] == "km" and rec["range"][0] == 1000.0  # header over suffix
+    assert rec.units["bearing"] == "deg"  # suffix over metadata
+    rec = read_record(p, POLAR, units="range=NM,bearing=mrad")  # option over all
+    assert rec.units == {"time": "s", "range": "NM", "bearing": "mrad"}
+    assert rec["range"][0] == NMI and rec["bearing"][0] == pytest.approx(0.09)
+    rec = read_record(_write(tmp_path, meta + "t,range,bearing\n0,1,90\n1,2,90\n"), POLAR)
+    assert rec.units["range"] == "km" and rec.units["bearing"] == "rad"  # metadata over the default
+
+
+def test_units_option_is_tolerant_of_case(tmp_path):
+    assert parse_units("range=Nm,bearing=DEG", POLAR) == {"range": "NM", "bearing": "deg"}
+    with pytest.raises(ConfigError, match="units") as exc:
+        parse_units("range=parsec", POLAR)
+    assert exc.value.field == "units"
+
+
+def test_exact_name_and_suffix_form_together_are_ambiguous(tmp_path):
+    p = _write(tmp_path, "t,range,range_nm,bearing\n0,1,1,0\n1,2,2,0\n")
+    with pytest.raises(InputError, match="'range' and 'range_nm' could both be the range"):
+        read_record(p, POLAR)
+    rec = read_record(p, POLAR, columns="range=range_nm")  # mapped: the suffix still gives the unit
+    assert rec.columns["range"] == "range_nm" and rec.units["range"] == "nm"
+    assert rec["range"].tolist() == [NMI, 2 * NMI]
+    assert rec.extra == ("range",)
+
+
+def test_a_role_name_is_not_another_roles_suffix_form():
+    """``sigma_phi`` is the role sigma_phi, never ``sigma`` in ``phi``; ``alt_m`` is altitude in metres; a
+    suffix that is not a unit of the role's quantity leaves the column alone."""
+    from motionsig_cli.tables import Table
+
+    spec = RecordSpec(
+        (
+            Role("time", ("t",), kind="time"),
+            Role("alt", (), quantity="length"),
+            Role("alt_m", (), quantity="length", required=False),
+            Role("bearing", (), quantity="angle", required=False),
+        )
+    )
+    rec = read_record(Table(columns=("t", "alt_m", "alt_ft", "bearing_ft"), rows=[(0, 1, 2, 3)]), spec)
+    assert rec.columns == {"time": "t", "alt": "alt_ft", "alt_m": "alt_m"}
+    assert rec.units["alt"] == "ft" and rec.units["alt_m"] == "m"
+    assert rec.extra == ("bearing_ft",)  # ft is not an angle
+
+
+def test_columns_option_to_an_alias_suffix_form(tmp_path):
+    p = _write(tmp_path, "stamp,rng_nm,east_km,north_km,b\n0,1,2,3,4\n")
+    rec = read_record(p, SPEC, columns="time=stamp,x=east_km,y=north_km,bearing=b", units="bearing=deg")
+    assert rec.units["x"] == "km" and rec["x"][0] == 2000.0 and rec["y"][0] == 3000.0
+    assert "rng_nm" in rec.extra  # not a role of SPEC
+
+
+def test_slrt_detections_and_sensors_with_unit_suffixes(tmp_path):
+    """The SLRT readers' specs read ``range_nm``, ``bearing_deg``, ``sigma_phi_deg``, ``fov_nm``."""
+    from motionsig_cli.existence.slrt_record import DETECTION_SPEC, SENSOR_SPEC
+
+    det = _write(tmp_path, "time,sensor,range_nm,bearing_deg\n1,A,10,30\n2,A,11,31\n", "d.csv")
+    rec = read_record(det, DETECTION_SPEC)
+    assert rec.units["range"] == "nm" and rec.units["bearing"] == "deg"
+    np.testing.assert_allclose(rec["range"], [10 * NMI, 11 * NMI])
+    np.testing.assert_allclose(rec["bearing"], [30 * DEG, 31 * DEG])
+    sen = _write(
+        tmp_path,
+        "sensor,x_km,y_km,sigma_r_m,sigma_phi_deg,pd,clutter,fov_nm\nA,1,2,50,0.2,0.9,1,60\n",
+        "s.csv",
+    )
+    rec = read_record(sen, SENSOR_SPEC)
+    assert rec.units == {"x": "km", "y": "km", "sigma_r": "m", "sigma_phi": "deg", "fov": "nm"}
+    assert rec["x"][0] == 1000.0 and rec["sigma_r"][0] == 50.0 and rec["fov"][0] == 60 * NMI
+    assert rec["sigma_phi"][0] == pytest.approx(0.2 * DEG)
+    sen = _write(
+        tmp_path, "sensor,x,y,sigma_r,sigma_phi_mrad,pd,clutter,fov\nA,1,2,50,3,0.9,1,6e4\n", "s2.csv"
+    )
+    rec = read_record(sen, SENSOR_SPEC)
+    assert rec.units["sigma_phi"] == "mrad" and rec["sigma_phi"][0] == pytest.approx(3e-3)
