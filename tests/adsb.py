@@ -9,7 +9,8 @@ and returns float arrays of one length:
 - ``alt_m``: the recorded (barometric) altitude in metres;
 - ``gs_mps``: the recorded ground speed in m/s;
 - ``track_deg``: the recorded track angle in degrees clockwise from true north;
-- ``vrate_mps``: the recorded vertical rate in m/s.
+- ``vrate_mps``: the recorded vertical rate in m/s;
+- ``t0_unix_s``: the first row's time in seconds since 1970 (a 0-d array), to align two files.
 
 An empty cell is NaN (the raw message stream has positions and velocities on separate rows).
 """
@@ -53,7 +54,7 @@ def load_flight(name: str) -> dict[str, np.ndarray]:
     with path.open(newline="") as fh:
         rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
     t = np.array([_seconds(r["timestamp"]) for r in rows])
-    out = {"t_s": t - t[0]}
+    out = {"t_s": t - t[0], "t0_unix_s": np.array(t[0])}
     for key, (column, scale) in _COLUMNS.items():
         out[key] = np.array([float(r[column]) * scale if r.get(column) else np.nan for r in rows])
     return out
@@ -61,7 +62,7 @@ def load_flight(name: str) -> dict[str, np.ndarray]:
 
 def load_radar() -> tuple[dict, dict[str, np.ndarray]]:
     """``radar_polar.csv``: its metadata (the ``# key: value`` lines, JSON values) and arrays ``t_s``
-    (seconds since the first scan), ``range_nm``, ``bearing_deg``, ``altitude_ft``."""
+    (seconds since the first scan), ``t0_unix_s``, ``range_nm``, ``bearing_deg``, ``altitude_ft``."""
     import json
 
     meta: dict = {}
@@ -75,7 +76,7 @@ def load_radar() -> tuple[dict, dict[str, np.ndarray]]:
                 body.append(line)
     rows = list(csv.DictReader(body))
     t = np.array([_seconds(r["time"]) for r in rows])
-    out = {"t_s": t - t[0]}
+    out = {"t_s": t - t[0], "t0_unix_s": np.array(t[0])}
     for column in ("range_nm", "bearing_deg", "altitude_ft"):
         out[column] = np.array([float(r[column]) for r in rows])
     return meta, out

@@ -12,13 +12,14 @@ The choices, each a field of :class:`TurnTruthConfig`:
   quantum makes a difference of 2°/s. The rate at a sample is the least-squares slope of the unwrapped
   track angle against time over the samples within ``smoothing_s / 2`` of it (default 10 s in all),
   widened to its two neighbours where they lie further out (a sparse recording), and never across a gap.
-  A step of the rate from 0 to ω gives a slope ω/2 when the window is centred on the step, so a detected
-  onset lies within ``smoothing_s / 2`` (plus one sample interval) of the true one.
+  A step of the rate from 0 to ω at t0 gives, with the window centred at t0 - z h (h = smoothing_s / 2),
+  the slope ω (1/2 - 3z/4 + z³/4): ω/2 at the step, ω a half-window after. A detected onset therefore
+  lies within h (plus one sample interval) of the true one, within 0.23 h for ω = 1.5 and 3°/s.
 - **Duplicates and stale repeats** are kept in the fit, with rows at one timestamp merged into one sample
   (their circular mean). A stale repeat (the previous value under a new timestamp) turns a ramp into a
   staircase; over a window several updates long the least-squares slope of a staircase is the ramp's
-  slope, so stale rows bias nothing there and dropping them would need a guess at which rows are fresh
-  (a constant track in straight flight repeats legitimately).
+  slope (delayed by at most the stale hold), so stale rows bias no rate there, and dropping them would
+  need a guess at which rows are fresh (a constant track in straight flight repeats legitimately).
 - **Spikes**: a sample more than ``spike_deg`` (default 20°) away from both neighbours, out and back
   (the two steps of opposite directions), while the neighbours lie within ``spike_deg`` of each other, is
   dropped before the fit: an aircraft cannot swing its track 20° out and back within two reporting
@@ -42,10 +43,11 @@ The choices, each a field of :class:`TurnTruthConfig`:
 - **Slow samples**: with ``speed_mps`` given, samples slower than ``min_speed_mps`` are dropped before
   anything else (a track angle means nothing for a parked aircraft); they leave gaps like missing rows.
 - **Implausible rates**: with ``speed_mps`` given, a rate above what a coordinated turn at
-  ``max_bank_deg`` (default 60°, 2 g, the limit of a normal-category aircraft) allows at the sample's
-  speed, g tan(bank) / v, is set to NaN. Recordings hold such rates where a feed interpolated the
-  track the long way round the 0/360° wrap (352° → 2° through 180° in 25 s: 15°/s at 180 m/s, where
-  60° of bank gives 5.5°/s); they are no turn of the aircraft. Ground speed stands in for airspeed.
+  ``max_bank_deg`` (default 60°, a 2 g turn, twice the 30° that airliners and calibration flights
+  keep to) allows at the sample's speed, g tan(bank) / v, is set to NaN. Recordings hold such rates
+  where a feed interpolated the track the long way round the 0/360° wrap (352° → 2° through 180° in
+  25 s: 15°/s at 180 m/s, where 60° of bank gives 5.4°/s); they are no turn of the aircraft. Ground
+  speed stands in for airspeed (a tailwind of a sixth of the speed tightens the bound by a sixth).
 """
 
 from __future__ import annotations
@@ -143,9 +145,9 @@ def _intervals(name: str, value: Sequence[tuple[float, float]]) -> tuple[tuple[f
     return tuple(sorted(out))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class TurnTruth:
-    """What :func:`turn_intervals` found.
+    """What :func:`turn_intervals` found (read-only arrays; compared by identity, as it holds arrays).
 
     Attributes:
         turns: The turns, in time order.
@@ -167,6 +169,10 @@ class TurnTruth:
         object.__setattr__(self, "straight", _intervals("straight", self.straight))
         if np.shape(self.t_s) != np.shape(self.rate_deg_s) or np.ndim(self.t_s) != 1:
             raise ConfigError("rate_deg_s", np.shape(self.rate_deg_s), "is not one value per sample of t_s")
+        for name in ("t_s", "rate_deg_s"):
+            arr = np.array(getattr(self, name), dtype=float)
+            arr.setflags(write=False)
+            object.__setattr__(self, name, arr)
 
     @property
     def straight_s(self) -> float:

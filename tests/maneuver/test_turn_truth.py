@@ -135,7 +135,7 @@ def test_a_single_stray_value_is_no_turn():
 
 def test_implausible_rates_with_speed_are_dropped():
     # the feed interpolated 352 -> 2 deg the long way round in 25 s (15 deg/s at 180 m/s: 60 deg of
-    # bank gives 5.5 deg/s); without the speed it is a turn, with it no rate there
+    # bank gives 5.4 deg/s); without the speed it is a turn, with it no rate there
     t = np.arange(0.0, 120.0, 1.0)
     ang = np.where(t < 40, 352.0, np.where(t < 65, 352.0 - 14.0 * (t - 39), 2.0))
     ang = np.mod(ang, 360.0)
@@ -227,7 +227,7 @@ def test_scoring_takes_a_turn_truth():
     s = score_declarations(onsets, truth)
     assert (s.hits, s.misses, s.false_alarms) == (2, 0, 1)
     assert s.straight_hours == pytest.approx(truth.straight_s / 3600.0)
-    assert isinstance(truth, TurnTruth)
+    assert isinstance(truth, TurnTruth) and not truth.rate_deg_s.flags.writeable
 
 
 # --- the real recordings ------------------------------------------------------------------------------
@@ -289,22 +289,13 @@ def test_radar_export_matches_its_trajectory():
     site = meta["sensor"]
     assert meta["sigma_range_nm"] == 0.03 and meta["sigma_bearing_deg"] == 0.08
     f = load_flight("turns_calibration_cardiff")
-    t0 = f["t_s"]  # both files start at their first row: align on absolute time through the header
-    import csv
-
-    from tests.adsb import ADSB_DIR, _seconds
-
-    with (ADSB_DIR / "turns_calibration_cardiff.csv").open() as fh:
-        first_fix = _seconds(next(csv.DictReader(fh))["timestamp"])
-    with (ADSB_DIR / "radar_polar.csv").open() as fh:
-        first_scan = _seconds(next(csv.DictReader(x for x in fh if not x.startswith("#")))["time"])
-    ts = radar["t_s"] + (first_scan - first_fix)
+    ts = radar["t_s"] + float(radar["t0_unix_s"] - f["t0_unix_s"])  # scan times on the flight's clock
     # scans every 4 s with jitter: consecutive scans 4 s apart (+-0.6 s) or a multiple for misses
     d = np.diff(ts)
     k = np.round(d / 4.0)
     assert np.all(np.abs(d - 4.0 * k) <= 0.6 + 1e-6) and np.all(k >= 1)
     x, y, z = pymap3d.geodetic2ecef(f["lat"], f["lon"], f["alt_m"])
-    p = [np.interp(ts, t0, c) for c in (x, y, z)]
+    p = [np.interp(ts, f["t_s"], c) for c in (x, y, z)]
     az, _, srange = pymap3d.ecef2aer(*p, site["latitude"], site["longitude"], site["altitude_m"])
     dr = radar["range_nm"] - srange / 1852.0
     db = np.mod(radar["bearing_deg"] - az + 180.0, 360.0) - 180.0
