@@ -235,9 +235,11 @@ def test_scoring_takes_a_turn_truth():
 # turns per flight (airborne rows: ground speed >= 25 m/s). The counts were checked against plots of the
 # track angle with the intervals drawn: noisy_landing's 4 (two right turns onto the approach, two left
 # at the end) and raw_rs1090_cdg's 2 (the left turns of the climb-out after a straight departure) are
-# the visible turns one by one; the calibration, airbus_tree and texas counts hold every visible turn
-# of 1 deg/s or more and are pinned as found (their resampled tracks also hold stray values and
-# interpolation the long way round north, which the spike and bank checks take out).
+# the visible turns one by one. The calibration, airbus_tree and texas counts are pinned as found
+# (regression values): on the plots each interval lies on a visible change of track, but they are not
+# a count by eye: a long turn near 1 deg/s splits into pieces (airbus_tree's first left turn, ~1.1
+# deg/s, is 4), texas's heading changes across gaps > 15 s are not counted, and their resampled tracks
+# hold stray values and interpolation the long way round north, which the spike and bank checks drop.
 TURNS_PER_FLIGHT = {
     "gaps_airbus_tree": 22,
     "raw_rs1090_cdg": 2,
