@@ -106,7 +106,10 @@ def _batch(rec: TrackRecord, R: np.ndarray) -> dict[str, Any]:
         z[i, :n] = rec.z[steps]
         Rb[i, :n] = R[steps]
         prev = np.concatenate([[starts[i][1]], steps[:-1]])
-        dt[i, :n] = rec.t[steps] - rec.t[prev]
+        if rec.grid:  # whole scans of T (exactly: the paper's case)
+            dt[i, :n] = (rec.scan[steps] - rec.scan[prev]) * rec.T
+        else:
+            dt[i, :n] = rec.t[steps] - rec.t[prev]
     a = np.array([s[0] for s in starts], dtype=np.int64)
     b = np.array([s[1] for s in starts], dtype=np.int64)
     return {"segments": segs, "skipped": skipped, "steps": tracked, "z": z, "R": Rb, "dt": dt, "a": a, "b": b}
@@ -164,7 +167,7 @@ def track_record(
         raise InputError(f"{rec.source}: no segment has 3 measured steps (two initialise the trackers)")
     S = len(bt["segments"])
     a, b = bt["a"], bt["b"]
-    dt0 = rec.t[b] - rec.t[a]
+    dt0 = (rec.scan[b] - rec.scan[a]) * rec.T if rec.grid else rec.t[b] - rec.t[a]
     T = rec.T if math.isfinite(rec.T) else float(np.median(bt["dt"]))
     results: dict[str, dict[str, np.ndarray | None]] = {}
     for m in methods:
