@@ -83,13 +83,12 @@ a track from two points (its onset buffer emptied), and a declaration whose corr
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, integer, one_of
-from collections.abc import Callable
-
 from motionsig_cli.filters.consistency import Consistency, Monitor
 from motionsig_cli.filters.imm import scan_covariances
 from motionsig_cli.filters.kalman import joseph_update, spd_inv_logdet
@@ -319,7 +318,9 @@ def input_tracker(
         if not np.all(dt > 0):
             raise ValueError("dt must be > 0 at every step [s]")
         if model.steps is None:
-            raise ValueError("this input model has one period (no steps): irregular times need InputModel.steps")
+            raise ValueError(
+                "this input model has one period (no steps): irregular times need InputModel.steps"
+            )
         Fs = np.zeros((B, na, na))
         Fs[:, n:, n:] = np.eye(p)
         Qs = np.zeros((B, na, na))
@@ -342,7 +343,9 @@ def input_tracker(
             xp = np.einsum("bij,bj->bi", F, x)
             Pp = F @ P @ np.swapaxes(F, -1, -2) + Q
         else:
-            xp = x @ F.T  # ξ_{k|k−1} = F_ξ ξ_{k−1|k−1}: x̂ = F x̂ + G û, the current input estimate as the input
+            xp = (
+                x @ F.T
+            )  # ξ_{k|k−1} = F_ξ ξ_{k−1|k−1}: x̂ = F x̂ + G û, the current input estimate as the input
             Pp = F @ P @ F.T + Q
         Pp = 0.5 * (Pp + np.swapaxes(Pp, -1, -2))
         Rk = R[:, k] if varying else R

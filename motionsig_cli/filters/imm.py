@@ -165,7 +165,10 @@ def imm_filter(
             z[None], H, np.asarray(R)[None] if np.ndim(R) == 3 else R, models, x0, P0, keep_P=keep_P,
             dt=None if dt is None else np.asarray(dt, float)[None], consistency=consistency,
         )  # fmt: skip
-        first = (lambda a: None if a is None else a[0])
+
+        def first(a: np.ndarray | None) -> np.ndarray | None:
+            return None if a is None else a[0]
+
         return IMMTrack(one.x[0], first(one.P), one.log_mu[0], one.loglik[0], first(one.nis),
                         first(one.gated), first(one.reinit))  # fmt: skip
     if z.ndim != 3:
@@ -276,7 +279,7 @@ def imm_filter(
             restart = bad & measured[:, k]
             if restart.any():  # a two-point restart on the last accepted and the current measurement
                 b = np.flatnonzero(restart)
-                Rb = (R[b, k] if varying else np.broadcast_to(R, (b.size, m, m)))
+                Rb = R[b, k] if varying else np.broadcast_to(R, (b.size, m, m))
                 x_new, P_new = two_point_restart(z_last[b], z[b, k], since[b], R_last[b], Rb, n=n)
                 x_new, P_new = mon.cfg.restart(x_new, P_new)
                 X[b] = x_new[:, None, :]

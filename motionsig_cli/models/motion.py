@@ -36,8 +36,8 @@ tracker fed by a real sensor (Stone Soup's transition models take the time inter
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -50,9 +50,9 @@ __all__ = [
     "H_POS6",
     "Q0_RANGE",
     "ModelSet",
+    "aircraft_models",
     "check_distribution",
     "check_transition",
-    "aircraft_models",
     "cv_input_model",
     "cv_input_steps",
     "imm_models",
