@@ -40,7 +40,7 @@ column in the span of the directions) is refused with a :class:`SingularGeometry
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -51,6 +51,7 @@ from motionsig_cli.surveillance.multilateration import COND_LIMIT, GeometryError
 __all__ = [
     "C_M_PER_S",
     "MIN_RECEIVERS",
+    "NO_FIX",
     "SCALES",
     "START_ALT_M",
     "EpochError",
@@ -60,6 +61,7 @@ __all__ = [
     "default_start",
     "position_covariance",
     "receiver_plane",
+    "scale_covariance",
     "solve_snapshot",
     "weighted_position_update",
     "weighted_pseudo_measurement",
@@ -70,6 +72,8 @@ C_M_PER_S = 299_792_458.0
 MIN_RECEIVERS = 4
 """Fewest receivers for a snapshot fix of position and clock."""
 SCALES = ("none", "epoch", "pooled")
+NO_FIX = ("too few receivers", "singular geometry", "no convergence")
+"""Why an epoch has no fix (:attr:`SnapshotFix.status`)."""
 """Covariance scaling: none (σ known), by each epoch's variance factor, by the pooled variance factor."""
 START_ALT_M = 10_000.0
 """Height of the default starting point above the ellipsoid [m] (assumed): above a ground network, so that
@@ -129,6 +133,10 @@ class SnapshotFix:
         other_chi2: (E,) χ² of the other (mirror-image) minimum, NaN where none was found or looked for.
         cond: (E,) condition number of the unweighted H at the solution.
         scale: the covariance scaling (one of :data:`SCALES`).
+        status: (E,) why an epoch has no fix (``""``: it has one): ``"too few receivers"``, ``"singular
+            geometry"`` or ``"no convergence"`` (with ``on_failure="flag"``; see :data:`NO_FIX`).
+        started: (E,) where Gauss–Newton started: ``"closed form"`` (Bancroft), ``"given"`` or
+            ``"centroid"`` (the closed form failed).
     """
 
     position: np.ndarray
@@ -152,6 +160,13 @@ class SnapshotFix:
     other_chi2: np.ndarray
     cond: np.ndarray
     scale: str
+    status: np.ndarray | None = None
+    started: np.ndarray | None = None
+
+    @property
+    def ok(self) -> np.ndarray:
+        """(E,) epochs with a fix (converged, no failure)."""
+        return self.converged & (self.status == "") if self.status is not None else self.converged
 
     @property
     def clock_offset_s(self) -> np.ndarray:
@@ -275,6 +290,53 @@ def _gauss_newton(
     return p, b, iterations, converged
 
 
+def _start_side(S: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The receivers' plane of each epoch with its normal turned away from the Earth's centre ("above")."""
+    centre, normal, flat = receiver_plane(S, used)
+    up = np.sign(np.einsum("ei,ei->e", normal, centre))
+    return centre, normal * np.where(up == 0, 1.0, up)[:, None], flat
+
+
+def _closed_form(
+    S: np.ndarray, rho0: np.ndarray, w: np.ndarray, used: np.ndarray, tol: float, max_iter: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Gauss–Newton from the closed-form solutions (:mod:`~motionsig_cli.surveillance.bancroft`).
+
+    Nearly planar networks: from the planar solution above the receivers' plane (the mirror image is looked
+    at afterwards by the caller, as for a given start). Others: from both of Bancroft's roots, the converged
+    minimum with the lower χ² kept. Returns (p, b, iterations, converged, start (E, 3): NaN where the closed
+    form failed)."""
+    from motionsig_cli.surveillance.bancroft import bancroft, planar_start
+
+    E = len(S)
+    centre, normal, flat = _start_side(S, used)
+    planar = flat < FLAT_RATIO
+    cand_p, cand_b = bancroft(S, rho0, w)
+    if planar.any():
+        pp, pb = planar_start(S[planar], rho0[planar], w[planar], centre[planar], normal[planar])
+        cand_p[planar], cand_b[planar] = pp, pb
+    p_out = np.full((E, 3), np.nan)
+    b_out = np.full(E, np.nan)
+    it_out = np.zeros(E, dtype=np.int64)
+    conv = np.zeros(E, dtype=bool)
+    best = np.full(E, np.inf)
+    start = np.full((E, 3), np.nan)
+    for j in range(2):
+        take = np.all(np.isfinite(cand_p[:, j]), axis=-1) & np.isfinite(cand_b[:, j]) & ~(planar & (j == 1))
+        idx = np.flatnonzero(take)
+        if not idx.size:
+            continue
+        p, b, it, ok = _gauss_newton(S[idx], rho0[idx], w[idx], cand_p[idx, j].copy(), cand_b[idx, j].copy(),
+                                     tol, max_iter)  # fmt: skip
+        chi = np.where(ok, _chi2(S[idx], rho0[idx], w[idx], p, b), np.inf)
+        better = ok & (chi < best[idx]) | (~conv[idx] & ~np.isfinite(best[idx]) & np.all(np.isnan(start[idx]), -1))
+        sel = idx[better]
+        p_out[sel], b_out[sel], it_out[sel], conv[sel] = p[better], b[better], it[better], ok[better]
+        best[sel] = chi[better]
+        start[sel] = cand_p[sel, j]
+    return p_out, b_out, it_out, conv, start
+
+
 def solve_snapshot(
     rho: np.ndarray,
     receivers: np.ndarray,
@@ -287,15 +349,18 @@ def solve_snapshot(
     max_iter: int = 20,
     retry: bool = True,
     mirror: bool = True,
+    on_failure: str = "raise",
 ) -> SnapshotFix:
     """Weighted least-squares fixes of position and clock at E epochs (module docstring).
 
     Args:
         rho: (E, K) pseudoranges c(T − t) [m]; NaN: receiver absent at that epoch.
-        receivers: (K, 3) or (E, K, 3) ECEF positions [m] (ignored where ``rho`` is NaN).
+        receivers: (K, 3) or (E, K, 3) ECEF positions [m] (ignored where ``rho`` is NaN, and may be NaN
+            there).
         sigma: σ of each pseudorange [m]: (E, K), a scalar, or None (unit weights: then give a ``scale``
             other than ``"none"`` for a meaningful covariance).
-        p0: (E, 3) or (3,) starting points [m]; default :func:`default_start`.
+        p0: (E, 3) or (3,) starting points [m]; default the closed-form solution of each epoch
+            (:mod:`~motionsig_cli.surveillance.bancroft`), or :func:`default_start` where that fails.
         b0: (E,) starting clock offsets b [m]; default the weighted mean of ρ − ‖p0 − S‖.
         scale: one of :data:`SCALES`.
         tol: stop when the step (x, y, z, b) is shorter than this [m].
@@ -305,37 +370,71 @@ def solve_snapshot(
         mirror: for receivers nearly in one plane (flatness below :data:`FLAT_RATIO`), also start from the
             fix's mirror image in their plane, and keep the minimum on the starting point's side of the
             plane (the two fit about equally well: the data cannot tell them apart, the start says where
-            the transmitter is); the other one's χ² is kept in ``other_chi2``.
+            the transmitter is; the closed-form start is above the plane); the other one's χ² is kept in
+            ``other_chi2``.
+        on_failure: ``"raise"`` (a :class:`SingularGeometry` for the first epoch that cannot be solved) or
+            ``"flag"`` (every epoch is solved that can be; the others get a ``status``, NaN values).
 
     Raises:
-        SingularGeometry: an epoch with fewer than :data:`MIN_RECEIVERS` receivers, or a singular geometry.
-        ConfigError: a bad ``scale``, ``tol`` or ``max_iter``.
+        SingularGeometry: (``on_failure="raise"``) an epoch with fewer than :data:`MIN_RECEIVERS` receivers,
+            or a singular geometry.
+        ConfigError: a bad ``scale``, ``tol``, ``max_iter`` or ``on_failure``.
     """
     one_of("scale", scale, SCALES)
+    one_of("on_failure", on_failure, ("raise", "flag"))
     positive("tol", tol, unit="m")
     integer("max_iter", max_iter, 1, 1000)
     rho = np.atleast_2d(np.asarray(rho, dtype=float))
     E, K = rho.shape
     S = _broadcast(receivers, E, K)
     used = np.isfinite(rho) & np.all(np.isfinite(S), axis=-1)
+    S = np.where(used[..., None], S, 0.0)  # an absent receiver's position (NaN) never reaches the algebra
     sig = np.broadcast_to(np.asarray(1.0 if sigma is None else sigma, dtype=float), (E, K))
     if np.any(used & ~(sig > 0)):
         raise ConfigError("sigma", float(np.min(sig[used])), "is not > 0 for every measurement used")
+    n_used = used.sum(axis=1)
+    few = n_used < MIN_RECEIVERS
+    if few.any():
+        if on_failure == "raise":
+            e = int(np.flatnonzero(few)[0])
+            raise SingularGeometry(e, f"{int(n_used[e])} receiver(s): at least {MIN_RECEIVERS} are needed for a fix")
+        keep = ~few
+        sub = None
+        if keep.any():
+            sub = solve_snapshot(
+                np.where(used, rho, np.nan)[keep], S[keep], sigma=np.where(used, sig, 1.0)[keep],
+                p0=None if p0 is None else np.broadcast_to(p0, (E, 3))[keep],
+                b0=None if b0 is None else np.broadcast_to(b0, (E,))[keep], scale="none", tol=tol,
+                max_iter=max_iter, retry=retry, mirror=mirror, on_failure="flag",
+            )  # fmt: skip
+        fix = _expand(sub, keep, n_used, K)
+        return scale_covariance(fix, scale)
     w = np.where(used, 1.0 / np.where(used, sig, 1.0), 0.0)
     rho0 = np.where(used, rho, 0.0)
-    n_used = used.sum(axis=1)
-    few = np.flatnonzero(n_used < MIN_RECEIVERS)
-    if few.size:
-        raise SingularGeometry(
-            int(few[0]), f"{int(n_used[few[0]])} receiver(s): at least {MIN_RECEIVERS} are needed for a fix"
-        )
-    p = default_start(S, used) if p0 is None else np.array(np.broadcast_to(p0, (E, 3)), dtype=float)
-    if b0 is None:
-        b = _mean_bias(S, rho0, w, p)
+    started = np.full(E, "given" if p0 is not None else "closed form", dtype=object)
+    if p0 is None:
+        p, b, iterations, converged, p_start = _closed_form(S, rho0, w, used, tol, max_iter)
+        lost_cf = np.any(np.isnan(p_start), axis=-1)
+        if lost_cf.any():  # the closed form failed: the old start, 10 km above the receivers' centroid
+            i = np.flatnonzero(lost_cf)
+            p_start[i] = default_start(S[i], used[i])
+            p[i], b[i], iterations[i], converged[i] = _gauss_newton(
+                S[i], rho0[i], w[i], p_start[i].copy(), _mean_bias(S[i], rho0[i], w[i], p_start[i]), tol, max_iter
+            )  # fmt: skip
+            started[i] = "centroid"
+        bad = ~np.all(np.isfinite(p), axis=-1) | ~np.isfinite(b)
+        if bad.any():  # a start that ran away: the centroid start
+            i = np.flatnonzero(bad)
+            p_start[i] = default_start(S[i], used[i])
+            p[i], b[i], iterations[i], converged[i] = _gauss_newton(
+                S[i], rho0[i], w[i], p_start[i].copy(), _mean_bias(S[i], rho0[i], w[i], p_start[i]), tol, max_iter
+            )  # fmt: skip
+            started[i] = "centroid"
     else:
-        b = np.array(np.broadcast_to(b0, (E,)), dtype=float)
-    p_start = p.copy()
-    p, b, iterations, converged = _gauss_newton(S, rho0, w, p, b, tol, max_iter)
+        p = np.array(np.broadcast_to(p0, (E, 3)), dtype=float)
+        b = _mean_bias(S, rho0, w, p) if b0 is None else np.array(np.broadcast_to(b0, (E,)), dtype=float)
+        p_start = p.copy()
+        p, b, iterations, converged = _gauss_newton(S, rho0, w, p, b, tol, max_iter)
     retried = np.zeros(E, dtype=bool)
     failed = np.flatnonzero(~converged)
     good = np.flatnonzero(converged)
@@ -373,6 +472,10 @@ def solve_snapshot(
             mirrored[take] = True
             other_chi2[cand] = np.where(ok2, np.where(take_b, chi_a, chi_b), np.nan)
     # the solution: residuals, covariance (whitened R), geometry (unweighted)
+    lost = ~(np.all(np.isfinite(p), axis=-1) & np.isfinite(b))
+    p = np.where(lost[:, None], p_start, p)
+    b = np.where(lost, _mean_bias(S, rho0, w, p), b)
+    converged &= ~lost
     _, R, r, U = _qr_step(S, rho0, w, p, b)
     cond = _cond(U, used)
     bad = ~(cond <= COND_LIMIT)
@@ -381,22 +484,28 @@ def solve_snapshot(
         U0 = _qr_step(S[idx], rho0[idx], w[idx], p_start[idx], b[idx])[3]
         fine = _cond(U0, used[idx]) <= COND_LIMIT
         bad[idx[fine]] = False  # not the geometry: an epoch that did not converge (its fix is flagged)
-        lost = np.zeros(E, dtype=bool)
         lost[idx[fine]] = True
-    else:
-        lost = np.zeros(E, dtype=bool)
+    lost |= ~converged
+    status = np.where(converged, "", "no convergence").astype(object)
     if np.any(bad):
-        e = int(np.flatnonzero(bad)[0])
-        raise SingularGeometry(
-            e,
-            f"the geometry is singular (condition number {cond[e]:.3g} > {COND_LIMIT:g}): position and clock "
-            "cannot be separated (e.g. all receivers on a line, or in a plane with the transmitter)",
-        )
+        if on_failure == "raise":
+            e = int(np.flatnonzero(bad)[0])
+            raise SingularGeometry(
+                e,
+                f"the geometry is singular (condition number {cond[e]:.3g} > {COND_LIMIT:g}): position and clock "
+                "cannot be separated (e.g. all receivers on a line, or in a plane with the transmitter)",
+            )
+        status[bad] = "singular geometry"
+        converged &= ~bad
+        lost |= bad
     eye = np.eye(4)
-    Rinv = np.linalg.inv(np.where(lost[:, None, None], eye, R))
+    Rf = np.where(lost[:, None, None] | ~np.isfinite(R), eye, R)
+    sv = np.linalg.svd(Rf, compute_uv=False)
+    lost |= ~(sv[:, -1] > 0)
+    Rinv = np.linalg.inv(np.where(lost[:, None, None], eye, Rf))
     cov = Rinv @ np.swapaxes(Rinv, -1, -2)  # (HᵀWH)⁻¹ = R⁻¹R⁻ᵀ
     H = np.concatenate([U, np.ones((E, K, 1))], axis=-1) * used[..., None]
-    Rh = thin_qr(H)[1]
+    Rh = thin_qr(np.where(lost[:, None, None], np.eye(K, 4), H))[1]
     Rhi = np.linalg.inv(np.where(lost[:, None, None], eye, Rh))
     G = Rhi @ np.swapaxes(Rhi, -1, -2)  # (HᵀH)⁻¹
     cov[lost] = np.nan
@@ -404,19 +513,12 @@ def solve_snapshot(
     res = np.where(used, r, np.nan)
     z = res * np.where(used, w, np.nan)
     chi2 = np.nansum(z**2, axis=1)
-    dof = n_used - MIN_RECEIVERS
-    with np.errstate(divide="ignore", invalid="ignore"):
-        per_epoch = np.where(dof > 0, chi2 / np.maximum(dof, 1), np.nan)
-        pooled = float(np.sum(chi2) / np.sum(dof)) if np.sum(dof) > 0 else np.nan
-    factor = {"none": np.ones(E), "epoch": per_epoch, "pooled": np.full(E, pooled)}[scale]
-    cov = cov * factor[:, None, None]
-    cov = 0.5 * (cov + np.swapaxes(cov, -1, -2))
     lat, lon, _ = ecef_to_geodetic(p, strict=False)
     Genu = covariance_to_enu(G[:, :3, :3], lat, lon)
-    return SnapshotFix(
+    fix = SnapshotFix(
         position=p,
         bias=b,
-        covariance=cov,
+        covariance=0.5 * (cov + np.swapaxes(cov, -1, -2)),
         gdop=np.sqrt(np.trace(G, axis1=-2, axis2=-1)),
         pdop=np.sqrt(np.trace(G[:, :3, :3], axis1=-2, axis2=-1)),
         hdop=np.sqrt(Genu[:, 0, 0] + Genu[:, 1, 1]),
@@ -426,7 +528,7 @@ def solve_snapshot(
         normalised=z,
         rms_residual=np.sqrt(np.nanmean(res**2, axis=1)),
         chi2=chi2,
-        variance_factor=factor,
+        variance_factor=np.ones(E),
         n_used=n_used,
         iterations=iterations,
         converged=converged,
@@ -434,8 +536,54 @@ def solve_snapshot(
         mirrored=mirrored,
         other_chi2=other_chi2,
         cond=cond,
-        scale=scale,
+        scale="none",
+        status=status,
+        started=started,
     )
+    return scale_covariance(fix, scale)
+
+
+def scale_covariance(fix: SnapshotFix, scale: str) -> SnapshotFix:
+    """The fixes with their covariance (unscaled, ``fix.scale == "none"``) multiplied by the a-posteriori
+    variance factor s² = rᵀWr/(K − 4) of each epoch (``"epoch"``: an epoch without redundancy, K = 4,
+    takes the pooled factor of the others) or of all epochs pooled (``"pooled"``: Σ rᵀWr / Σ (K − 4) over
+    the epochs with a fix), or unscaled (``"none"``)."""
+    one_of("scale", scale, SCALES)
+    if fix.scale != "none":
+        raise ValueError("scale_covariance takes unscaled fixes")
+    ok = fix.ok
+    dof = np.where(ok, fix.n_used - MIN_RECEIVERS, 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pooled = float(np.sum(np.where(ok, fix.chi2, 0.0)) / np.sum(dof)) if np.sum(dof) > 0 else np.nan
+        per_epoch = np.where(dof > 0, fix.chi2 / np.maximum(dof, 1), pooled)
+    E = len(fix.chi2)
+    factor = {"none": np.ones(E), "epoch": per_epoch, "pooled": np.full(E, pooled)}[scale]
+    return replace(fix, covariance=fix.covariance * factor[:, None, None], variance_factor=factor, scale=scale)
+
+
+def _expand(sub: SnapshotFix | None, keep: np.ndarray, n_used: np.ndarray, K: int) -> SnapshotFix:
+    """Fixes of the epochs ``keep`` spread over all E epochs; the others "too few receivers"."""
+    E = len(keep)
+    out: dict[str, object] = {}
+    for f in fields(SnapshotFix):
+        if f.name == "scale":
+            out[f.name] = "none"
+            continue
+        v = None if sub is None else getattr(sub, f.name)
+        shape = {"position": (3,), "covariance": (4, 4), "residuals": (K,), "normalised": (K,)}.get(f.name, ())
+        if f.name in ("converged", "retried", "mirrored"):
+            a = np.zeros(E, dtype=bool)
+        elif f.name in ("n_used", "iterations"):
+            a = np.zeros(E, dtype=np.int64)
+        elif f.name in ("status", "started"):
+            a = np.full(E, "too few receivers" if f.name == "status" else "", dtype=object)
+        else:
+            a = np.full((E, *shape), np.nan)
+        if v is not None:
+            a[keep] = v
+        out[f.name] = a
+    out["n_used"] = n_used
+    return SnapshotFix(**out)  # type: ignore[arg-type]
 
 
 # --- the report's clock pseudo-measurement with weights (§4.5) ------------------------------------------
