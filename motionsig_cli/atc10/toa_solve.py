@@ -68,6 +68,7 @@ Every failure is one line: a bad record an :class:`~motionsig_cli.errors.InputEr
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from decimal import ROUND_FLOOR, Decimal, localcontext
@@ -95,6 +96,7 @@ from motionsig_cli.config import ConfigError, in_range, integer, one_of
 from motionsig_cli.errors import InputError
 from motionsig_cli.geodesy import ecef_to_geodetic, geodetic_to_ecef
 from motionsig_cli.records import (
+    UNITS,
     Record,
     RecordSpec,
     Role,
@@ -105,15 +107,19 @@ from motionsig_cli.records import (
 )
 from motionsig_cli.surveillance.clock import psi
 from motionsig_cli.surveillance.clock_tracking import ReportClock
+from motionsig_cli.surveillance.earth_rotation import rotate_for_flight
+from motionsig_cli.surveillance.fault_exclusion import P_FA, FaultExclusion, FdeResult, exclude_faults
 from motionsig_cli.surveillance.multilateration import COND_LIMIT, FOOT_M, GeometryError
 from motionsig_cli.surveillance.toa_fix import (
     C_M_PER_S,
     MIN_RECEIVERS,
+    NO_FIX,
     START_ALT_M,
     EpochError,
     SingularGeometry,
     SnapshotFix,
     position_covariance,
+    scale_covariance,
     solve_snapshot,
     weighted_position_update,
     weighted_pseudo_measurement,
@@ -156,6 +162,10 @@ OTHER_SIDE_CHI2 = 25.0
 """Mirror-image fixes whose χ², summed over the epochs, is lower by more than this (a likelihood ratio of
 e^12.5: assumed) are reported: the transmitter may be on the other side of the receivers' plane from the
 starting point."""
+MAX_DEPTH_M = 100e3
+"""Fixes whose median over a record lies more than this below the ellipsoid [m] (assumed: no transmitter or
+receiver is 100 km underground) mean measurements that do not fit the receivers' positions, such as
+pseudoranges in kilometres read as metres: the record is refused."""
 TIME_MATCH_S = 1e-6
 """Largest difference between a record's epoch time and a receivers file's time taken as the same [s]."""
 MAX_NS = 1e9
@@ -207,14 +217,64 @@ def measurement_spec(kind: str, max_rows: int = MAX_MEASUREMENTS) -> RecordSpec:
     )  # fmt: skip
 
 
+def parse_sigma(value: str | float) -> tuple[float, str | None]:
+    """``--sigma``: (value, unit) from a number (unit None: the measurement's own, s for TOAs and TDOAs, m
+    for pseudoranges) or a text with a time or length unit, ``"10ns"``, ``"3 m"``, ``"0.5us"``.
+
+    Raises:
+        ConfigError: (field ``sigma``) not a number with an optional known unit, or not > 0.
+    """
+    unit: str | None = None
+    if isinstance(value, str):
+        m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([A-Za-zµ]*)\s*", value)
+        try:
+            v = float(m.group(1)) if m else math.nan
+        except ValueError:
+            v = math.nan
+        if not m or not math.isfinite(v):
+            raise ConfigError("sigma", value, "is not a number with an optional unit (e.g. 10ns, 3m, 1e-8)")
+        unit = m.group(2) or None
+        if unit is not None and unit not in UNITS["time"] and unit not in UNITS["length"]:
+            known = ", ".join([*UNITS["time"], *UNITS["length"]])
+            raise ConfigError("sigma", value, f"has unit {unit!r}: not a time or length unit ({known})")
+    else:
+        v = float(value)
+    if not (v > 0 and math.isfinite(v)):
+        raise ConfigError("sigma", value, "is not > 0")
+    return v, unit
+
+
+def sigma_metres(value: str | float, kind: str) -> float:
+    """σ [m] of a ``--sigma`` value for a record of measurements ``kind`` (a time times c).
+
+    Raises:
+        ConfigError: (field ``sigma``) bad, or more than one second (c × 1 s).
+    """
+    v, unit = parse_sigma(value)
+    if unit is None:
+        unit = "m" if kind == "pseudorange" else "s"
+    metres = v * UNITS["length"][unit] if unit in UNITS["length"] else C_M_PER_S * v * UNITS["time"][unit]
+    if metres > C_M_PER_S * MAX_NS * 1e-9:
+        hint = (
+            f" (a number without a unit is in the measurement's unit, {unit} here: 10 ns is 10ns)"
+            if isinstance(value, float | int) or re.fullmatch(r"\s*[-+0-9.eE]+\s*", str(value))
+            else ""
+        )
+        raise ConfigError("sigma", value, f"is more than one second of light time{hint}")
+    return metres
+
+
 @dataclass(frozen=True)
 class SolveConfig:
     """What ``track-sat solve`` computes and writes.
 
     Attributes:
         clock: ``snapshot`` (a least-squares fix per epoch) or ``track`` (also the report's clock tracker).
-        sigma_ns: the TOA error σ [ns] of every measurement (overrides a ``sigma`` column), in
-            (0, :data:`MAX_NS`]; None: the record's ``sigma`` column, else unknown (unit weights).
+        sigma: the error σ of every measurement (overrides a ``sigma`` column): a number in the unit of the
+            measurement (seconds for TOAs and TDOAs, metres for pseudoranges) or a text with a unit
+            (``"10ns"``, ``"3 m"``: :func:`parse_sigma`), at most one second (c × 1 s as a length);
+            None: the record's ``sigma`` column, else unknown (unit weights).
+        sigma_ns: the same σ in nanoseconds (the older spelling; not with ``sigma``).
         sigma0_ns: the clock model's scale σ0 [ns] per epoch step (σ1 = σ2 = σ0, ρ = 1), in [0, MAX_NS];
             None: :data:`SIGMA0_NS` (the default of ``track-sat simulate``).
         gain: ``recursive`` (the exact γ_n) or ``steady`` (the constant ψ(α) from the first epoch's geometry).
@@ -229,9 +289,15 @@ class SolveConfig:
         max_iter: Gauss–Newton steps per epoch, 1 to 1000.
         view: ``epochs`` (one row per epoch) or ``residuals`` (one row per measurement).
         full_covariance: add the covariance of (x, y, z, clock offset) as columns.
+        fde: fault detection and exclusion (:mod:`~motionsig_cli.surveillance.fault_exclusion`; needs σ).
+        p_fa: the fault test's false-alarm probability per epoch, in (0, 0.5].
+        earth_rotation: rotate the anchors by the Earth's rotation during the signal's flight
+            (:mod:`~motionsig_cli.surveillance.earth_rotation`; for satellite positions given at the
+            transmission time).
     """
 
     clock: str = "snapshot"
+    sigma: str | float | None = None
     sigma_ns: float | None = None
     sigma0_ns: float | None = None
     gain: str = "recursive"
@@ -244,11 +310,21 @@ class SolveConfig:
     max_iter: int = 20
     view: str = "epochs"
     full_covariance: bool = False
+    fde: bool = True
+    p_fa: float = P_FA
+    earth_rotation: bool = False
 
     def __post_init__(self) -> None:
         one_of("clock", self.clock, CLOCKS)
         if self.sigma_ns is not None:
             in_range("sigma_ns", self.sigma_ns, 0.0, MAX_NS, lo_open=True, unit="ns")
+            if self.sigma is not None:
+                raise ConfigError("sigma_ns", self.sigma_ns, "and sigma both given: give one")
+        if self.sigma is not None:
+            parse_sigma(self.sigma)
+        FaultExclusion(self.p_fa, self.fde)
+        if self.earth_rotation and self.clock == "track":
+            raise ConfigError("earth_rotation", True, "applies to the snapshot fixes: not with --clock track")
         if self.sigma0_ns is not None:
             in_range("sigma0_ns", self.sigma0_ns, 0.0, MAX_NS, unit="ns")
         one_of("gain", self.gain, GAINS)
@@ -393,6 +469,7 @@ def read_measurements(
     receivers_columns: str | Mapping[str, str] | None = None,
     toa_origin: str = "time",
     sigma_ns: float | None = None,
+    sigma: str | float | None = None,
 ) -> Measurements:
     """Read a TOA record (and a receivers file) into epochs and receiver slots (module docstring).
 
@@ -406,6 +483,8 @@ def read_measurements(
         receivers_columns: ``--columns`` of the receivers file.
         toa_origin: one of :data:`TOA_ORIGINS`.
         sigma_ns: a σ [ns] for every measurement (overrides a ``sigma`` column).
+        sigma: a σ for every measurement in its own unit or with a unit (:func:`parse_sigma`; overrides a
+            ``sigma`` column; not with ``sigma_ns``).
 
     Raises:
         ConfigError: a bad ``columns``/``units`` text or option.
@@ -572,7 +651,16 @@ def read_measurements(
     measured = np.isfinite(rho_row)
     # σ [m]
     sigma_row: np.ndarray | None
-    if sigma_ns is not None:
+    if sigma is not None:
+        if sigma_ns is not None:
+            raise ConfigError("sigma_ns", sigma_ns, "and sigma both given: give one")
+        sm = sigma_metres(sigma, kind)
+        sigma_row = np.full(len(rec), sm)
+        v, u = parse_sigma(sigma)
+        source_s = f"--sigma {v:g} {u or ('m' if kind == 'pseudorange' else 's')} ({sm:.6g} m of range)" + (
+            " (over the record's sigma column)" if rec.has("sigma") else ""
+        )
+    elif sigma_ns is not None:
         in_range("sigma_ns", sigma_ns, 0.0, MAX_NS, lo_open=True, unit="ns")
         sigma_row = np.full(len(rec), C_M_PER_S * sigma_ns * 1e-9)
         source_s = f"--sigma {sigma_ns:g} ns" + (
@@ -840,11 +928,12 @@ class SolveResult:
     period: float | None
     covariance: str
     notes: tuple[str, ...] = field(default=())
+    fde: FdeResult | None = None
 
 
 def _covariance_mode(cfg: SolveConfig, meas: Measurements) -> str:
     if cfg.covariance == "auto":
-        return "known" if meas.sigma is not None else "pooled"
+        return "known" if meas.sigma is not None else "epoch"
     if cfg.covariance == "known" and meas.sigma is None:
         raise ConfigError(
             "covariance", "known", "needs σ: give --sigma or a sigma column (or use --covariance pooled)"
@@ -902,79 +991,113 @@ def _check_epoch_times(meas: Measurements, steps: np.ndarray) -> None:
         )
 
 
+def _snapshot(
+    rho: np.ndarray, S: np.ndarray, sigma: np.ndarray | None, p0: np.ndarray | None, cfg: SolveConfig
+) -> SnapshotFix:
+    """Unscaled fixes of some epochs, every epoch decided on its own (``on_failure="flag"``); with
+    ``earth_rotation`` solved again with the anchors rotated for the flight time at the fix (twice)."""
+    fix = solve_snapshot(rho, S, sigma=sigma, p0=p0, max_iter=cfg.max_iter, on_failure="flag")
+    if cfg.earth_rotation:
+        for _ in range(2):
+            ok = fix.ok
+            Sr = np.where(ok[:, None, None], rotate_for_flight(S, np.where(ok[:, None], fix.position, 0.0)), S)
+            fix = solve_snapshot(rho, Sr, sigma=sigma, p0=p0, max_iter=cfg.max_iter, on_failure="flag")
+    return fix
+
+
+def _plausible(meas: Measurements, fix: SnapshotFix, cfg: SolveConfig, role: str) -> None:
+    """A record whose fixes lie deep inside the Earth (median over the epochs with a fix more than
+    :data:`MAX_DEPTH_M` below the ellipsoid) does not fit its receivers' positions: refused, with the unit
+    that would fit (a kilometre/metre mix-up) when one of ×1000 or ÷1000 does."""
+    ok = np.flatnonzero(fix.ok)
+    if not ok.size:
+        return
+    alt = ecef_to_geodetic(fix.position[ok], strict=False)[2]
+    med = float(np.median(alt))
+    if med >= -MAX_DEPTH_M:
+        return
+    hint = ""
+    sub = ok[: min(ok.size, 5)]
+    sig = None if meas.sigma is None else meas.sigma[sub]
+    for factor, what in ((1e3, "kilometres" if meas.kind == "pseudorange" else "milliseconds"),
+                         (1e-3, "millimetres" if meas.kind == "pseudorange" else "microseconds")):  # fmt: skip
+        trial = solve_snapshot(meas.rho[sub] * factor, meas.receivers[sub], sigma=sig, on_failure="flag")
+        if trial.ok.any() and np.median(ecef_to_geodetic(trial.position[trial.ok], strict=False)[2]) > -MAX_DEPTH_M:
+            col = meas.record.columns[role]
+            unit = {"kilometres": "km", "milliseconds": "ms", "millimetres": "mm", "microseconds": "us"}[what]
+            hint = (
+                f"; they fit as {what}: label the unit ('{col} [{unit}]' in the header, or --units {role}={unit})"
+            )
+            break
+    raise InputError(
+        f"{meas.where(int(ok[0]), role)}: the {meas.kind} values do not fit the receivers' positions: the fixes lie "
+        f"{-med / 1e3:.6g} km below the WGS-84 ellipsoid (median over {ok.size} epoch(s)){hint}"
+    )
+
+
 def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
-    """Snapshot fixes, and with ``cfg.clock == "track"`` the clock track (module docstring).
+    """Snapshot fixes (every epoch on its own: one that cannot be solved gets a status), faults excluded
+    (with σ known), and with ``cfg.clock == "track"`` the clock track (module docstring).
 
     Raises:
-        InputError: an epoch with too few receivers for what is asked, or a singular geometry (naming the
-            epoch's first line).
+        InputError: the fixes lie deep inside the Earth (a unit mix-up), or the clock track cannot start.
         ConfigError: ``covariance="known"`` without σ, or ``clock="track"`` without σ.
     """
     cov_mode = _covariance_mode(cfg, meas)
     scale = {"known": "none", "epoch": "epoch", "pooled": "pooled"}[cov_mode]
-    n = meas.n_used
-    role = "toa" if meas.kind == "toa" else "pseudorange"
-    if cfg.clock == "snapshot":
-        few = np.flatnonzero(n < MIN_RECEIVERS)
-        if few.size:
-            e = int(few[0])
-            raise InputError(
-                f"{meas.where(e, role)}: {meas.epoch_name(e)} has {int(n[e])} receiver(s) with a measurement: a "
-                f"snapshot fix needs at least {MIN_RECEIVERS} (with --clock track, 3 are enough: the position then "
-                "follows from the clock prediction)"
-            )
-    elif meas.sigma is None:
+    role = {"toa": "toa", "tdoa": "tdoa"}.get(meas.kind, "pseudorange")
+    if cfg.clock == "track" and meas.sigma is None:
         raise ConfigError(
             "sigma_ns",
             None,
             "is needed by --clock track: the gain weighs the clock model against the measurements; give --sigma "
             "or a sigma column",
         )
-    fix_epochs = np.flatnonzero(n >= MIN_RECEIVERS)
-    fix = None
+    fix_epochs = np.arange(meas.E)
     notes: list[str] = []
-    if fix_epochs.size:
-        p0 = None
-        if cfg.start is not None:
-            p0 = geodetic_to_ecef(*cfg.start)
-        sig = None if meas.sigma is None else meas.sigma[fix_epochs]
-        try:
-            fix = solve_snapshot(
-                meas.rho[fix_epochs],
-                meas.receivers[fix_epochs],
-                sigma=sig,
-                p0=p0,
-                scale=scale,
-                max_iter=cfg.max_iter,
-            )
-        except SingularGeometry as exc:
-            e = int(fix_epochs[exc.epoch])
-            raise InputError(f"{meas.where(e, 'receiver' if meas.record.has('receiver') else None)}: "
-                             f"{meas.epoch_name(e)}: {exc.reason}") from None  # fmt: skip
-        bad = np.flatnonzero(~fix.converged)
+    p0 = None if cfg.start is None else geodetic_to_ecef(*cfg.start)
+    sig_all = meas.sigma
+
+    def run(rho: np.ndarray, idx: np.ndarray) -> SnapshotFix:
+        return _snapshot(rho, meas.receivers[idx], None if sig_all is None else sig_all[idx], p0, cfg)
+
+    fde_cfg = FaultExclusion(cfg.p_fa, enabled=cfg.fde and sig_all is not None)
+    fde = exclude_faults(meas.rho, meas.receivers, np.ones(meas.rho.shape) if sig_all is None else sig_all,
+                         run, fde_cfg)  # fmt: skip
+    fix = scale_covariance(fde.fix, scale)
+    _plausible(meas, fix, cfg, role)
+    if cfg.fde and sig_all is None:
+        notes.append("fault detection and exclusion is off: it needs the measurements' sigma (--sigma or a sigma column)")
+    status = fix.status if fix.status is not None else np.where(fix.converged, "", "no convergence")
+    for reason in NO_FIX:
+        bad = np.flatnonzero(status == reason)
         if bad.size:
-            names = ", ".join(meas.epoch_name(int(fix_epochs[i])) for i in bad[:5])
-            notes.append(
-                f"{bad.size} epoch(s) did not converge in {cfg.max_iter} Gauss-Newton steps ({names}"
-                f"{' ...' if bad.size > 5 else ''}): no fix is written for them (converged = false); try "
-                "--start or --max-iter"
-            )
-        both = fix.converged & np.isfinite(fix.other_chi2)
-        gain = float(np.sum((fix.chi2 - fix.other_chi2)[both]))
-        if gain > OTHER_SIDE_CHI2:
-            notes.append(
-                f"the mirror images of the fixes in the receivers' plane fit better (chi-square lower by {gain:.3g} "
-                f"over {int(both.sum())} epoch(s)): is the transmitter on the other side of the receivers from the "
-                "starting point? (--start)"
-            )
+            names = ", ".join(meas.epoch_name(int(i)) for i in bad[:5])
+            notes.append(f"{bad.size} epoch(s) without a fix ({reason}: {names}{' ...' if bad.size > 5 else ''})")
+    if np.any(status == "no convergence"):
+        notes.append(f"no convergence in {cfg.max_iter} Gauss-Newton steps: try --start or --max-iter")
+    if fde.alarm.any():
+        al = np.flatnonzero(fde.alarm)
+        names = ", ".join(meas.epoch_name(int(i)) for i in al[:5])
+        notes.append(
+            f"{al.size} epoch(s) fail the fault test with no receiver left to exclude ({names}"
+            f"{' ...' if al.size > 5 else ''}): their fixes are flagged (integrity = false)"
+        )
+    both = fix.ok & np.isfinite(fix.other_chi2)
+    gain = float(np.sum((fix.chi2 - fix.other_chi2)[both]))
+    if gain > OTHER_SIDE_CHI2:
+        notes.append(
+            f"the mirror images of the fixes in the receivers' plane fit better (chi-square lower by {gain:.3g} "
+            f"over {int(both.sum())} epoch(s)): is the transmitter on the other side of the receivers from the "
+            "starting point? (--start)"
+        )
     track = steps = period = None
     if cfg.clock == "track":
         steps, period = _steps(meas)
         assert meas.sigma is not None
         weight = np.where(meas.used, 1.0 / np.where(meas.used, meas.sigma, 1.0), 0.0)
         start = np.full((1, meas.E, 3), np.nan)
-        if fix is not None:
-            start[0, fix_epochs] = np.where(fix.converged[:, None], fix.position, np.nan)
+        start[0] = np.where(fix.ok[:, None], fix.position, np.nan)
         try:
             track = track_clock(
                 np.where(meas.used, meas.rho, 0.0)[None],
@@ -991,7 +1114,7 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
             e = int(getattr(exc, "epoch", 0))
             reason = getattr(exc, "reason", str(exc))
             raise InputError(f"{meas.where(e, role)}: {meas.epoch_name(e)}: {reason}") from None
-    return SolveResult(meas, fix_epochs, fix, track, steps, period, cov_mode, tuple(notes))
+    return SolveResult(meas, fix_epochs, fix, track, steps, period, cov_mode, tuple(notes), fde)
 
 
 # --- the table ------------------------------------------------------------------------------------------------
@@ -1030,7 +1153,7 @@ def solve_report(meas: Measurements, cfg: SolveConfig, result: SolveResult | Non
         """Per-epoch values of the fixes (NaN without a fix, or where it did not converge)."""
         out = np.full((E, *shape), np.nan)
         if fix is not None:
-            keep = np.ones(len(fe), dtype=bool) if all_fixes else fix.converged
+            keep = np.ones(len(fe), dtype=bool) if all_fixes else fix.ok
             out[fe[keep]] = np.asarray(values)[keep]
         return out
 
@@ -1045,6 +1168,13 @@ def solve_report(meas: Measurements, cfg: SolveConfig, result: SolveResult | Non
         table = _epoch_table(meas, cfg, res, cols, full, residual_unit, to_res, L, lu, Tf, tu)
     summary = _summary(meas, res, residual_unit, to_res, Tf, tu)
     return SolveReport(table, summary, res.notes)
+
+
+def _status_text(reason: str, n: int) -> str:
+    """The status column of an epoch without a fix."""
+    if reason == "too few receivers":
+        return f"no fix: {n} receiver(s), a fix needs {MIN_RECEIVERS}"
+    return f"no fix: {reason}"
 
 
 def _epoch_table(
@@ -1076,12 +1206,16 @@ def _epoch_table(
     cols[f"rms_residual_{residual_unit}"] = _cells(full(fix.rms_residual if fix else None) * to_res)
     it = full(fix.iterations.astype(float) if fix else None, all_fixes=True)
     cols["iterations"] = [None if v != v else int(v) for v in it.tolist()]
-    conv = np.zeros(meas.E, dtype=bool)
-    has_fix = np.zeros(meas.E, dtype=bool)
-    if fix is not None:
-        conv[res.fix_epochs] = fix.converged
-        has_fix[res.fix_epochs] = True
-    cols["converged"] = [bool(c) if h else None for c, h in zip(conv, has_fix, strict=True)]
+    cols["converged"] = [bool(c) for c in fix.ok] if fix is not None else [None] * meas.E
+    cols["status"] = ["fix" if not st else _status_text(st, int(n)) for st, n in zip(fix.status, meas.n_used, strict=True)] \
+        if fix is not None and fix.status is not None else ["fix"] * meas.E  # fmt: skip
+    fde = res.fde
+    if fde is not None:
+        cols["excluded"] = [" ".join(meas.labels[k] for k in np.flatnonzero(row)) or None for row in fde.excluded]
+        cols["test_statistic"] = _cells(fde.statistic)
+        cols["test_threshold"] = _cells(fde.threshold)
+        cols["integrity"] = [None if not (t == t) or not (s == s) else bool(not a)
+                             for t, s, a in zip(fde.threshold.tolist(), fde.statistic.tolist(), fde.alarm.tolist(), strict=True)]  # fmt: skip
     if cfg.full_covariance:
         P = full(fix.covariance if fix else None, (4, 4))
         names = ("x", "y", "z", "clock")
@@ -1124,15 +1258,17 @@ def _residual_table(
     resid = np.full(meas.row.shape, np.nan)
     norm = np.full(meas.row.shape, np.nan)
     if res.fix is not None:
-        ok = res.fix_epochs[res.fix.converged]
-        resid[ok] = res.fix.residuals[res.fix.converged]
-        norm[ok] = res.fix.normalised[res.fix.converged]
+        ok = res.fix_epochs[res.fix.ok]
+        resid[ok] = res.fix.residuals[res.fix.ok]
+        norm[ok] = res.fix.normalised[res.fix.ok]
     cols: dict[str, list[Any]] = {"line": rec.lines[rows_rec].tolist()}
     cols["epoch"] = [epoch_cols["epoch"][e] for e in e_idx]
     if "time_s" in epoch_cols:
         cols["time_s"] = [epoch_cols["time_s"][e] for e in e_idx]
     cols["receiver"] = [meas.labels[k] for k in k_idx]
     cols["measured"] = meas.used[e_idx, k_idx].tolist()
+    if res.fde is not None:
+        cols["excluded"] = res.fde.excluded[e_idx, k_idx].tolist()
     cols[f"residual_{residual_unit}"] = _cells(resid[e_idx, k_idx] * to_res)
     if meas.sigma is not None:
         cols[f"sigma_{residual_unit}"] = _cells(meas.sigma[e_idx, k_idx] * to_res)
@@ -1186,26 +1322,40 @@ def _meta(
         sigma=meas.sigma_source,
         covariance={
             "known": "(H'WH)^-1 with W = 1/sigma^2 (sigma known), not scaled",
-            "epoch": "(H'WH)^-1 scaled by each epoch's a-posteriori variance factor r'Wr/(K - 4)",
+            "epoch": "(H'WH)^-1 scaled by each epoch's own a-posteriori variance factor r'Wr/(K - 4) (an epoch "
+            "with 4 receivers: the pooled factor of the others)",
             "pooled": "(H'WH)^-1 scaled by the pooled a-posteriori variance factor sum r'Wr / sum (K - 4)",
         }[res.covariance],
         variance_factor=(
             float(res.fix.variance_factor[0]) if res.fix is not None and res.covariance == "pooled" else None
         ),
-        solver="weighted least squares, Gauss-Newton by thin QR, step < 1e-6 m; an epoch that does not converge "
-        "is restarted from the nearest converged epoch's fix",
+        solver="weighted least squares, Gauss-Newton by thin QR, step < 1e-6 m, each epoch on its own; an epoch "
+        "that does not converge is restarted from the nearest converged epoch's fix",
         start=(
             list(cfg.start)
             if cfg.start is not None
-            else f"the receivers' centroid, {START_ALT_M:g} m above the WGS-84 ellipsoid"
+            else "closed form (Bancroft 1985, both roots refined, the lower chi-square kept; for receivers nearly "
+            f"in one plane the planar closed form above the plane); where it fails the receivers' centroid "
+            f"{START_ALT_M:g} m above the WGS-84 ellipsoid"
         ),
+        earth_rotation=(
+            "the anchors rotated about z by omega_E * range / c (the Earth's rotation during the signal's flight; "
+            "positions given at the transmission)"
+            if cfg.earth_rotation
+            else "not corrected (anchor positions taken in the frame of the reception)"
+        ),
+        propagation="straight line at c: ionosphere, troposphere, satellite clocks and ephemerides are the "
+        "user's corrections, applied before",
+        fault_exclusion=_fde_meta(res),
         max_iter=cfg.max_iter,
         fixes=(
             None
             if res.fix is None
             else {
                 "epochs": len(res.fix_epochs),
-                "not_converged": int(np.sum(~res.fix.converged)),
+                "with_a_fix": int(np.sum(res.fix.ok)),
+                "no_fix": {r: int(np.sum(res.fix.status == r)) for r in NO_FIX if np.any(res.fix.status == r)},
+                "not_converged": int(np.sum(res.fix.status == "no convergence")),
                 "restarted_from_a_neighbour": int(np.sum(res.fix.retried)),
                 "mirror_image_taken": int(np.sum(res.fix.mirrored)),
                 "side": "the starting point's side of the receivers' plane (for a nearly planar network the "
@@ -1221,6 +1371,27 @@ def _meta(
         track=track,
         view=cfg.view,
     )
+
+
+def _fde_meta(res: SolveResult) -> dict[str, Any] | str:
+    fde = res.fde
+    if fde is None or res.meas.sigma is None:
+        return "off: the chi-square test needs the measurements' sigma"
+    ex = fde.excluded
+    counts = {res.meas.labels[k]: int(ex[:, k].sum()) for k in np.flatnonzero(ex.any(axis=0))}
+    return {
+        "test": "chi-square of the weighted residuals r'Wr against its (1 - p_fa) quantile with K - 4 degrees of "
+        "freedom (Parkinson & Axelrad 1988; Brown 1992); epochs with 4 receivers are not tested",
+        "exclusion": "the receiver with the largest standardised residual |r|/(sigma sqrt(1 - h)), then solved "
+        "again, while at least 5 receivers remain",
+        "p_fa": fde.p_fa,
+        "epochs_tested": int(np.isfinite(fde.first_threshold).sum()),
+        "epochs_alarmed": int(np.sum(fde.first_statistic > fde.first_threshold)),
+        "epochs_with_exclusions": int(ex.any(axis=1).sum()),
+        "receivers_excluded": int(ex.sum()),
+        "excluded_by_receiver": counts,
+        "epochs_failing_after_exclusion": int(fde.alarm.sum()),
+    }
 
 
 def _reading(meas: Measurements, cfg: SolveConfig) -> dict[str, Any]:
@@ -1258,16 +1429,18 @@ def _summary(
     parts = [f"track-sat solve: {meas.E} epoch(s), {meas.K} receiver(s)"]
     fix = res.fix
     if fix is not None:
-        ok = fix.converged
+        ok = fix.ok
         n_ok, n_all = int(ok.sum()), len(res.fix_epochs)
         if n_ok:
-            of = f" (of {n_all} epochs with four receivers)" if n_ok < n_all else ""
             parts.append(
-                f"{n_ok} snapshot fix(es){of}: median PDOP {float(np.median(fix.pdop[ok])):.3g}, median RMS "
+                f"{n_ok} snapshot fix(es): median PDOP {float(np.median(fix.pdop[ok])):.3g}, median RMS "
                 f"residual {float(np.median(fix.rms_residual[ok])) * to_res:.4g} {residual_unit}"
             )
-        else:
-            parts.append(f"no snapshot fix: none of {n_all} epoch(s) converged")
+        if n_ok < n_all:
+            parts.append(f"{n_all - n_ok} epoch(s) without a fix (status column)")
+        if res.fde is not None and res.fde.excluded.any():
+            ex = res.fde.excluded
+            parts.append(f"{int(ex.sum())} measurement(s) excluded as faulty in {int(ex.any(axis=1).sum())} epoch(s)")
     tr = res.track
     if tr is not None:
         sd = np.sqrt(tr.var[0, -1]) / C_M_PER_S * Tf
