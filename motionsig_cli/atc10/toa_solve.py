@@ -116,7 +116,6 @@ from motionsig_cli.surveillance.toa_fix import (
     NO_FIX,
     START_ALT_M,
     EpochError,
-    SingularGeometry,
     SnapshotFix,
     position_covariance,
     scale_covariance,
@@ -1005,6 +1004,25 @@ def _snapshot(
     return fix
 
 
+def _refuse_unsolvable(meas: Measurements, fix: SnapshotFix, role: str) -> None:
+    """A record none of whose epochs can be solved for want of receivers or geometry is refused (one line,
+    naming the first epoch): there is nothing to write. With --clock track three receivers are enough."""
+    st = fix.status
+    if st is None or fix.ok.any() or not np.all((st == "too few receivers") | (st == "singular geometry")):
+        return
+    e = 0
+    if st[e] == "too few receivers":
+        raise InputError(
+            f"{meas.where(e, role)}: {meas.epoch_name(e)} has {int(meas.n_used[e])} receiver(s) with a measurement: "
+            f"a snapshot fix needs at least {MIN_RECEIVERS} (and no epoch of the record has a fix)"
+        )
+    raise InputError(
+        f"{meas.where(e, 'receiver' if meas.record.has('receiver') else None)}: {meas.epoch_name(e)}: the geometry "
+        "is singular: position and clock cannot be separated (e.g. all receivers on a line, or in a plane with the "
+        "transmitter), and no epoch of the record has a fix"
+    )
+
+
 def _plausible(meas: Measurements, fix: SnapshotFix, cfg: SolveConfig, role: str) -> None:
     """A record whose fixes lie deep inside the Earth (median over the epochs with a fix more than
     :data:`MAX_DEPTH_M` below the ellipsoid) does not fit its receivers' positions: refused, with the unit
@@ -1065,6 +1083,7 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
     fde = exclude_faults(meas.rho, meas.receivers, np.ones(meas.rho.shape) if sig_all is None else sig_all,
                          run, fde_cfg)  # fmt: skip
     fix = scale_covariance(fde.fix, scale)
+    _refuse_unsolvable(meas, fix, role)
     _plausible(meas, fix, cfg, role)
     if cfg.fde and sig_all is None:
         notes.append("fault detection and exclusion is off: it needs the measurements' sigma (--sigma or a sigma column)")
@@ -1322,8 +1341,8 @@ def _meta(
         sigma=meas.sigma_source,
         covariance={
             "known": "(H'WH)^-1 with W = 1/sigma^2 (sigma known), not scaled",
-            "epoch": "(H'WH)^-1 scaled by each epoch's own a-posteriori variance factor r'Wr/(K - 4) (an epoch "
-            "with 4 receivers: the pooled factor of the others)",
+            "epoch": "(H'WH)^-1 scaled by each epoch's a-posteriori variance factor r'Wr/(K - 4) (an epoch with 4 "
+            "receivers: the pooled factor of the others)",
             "pooled": "(H'WH)^-1 scaled by the pooled a-posteriori variance factor sum r'Wr / sum (K - 4)",
         }[res.covariance],
         variance_factor=(
@@ -1436,6 +1455,8 @@ def _summary(
                 f"{n_ok} snapshot fix(es): median PDOP {float(np.median(fix.pdop[ok])):.3g}, median RMS "
                 f"residual {float(np.median(fix.rms_residual[ok])) * to_res:.4g} {residual_unit}"
             )
+        elif fix.status is not None and np.all(fix.status == "no convergence"):
+            parts.append(f"no snapshot fix: none of {n_all} epoch(s) converged")
         if n_ok < n_all:
             parts.append(f"{n_all - n_ok} epoch(s) without a fix (status column)")
         if res.fde is not None and res.fde.excluded.any():

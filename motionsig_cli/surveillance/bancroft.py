@@ -56,9 +56,7 @@ def _wls(A: np.ndarray, w: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     return out
 
 
-def bancroft(
-    receivers: np.ndarray, rho: np.ndarray, weight: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+def bancroft(receivers: np.ndarray, rho: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Both closed-form solutions (eqs 1–2 of the module docstring) of each epoch.
 
     Args:
