@@ -16,8 +16,9 @@ F = U/c, and the clock column 1 of eq 4.5.1).
 whitened system W^½ H Δx = W^½ r by a thin QR factorisation (never the normal equations), halved while it
 would increase χ² (a backtracking line search), vectorised over the epochs: a receiver absent at an epoch
 has weight zero. It stops when the step is below ``tol`` (default
-1 µm) or after ``max_iter`` steps (the epoch is then flagged as not converged, and may be restarted from
-a neighbouring epoch's fix). For a ground network, whose receivers lie nearly in one plane, the problem has
+1 µm), or when the χ² decrease it promises is at the rounding level of the residuals (an ill-conditioned
+geometry magnifies rounding into longer steps), or after ``max_iter`` steps (the epoch is then flagged as
+not converged, and may be restarted from a neighbouring epoch's fix). For a ground network, whose receivers lie nearly in one plane, the problem has
 a second minimum near the mirror image of the transmitter in that plane, which fits about as well (the
 data hardly tell them apart: measured χ² differences of 0.1 to 3 for a 30 km network and a transmitter 2 to
 5 km up) and which Gauss–Newton reaches from some starting points. For such a network (flatness below
@@ -84,6 +85,7 @@ FLAT_RATIO = 0.1
 """Receivers whose positions' smallest singular value (about their centroid) is below this fraction of the
 largest are "nearly in one plane" (a ground network; assumed): the fix's mirror image in that plane is a
 second candidate minimum."""
+EPS = float(np.finfo(float).eps)
 MAX_HALVINGS = 40
 """Most halvings of a Gauss–Newton step in the line search (2⁻⁴⁰ ≈ 10⁻¹²)."""
 DIVERGED_M = 1e10
@@ -267,9 +269,14 @@ def _gauss_newton(
         if not idx.size:
             break
         Si, ri, wi, pi, bi = S[idx], rho0[idx], w[idx], p[idx], b[idx]
-        step, _, _, _ = _qr_step(Si, ri, wi, pi, bi)
+        step, Ri, _, _ = _qr_step(Si, ri, wi, pi, bi)
         ok = np.all(np.isfinite(step), axis=-1)
         step = np.where(ok[:, None], step, 0.0)
+        # the χ² decrease the step promises, ‖R step‖² = ‖Qᵀ W^½ r‖², against the rounding of the residuals
+        # (ε (|ρ| + ‖S‖) per row, whitened): at that floor the fix cannot improve, whatever the step's length
+        # (an ill-conditioned geometry magnifies rounding into steps longer than ``tol``)
+        gain = np.sum(np.einsum("eij,ej->ei", Ri, step) ** 2, axis=-1)
+        floor = 1e4 * np.sum((EPS * (np.abs(ri) + np.linalg.norm(Si, axis=-1)) * wi) ** 2, axis=-1)
         chi0 = _chi2(Si, ri, wi, pi, bi)
         lam = np.ones(len(idx))
         for _ in range(MAX_HALVINGS):
@@ -280,7 +287,7 @@ def _gauss_newton(
                 break
             lam = np.where(worse, 0.5 * lam, lam)
         ok &= np.linalg.norm(pi + lam[:, None] * step[:, :3], axis=-1) < DIVERGED_M
-        small = ok & (np.linalg.norm(step, axis=-1) < tol)
+        small = ok & ((np.linalg.norm(step, axis=-1) < tol) | (gain <= floor))
         lam = np.where(ok, lam, 0.0)
         p[idx] = pi + lam[:, None] * step[:, :3]
         b[idx] = bi + lam * step[:, 3]
@@ -302,39 +309,52 @@ def _closed_form(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Gauss–Newton from the closed-form solutions (:mod:`~motionsig_cli.surveillance.bancroft`).
 
-    Nearly planar networks: from the planar solution above the receivers' plane (the mirror image is looked
-    at afterwards by the caller, as for a given start). Others: from both of Bancroft's roots, the converged
-    minimum with the lower χ² kept. Returns (p, b, iterations, converged, start (E, 3): NaN where the closed
-    form failed)."""
+    Candidates: both of Bancroft's roots, and for a nearly planar network the planar solution above the
+    receivers' plane. Each is refined; the converged minimum with the lowest χ² is kept, and among minima
+    that fit equally well (χ² equal to 10⁻⁶: with four receivers both roots fit exactly) the one nearest the
+    ellipsoid (transmitters and receivers near the Earth: assumed). For a nearly planar network the start
+    recorded is the planar solution above the plane, so that the caller's mirror-image rule keeps the fix
+    above the receivers. Returns (p, b, iterations, converged, start (E, 3): NaN where the closed form
+    failed)."""
     from motionsig_cli.surveillance.bancroft import bancroft, planar_start
 
     E = len(S)
     centre, normal, flat = _start_side(S, used)
     planar = flat < FLAT_RATIO
     cand_p, cand_b = bancroft(S, rho0, w)
+    pl_p = np.full((E, 3), np.nan)
+    pl_b = np.full(E, np.nan)
     if planar.any():
         pp, pb = planar_start(S[planar], rho0[planar], w[planar], centre[planar], normal[planar])
-        cand_p[planar], cand_b[planar] = pp, pb
-    p_out = np.full((E, 3), np.nan)
-    b_out = np.full(E, np.nan)
-    it_out = np.zeros(E, dtype=np.int64)
-    conv = np.zeros(E, dtype=bool)
-    best = np.full(E, np.inf)
-    start = np.full((E, 3), np.nan)
-    for j in range(2):
-        take = np.all(np.isfinite(cand_p[:, j]), axis=-1) & np.isfinite(cand_b[:, j]) & ~(planar & (j == 1))
-        idx = np.flatnonzero(take)
+        pl_p[planar], pl_b[planar] = pp[:, 0], pb[:, 0]
+    cand_p = np.concatenate([cand_p, pl_p[:, None]], axis=1)
+    cand_b = np.concatenate([cand_b, pl_b[:, None]], axis=1)
+    n = cand_p.shape[1]
+    P = np.full((E, n, 3), np.nan)
+    B = np.full((E, n), np.nan)
+    IT = np.zeros((E, n), dtype=np.int64)
+    OK = np.zeros((E, n), dtype=bool)
+    chi = np.full((E, n), np.inf)
+    for j in range(n):
+        idx = np.flatnonzero(np.all(np.isfinite(cand_p[:, j]), axis=-1) & np.isfinite(cand_b[:, j]))
         if not idx.size:
             continue
         p, b, it, ok = _gauss_newton(S[idx], rho0[idx], w[idx], cand_p[idx, j].copy(), cand_b[idx, j].copy(),
                                      tol, max_iter)  # fmt: skip
-        chi = np.where(ok, _chi2(S[idx], rho0[idx], w[idx], p, b), np.inf)
-        better = ok & (chi < best[idx]) | (~conv[idx] & ~np.isfinite(best[idx]) & np.all(np.isnan(start[idx]), -1))
-        sel = idx[better]
-        p_out[sel], b_out[sel], it_out[sel], conv[sel] = p[better], b[better], it[better], ok[better]
-        best[sel] = chi[better]
-        start[sel] = cand_p[sel, j]
-    return p_out, b_out, it_out, conv, start
+        P[idx, j], B[idx, j], IT[idx, j], OK[idx, j] = p, b, it, ok
+        chi[idx, j] = np.where(ok, _chi2(S[idx], rho0[idx], w[idx], p, b), np.inf)
+    alt = np.abs(np.linalg.norm(np.where(np.isfinite(P), P, 0.0), axis=-1) - 6_371_000.0)
+    cmin = np.min(chi, axis=1, keepdims=True)
+    tie = OK & (chi <= cmin + 1e-6 * (1.0 + np.where(np.isfinite(cmin), cmin, 0.0)))
+    any_ok = OK.any(axis=1)
+    # converged: the best fit (nearest the Earth among ties); none converged: the first candidate that ran
+    first = np.argmax(np.all(np.isfinite(P), axis=-1), axis=1)
+    j = np.where(any_ok, np.argmin(np.where(tie, alt, np.inf), axis=1), first)
+    r = np.arange(E)
+    start = np.where(planar[:, None] & np.all(np.isfinite(pl_p), axis=-1)[:, None], pl_p, cand_p[r, j])
+    has = np.all(np.isfinite(P[r, j]), axis=-1)
+    start = np.where(has[:, None], start, np.nan)
+    return P[r, j], B[r, j], IT[r, j], OK[r, j], start
 
 
 def solve_snapshot(
