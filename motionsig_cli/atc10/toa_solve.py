@@ -129,6 +129,7 @@ __all__ = [
     "CLOCKS",
     "COVARIANCES",
     "GAINS",
+    "KINDS",
     "MAX_MEASUREMENTS",
     "MAX_RECEIVERS",
     "MAX_TOA_OFFSET_S",
@@ -183,18 +184,26 @@ COVARIANCES = ("auto", "known", "epoch", "pooled")
 """The fix covariance: auto (known when σ is given, else pooled), (HᵀWH)⁻¹ with the known σ, or scaled by
 each epoch's or the pooled a-posteriori variance factor."""
 GAINS = ("recursive", "steady")
+KINDS = ("toa", "tdoa", "pseudorange")
+"""What a record measures: times of arrival, time differences of arrival against a reference receiver, or
+pseudoranges."""
+TDOA_ALIASES = ("time_difference", "tdoa_s")
 MODES = ("init", "update", "outage", "predict")
 """What the tracker did at an epoch: start (least squares), update the clock, predict the clock and solve
 the position (three receivers), predict the clock only (fewer)."""
 
 
 def measurement_spec(kind: str, max_rows: int = MAX_MEASUREMENTS) -> RecordSpec:
-    """The roles of a TOA record (``kind="toa"``) or a pseudorange record (``"pseudorange"``)."""
-    one_of("kind", kind, ("toa", "pseudorange"))
-    q = "time" if kind == "toa" else "length"
+    """The roles of a TOA record (``kind="toa"``), a TDOA record (``"tdoa"``) or a pseudorange record
+    (``"pseudorange"``)."""
+    one_of("kind", kind, KINDS)
+    q = "length" if kind == "pseudorange" else "time"
     if kind == "toa":
         meas = Role("toa", ("arrival", "time_of_arrival", "toa_s"), quantity="time", missing=True,
                     help="time of arrival [s] (empty: the receiver missed the pulse)")  # fmt: skip
+    elif kind == "tdoa":
+        meas = Role("tdoa", TDOA_ALIASES, quantity="time", missing=True,
+                    help="time difference of arrival against the epoch's reference receiver [s] (its own row: 0)")  # fmt: skip
     else:
         meas = Role("pseudorange", ("pr", "rho", "pseudorange_m"), quantity="length", missing=True,
                     help="pseudorange c(T - t) [m] (empty: the receiver missed the pulse)")  # fmt: skip
@@ -424,34 +433,37 @@ class Measurements:
 
 
 def _kind(table: Table, colmap: dict[str, str]) -> str:
-    """``toa`` or ``pseudorange``: which measurement column the record has."""
+    """``toa``, ``tdoa`` or ``pseudorange``: which measurement column the record has."""
     probe = RecordSpec(
         (
             Role(
                 "toa", ("arrival", "time_of_arrival", "toa_s"), quantity="time", required=False, missing=True
             ),
+            Role("tdoa", TDOA_ALIASES, quantity="time", required=False, missing=True),
             Role(
                 "pseudorange", ("pr", "rho", "pseudorange_m"), quantity="length", required=False, missing=True
             ),
         ),
         max_rows=max(len(table.rows), 1),
     )
-    sub_c = {k: v for k, v in colmap.items() if k in ("toa", "pseudorange")}
+    sub_c = {k: v for k, v in colmap.items() if k in KINDS}
     found = read_record(Table(table.columns, [], table.meta, (), table.source, table.header_line), probe,
                         columns=sub_c)  # fmt: skip
     where = f"{table.source}:{table.header_line}" if table.header_line else table.source
-    if found.has("toa") and found.has("pseudorange"):
+    have = [k for k in KINDS if found.has(k)]
+    if len(have) > 1:
+        cols = " and ".join(repr(found.columns[k]) for k in have)
         raise InputError(
-            f"{where}: columns {found.columns['toa']!r} and {found.columns['pseudorange']!r}: a record holds "
-            "times of arrival or pseudoranges, not both; map one with --columns toa=NAME or pseudorange=NAME"
+            f"{where}: columns {cols}: a record holds times of arrival, time differences or pseudoranges, not "
+            "several; map one with --columns toa=NAME, tdoa=NAME or pseudorange=NAME"
         )
-    if not (found.has("toa") or found.has("pseudorange")):
-        toa, pr = (", ".join(repr(a) for a in r.aliases) for r in probe.roles)
+    if not have:
+        toa, tdoa, pr = (", ".join(repr(a) for a in r.aliases) for r in probe.roles)
         raise InputError(
-            f"{where}: missing column 'toa' (or {toa}) [s] or 'pseudorange' (or {pr}) [m]: "
-            f"columns are {', '.join(table.columns)}; map one with --columns toa=NAME"
+            f"{where}: missing column 'toa' (or {toa}) [s], 'tdoa' (or {tdoa}) [s] or 'pseudorange' (or {pr}) "
+            f"[m]: columns are {', '.join(table.columns)}; map one with --columns toa=NAME"
         )
-    return "toa" if found.has("toa") else "pseudorange"
+    return have[0]
 
 
 def _filter_units(unitmap: dict[str, str], spec: RecordSpec) -> dict[str, str]:
@@ -635,6 +647,9 @@ def read_measurements(
                 )
                 + ")",
             )
+    elif kind == "tdoa":
+        rho_row = C_M_PER_S * np.array([math.nan if a is None else float(a) for a in exact_values(rec, "tdoa", "time")])
+        _check_tdoa(rec, rho_row, group, len(start))
     else:
         rho_row = np.array(
             [math.nan if a is None else float(a) for a in exact_values(rec, "pseudorange", "length")]
@@ -666,7 +681,7 @@ def read_measurements(
             " (over the record's sigma column)" if rec.has("sigma") else ""
         )
     elif rec.has("sigma"):
-        s = rec["sigma"] * (C_M_PER_S if kind == "toa" else 1.0)
+        s = rec["sigma"] * (1.0 if kind == "pseudorange" else C_M_PER_S)
         bad = np.flatnonzero(measured & ~(s > 0))
         if bad.size:
             i = int(bad[0])
@@ -693,6 +708,27 @@ def read_measurements(
     ep = epochs if epochs is not None else np.arange(E, dtype=np.int64)
     first = None if t_dec is None else format(t_dec[0].normalize(), "f")
     return Measurements(kind, rho, sig, source_s, S, row, labels, ep, times, t_ref, start, rec, rx, first)
+
+
+def _check_tdoa(rec: Record, rho_row: np.ndarray, group: np.ndarray, E: int) -> None:
+    """Every epoch of a TDOA record has its reference receiver's row (tdoa 0), and no TDOA is further than
+    :data:`MAX_TOA_OFFSET_S` (another frame, or times in the wrong unit)."""
+    far = np.flatnonzero(np.abs(rho_row) > C_M_PER_S * MAX_TOA_OFFSET_S)
+    if far.size:
+        i = int(far[0])
+        raise rec.error(i, "tdoa", f"|tdoa| {abs(rho_row[i]) / C_M_PER_S:.6g} s is more than {MAX_TOA_OFFSET_S:g} s")
+    has_ref = np.zeros(E, dtype=bool)
+    has_ref[group[rho_row == 0.0]] = True
+    missing = np.flatnonzero(~has_ref)
+    if missing.size:
+        e = int(missing[0])
+        i = int(np.flatnonzero(group == e)[0])
+        raise rec.error(
+            i,
+            "tdoa",
+            "this epoch has no reference row: a TDOA record lists each epoch's reference receiver with tdoa 0 "
+            "(the time differences are taken against it)",
+        )
 
 
 def _receiver_positions(
@@ -1176,8 +1212,8 @@ def solve_report(meas: Measurements, cfg: SolveConfig, result: SolveResult | Non
             out[fe[keep]] = np.asarray(values)[keep]
         return out
 
-    residual_unit = tu if meas.kind == "toa" else lu
-    to_res = (Tf / C_M_PER_S) if meas.kind == "toa" else L  # metres of pseudorange → the residual's unit
+    residual_unit = lu if meas.kind == "pseudorange" else tu
+    to_res = L if meas.kind == "pseudorange" else (Tf / C_M_PER_S)  # metres of pseudorange → the residual's unit
     cols: dict[str, list[Any]] = {"epoch": meas.epoch.tolist()}
     if meas.time is not None:
         cols["time_s"] = _cells(meas.time)
@@ -1435,6 +1471,8 @@ def _reading(meas: Measurements, cfg: SolveConfig) -> dict[str, Any]:
 
 
 def _tref_text(meas: Measurements, cfg: SolveConfig) -> str:
+    if meas.kind == "tdoa":
+        return "the arrival at the epoch's reference receiver (tdoa 0): the offset is minus the reference's range / c"
     if meas.kind == "pseudorange":
         return "the pseudoranges' own reference: rho = c(T - t)"
     if meas.time is not None and cfg.toa_origin == "time":

@@ -16,8 +16,8 @@ F = U/c, and the clock column 1 of eq 4.5.1).
 whitened system W^½ H Δx = W^½ r by a thin QR factorisation (never the normal equations), halved while it
 would increase χ² (a backtracking line search), vectorised over the epochs: a receiver absent at an epoch
 has weight zero. It stops when the step is below ``tol`` (default
-1 µm), or when the χ² decrease it promises is at the rounding level of the residuals (an ill-conditioned
-geometry magnifies rounding into longer steps), or after ``max_iter`` steps (the epoch is then flagged as
+1 µm), or when the χ² decrease it promises is below what can be resolved (the rounding of the residuals,
+or 10⁻¹⁴ of χ²: an ill-conditioned geometry magnifies rounding into longer steps), or after ``max_iter`` steps (the epoch is then flagged as
 not converged, and may be restarted from a neighbouring epoch's fix). For a ground network, whose receivers lie nearly in one plane, the problem has
 a second minimum near the mirror image of the transmitter in that plane, which fits about as well (the
 data hardly tell them apart: measured χ² differences of 0.1 to 3 for a 30 km network and a transmitter 2 to
@@ -86,6 +86,15 @@ FLAT_RATIO = 0.1
 largest are "nearly in one plane" (a ground network; assumed): the fix's mirror image in that plane is a
 second candidate minimum."""
 EPS = float(np.finfo(float).eps)
+CHI2_RTOL = 1e-14
+ACCEPT_RTOL = 1e-13
+"""A step is accepted by the line search while χ² grows by less than this fraction, or than its rounding
+(:func:`_chi2_rounding`)."""
+GN_STEPS = 8
+"""Gauss–Newton steps before an epoch that has not converged goes on with Newton's (up to ``max_iter`` in
+all): near a solution Gauss–Newton converges in a few steps, and where it crawls Newton's steps are quadratic."""
+"""Relative χ² changes below this are not resolved: the line search accepts them, and a step that promises
+less has converged."""
 MAX_HALVINGS = 40
 """Most halvings of a Gauss–Newton step in the line search (2⁻⁴⁰ ≈ 10⁻¹²)."""
 DIVERGED_M = 1e10
@@ -234,6 +243,20 @@ def _mean_bias(S: np.ndarray, rho0: np.ndarray, w: np.ndarray, p: np.ndarray) ->
     return np.sum(w2 * (rho0 - rng), axis=1) / np.sum(w2, axis=1)
 
 
+def _chi2_rounding(
+    S: np.ndarray, rho0: np.ndarray, w: np.ndarray, p: np.ndarray, b: np.ndarray
+) -> np.ndarray:
+    """How much χ² can move by rounding alone (10 × Σ 2|z_i| w_i ε (|ρ_i| + ‖S_i‖ + ‖p‖), plus 10⁻¹² and
+    :data:`ACCEPT_RTOL` χ²): the line search does not tell apart χ² values closer than this."""
+    z = (rho0 - np.linalg.norm(p[:, None, :] - S, axis=-1) - b[:, None]) * w
+    scale = (
+        np.abs(rho0) + np.linalg.norm(S, axis=-1) + np.linalg.norm(p, axis=-1)[:, None] + np.abs(b)[:, None]
+    )
+    return (
+        10.0 * np.sum(2.0 * np.abs(z) * w * EPS * scale, axis=1) + ACCEPT_RTOL * np.sum(z * z, axis=1) + 1e-12
+    )
+
+
 def _chi2(S: np.ndarray, rho0: np.ndarray, w: np.ndarray, p: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Σ ((ρ − ‖p − S‖ − b)/σ)² per epoch."""
     r = (rho0 - np.linalg.norm(p[:, None, :] - S, axis=-1) - b[:, None]) * w
@@ -259,12 +282,21 @@ def _gauss_newton(
 
     Each step is the least-squares step, halved (up to :data:`MAX_HALVINGS` times) while it would increase
     χ² (a backtracking line search: near the solution the full step is taken, far from it the iteration
-    cannot run away). An epoch converges when its full step is shorter than ``tol``."""
+    cannot run away). An epoch converges when its full step is shorter than ``tol``, or promises a χ²
+    decrease below what can be resolved. An epoch still moving after :data:`GN_STEPS` steps goes on with
+    Newton's steps (:func:`_newton`), ``max_iter`` steps in all. The arithmetic is done about the receivers' centroid (coordinates
+    of tens of kilometres for a ground network instead of 6·10⁶ m: the ranges are rounded a hundred times
+    less, which matters where χ² is flat, as for a transmitter outside a planar network)."""
     E = len(p)
+    origin = (
+        np.sum(np.where(w[..., None] > 0, S, 0.0), axis=1) / np.maximum(np.sum(w > 0, axis=1), 1)[:, None]
+    )
+    S = S - origin[:, None, :]
+    p = p - origin
     iterations = np.zeros(E, dtype=np.int64)
     converged = np.zeros(E, dtype=bool)
     active = np.ones(E, dtype=bool)
-    for _ in range(max_iter):
+    for _ in range(min(max_iter, GN_STEPS)):
         idx = np.flatnonzero(active)
         if not idx.size:
             break
@@ -272,21 +304,25 @@ def _gauss_newton(
         step, Ri, _, _ = _qr_step(Si, ri, wi, pi, bi)
         ok = np.all(np.isfinite(step), axis=-1)
         step = np.where(ok[:, None], step, 0.0)
-        # the χ² decrease the step promises, ‖R step‖² = ‖Qᵀ W^½ r‖², against the rounding of the residuals
-        # (ε (|ρ| + ‖S‖) per row, whitened): at that floor the fix cannot improve, whatever the step's length
-        # (an ill-conditioned geometry magnifies rounding into steps longer than ``tol``)
+        # the χ² decrease the step promises, ‖R step‖² = ‖Qᵀ W^½ r‖², against what can be resolved: the
+        # rounding of the residuals (ε (|ρ| + ‖S‖) per row, whitened) and the line search's own tolerance
+        # (10⁻¹⁴ χ²): below it the fix cannot improve, whatever the step's length (an ill-conditioned geometry
+        # magnifies rounding into steps longer than ``tol``, and along a flat valley of χ² the iteration
+        # would wander)
         gain = np.sum(np.einsum("eij,ej->ei", Ri, step) ** 2, axis=-1)
         floor = 1e4 * np.sum((EPS * (np.abs(ri) + np.linalg.norm(Si, axis=-1)) * wi) ** 2, axis=-1)
+        floor = floor + CHI2_RTOL * _chi2(Si, ri, wi, pi, bi)
         chi0 = _chi2(Si, ri, wi, pi, bi)
+        slack = _chi2_rounding(Si, ri, wi, pi, bi)
         lam = np.ones(len(idx))
         for _ in range(MAX_HALVINGS):
             with np.errstate(over="ignore", invalid="ignore"):
                 chi = _chi2(Si, ri, wi, pi + lam[:, None] * step[:, :3], bi + lam * step[:, 3])
-            worse = ok & ~(chi <= chi0 * (1.0 + 1e-9) + 1e-12)
+            worse = ok & ~(chi <= chi0 + slack)
             if not worse.any():
                 break
             lam = np.where(worse, 0.5 * lam, lam)
-        ok &= np.linalg.norm(pi + lam[:, None] * step[:, :3], axis=-1) < DIVERGED_M
+        ok &= np.linalg.norm(origin[idx] + pi + lam[:, None] * step[:, :3], axis=-1) < DIVERGED_M
         small = ok & ((np.linalg.norm(step, axis=-1) < tol) | (gain <= floor))
         lam = np.where(ok, lam, 0.0)
         p[idx] = pi + lam[:, None] * step[:, :3]
@@ -294,7 +330,80 @@ def _gauss_newton(
         iterations[idx] += ok
         converged[idx[small]] = True
         active[idx[small | ~ok]] = False
-    return p, b, iterations, converged
+    rest = np.flatnonzero(~converged & active & np.all(np.isfinite(p), axis=-1) & np.isfinite(b))
+    if rest.size and max_iter > GN_STEPS:  # where Gauss–Newton crawls: Newton's steps with the full Hessian
+        pn, bn, itn, okn = _newton(S[rest], rho0[rest], w[rest], p[rest], b[rest], tol, max_iter - GN_STEPS)
+        p[rest], b[rest], iterations[rest] = pn, bn, iterations[rest] + itn
+        converged[rest] = okn
+    return p + origin, b, iterations, converged
+
+
+def _newton(
+    S: np.ndarray, rho0: np.ndarray, w: np.ndarray, p: np.ndarray, b: np.ndarray, tol: float, steps: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Newton's method on ½χ² from (p, b), with the full Hessian Σ w_i² (h_i h_iᵀ − r_i ∇²‖p − S_i‖),
+    h_i = (u_i, 1), ∇²‖p − S_i‖ = (I − u_i u_iᵀ)/‖p − S_i‖ (the p block): quadratic convergence where
+    Gauss–Newton converges only linearly, at a minimum with sizeable residuals along a direction the
+    geometry hardly observes (the height of a transmitter outside a planar network). Where the Hessian is
+    not positive definite the Gauss–Newton step is taken; each step is halved while χ² would increase.
+    Returns (p, b, steps taken, converged: a step shorter than ``tol`` or than its own rounding)."""
+    E = len(p)
+    its = np.zeros(E, dtype=np.int64)
+    conv = np.zeros(E, dtype=bool)
+    eye = np.eye(3)
+    for _ in range(steps):
+        idx = np.flatnonzero(~conv)
+        if not idx.size:
+            break
+        Si, ri, wi, pi, bi = S[idx], rho0[idx], w[idx], p[idx], b[idx]
+        d = pi[:, None, :] - Si
+        rng = np.linalg.norm(d, axis=-1)
+        U = d / np.where(rng > 0, rng, 1.0)[..., None]
+        r = np.where(wi > 0, ri - rng - bi[:, None], 0.0)
+        w2 = wi**2
+        h = np.concatenate([U, np.ones((*U.shape[:-1], 1))], axis=-1)
+        grad = -np.einsum("ek,eki->ei", w2 * r, h)
+        Hs = np.einsum("ek,eki,ekj->eij", w2, h, h)
+        curv = (eye - U[..., :, None] * U[..., None, :]) / np.where(rng > 0, rng, 1.0)[..., None, None]
+        Hs[:, :3, :3] -= np.einsum("ek,ekij->eij", w2 * r, curv)
+        with np.errstate(all="ignore"):
+            ev = np.linalg.eigvalsh(Hs)
+            pd = ev[:, 0] > 1e-12 * np.abs(ev[:, -1])
+            step = -np.linalg.solve(np.where(pd[:, None, None], Hs, np.eye(4)), grad[..., None])[..., 0]
+            gn, _, _, _ = _qr_step(Si, ri, wi, pi, bi)
+        step = np.where(pd[:, None], step, gn)
+        ok = np.all(np.isfinite(step), axis=-1)
+        step = np.where(ok[:, None], step, 0.0)
+        chi0 = _chi2(Si, ri, wi, pi, bi)
+        slack = _chi2_rounding(Si, ri, wi, pi, bi)
+        lam = np.ones(len(idx))
+        for _ in range(MAX_HALVINGS):
+            with np.errstate(over="ignore", invalid="ignore"):
+                chi = _chi2(Si, ri, wi, pi + lam[:, None] * step[:, :3], bi + lam * step[:, 3])
+            worse = ok & ~(chi <= chi0 + slack)
+            if not worse.any():
+                break
+            lam = np.where(worse, 0.5 * lam, lam)
+        p[idx] = pi + lam[:, None] * step[:, :3]
+        b[idx] = bi + lam * step[:, 3]
+        its[idx] += ok
+        # the step's own rounding: the gradient's, ε (|ρ| + ‖S‖ + ‖p‖) w² per row, through the Hessian's
+        # inverse (1/λ_min); a step below 100 times that cannot be resolved (a fraction of a millimetre for
+        # a transmitter 30 km outside a ground network, where χ² is flat in height)
+        dg = np.sqrt(
+            np.sum(
+                (w2 * EPS * (np.abs(ri) + np.linalg.norm(Si, axis=-1) + np.linalg.norm(pi, axis=-1)[:, None]))
+                ** 2,
+                axis=-1,
+            )
+        )
+        with np.errstate(divide="ignore", invalid="ignore"):
+            noise = np.where(pd, 100.0 * dg / np.abs(ev[:, 0]), 0.0)
+        small = ok & (np.linalg.norm(step, axis=-1) < tol + noise)
+        conv[idx[small]] = True
+        if not ok.any():
+            break
+    return p, b, its, conv
 
 
 def _start_side(S: np.ndarray, used: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -417,7 +526,9 @@ def solve_snapshot(
     if few.any():
         if on_failure == "raise":
             e = int(np.flatnonzero(few)[0])
-            raise SingularGeometry(e, f"{int(n_used[e])} receiver(s): at least {MIN_RECEIVERS} are needed for a fix")
+            raise SingularGeometry(
+                e, f"{int(n_used[e])} receiver(s): at least {MIN_RECEIVERS} are needed for a fix"
+            )
         keep = ~few
         sub = None
         if keep.any():
@@ -578,7 +689,9 @@ def scale_covariance(fix: SnapshotFix, scale: str) -> SnapshotFix:
         per_epoch = np.where(dof > 0, fix.chi2 / np.maximum(dof, 1), pooled)
     E = len(fix.chi2)
     factor = {"none": np.ones(E), "epoch": per_epoch, "pooled": np.full(E, pooled)}[scale]
-    return replace(fix, covariance=fix.covariance * factor[:, None, None], variance_factor=factor, scale=scale)
+    return replace(
+        fix, covariance=fix.covariance * factor[:, None, None], variance_factor=factor, scale=scale
+    )
 
 
 def _expand(sub: SnapshotFix | None, keep: np.ndarray, n_used: np.ndarray, K: int) -> SnapshotFix:
@@ -590,7 +703,9 @@ def _expand(sub: SnapshotFix | None, keep: np.ndarray, n_used: np.ndarray, K: in
             out[f.name] = "none"
             continue
         v = None if sub is None else getattr(sub, f.name)
-        shape = {"position": (3,), "covariance": (4, 4), "residuals": (K,), "normalised": (K,)}.get(f.name, ())
+        shape = {"position": (3,), "covariance": (4, 4), "residuals": (K,), "normalised": (K,)}.get(
+            f.name, ()
+        )
         if f.name in ("converged", "retried", "mirrored"):
             a = np.zeros(E, dtype=bool)
         elif f.name in ("n_used", "iterations"):

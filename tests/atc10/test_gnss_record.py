@@ -26,7 +26,9 @@ def _rows() -> tuple[list[str], list[list[str]]]:
 
 def _truth() -> np.ndarray:
     t = list(csv.DictReader(open(DATA / "gsdc2022_mtv_truth.csv", newline="")))
-    return np.array([geodetic_to_ecef(float(r["latitude"]), float(r["longitude"]), float(r["altitude"])) for r in t])
+    return np.array(
+        [geodetic_to_ecef(float(r["latitude"]), float(r["longitude"]), float(r["altitude"])) for r in t]
+    )
 
 
 def _write(tmp_path: Path, keep=lambda r: True, change=lambda r: r) -> Path:
@@ -46,7 +48,9 @@ def _solve(capsys, tmp_path, path, *extra):
     assert rc == 0, err
     t = table(out, tmp_path)
     rows = [dict(zip(t.columns, r, strict=True)) for r in t.rows]
-    pos = np.array([[np.nan if r[a] in (None, "") else float(r[a]) for a in ("x_m", "y_m", "z_m")] for r in rows])
+    pos = np.array(
+        [[np.nan if r[a] in (None, "") else float(r[a]) for a in ("x_m", "y_m", "z_m")] for r in rows]
+    )
     return t, rows, pos, err
 
 
@@ -80,7 +84,10 @@ def test_every_epoch_is_solved_within_metres_of_the_truth_and_equals_an_independ
         for rotate, got in ((True, pos[e]), (False, plain[e])):
             x = _wls(S, rho, sig, rotate)
             assert np.linalg.norm(got - x[:3]) < 1e-6
-    assert t.meta["fault_exclusion"]["epochs_tested"] == 6 and t.meta["fault_exclusion"]["receivers_excluded"] == 0
+    assert (
+        t.meta["fault_exclusion"]["epochs_tested"] == 6
+        and t.meta["fault_exclusion"]["receivers_excluded"] == 0
+    )
 
 
 def test_a_missing_satellite_a_fault_and_a_three_satellite_epoch(capsys, tmp_path):
@@ -99,17 +106,30 @@ def test_a_missing_satellite_a_fault_and_a_three_satellite_epoch(capsys, tmp_pat
     t, rows, pos, err = _solve(capsys, tmp_path, _write(tmp_path, keep, change), "--earth-rotation")
     assert [int(r["n_receivers"]) for r in rows] == [7, 6, 7, 6, 3, 7]
     assert [r["status"] for r in rows] == ["fix"] * 4 + ["no fix: 3 receiver(s), a fix needs 4", "fix"]
-    assert rows[2]["excluded"] == "G19" and all(r["excluded"] in (None, "") for i, r in enumerate(rows) if i != 2)
-    assert float(rows[2]["test_statistic"]) < float(rows[2]["test_threshold"]) and rows[2]["integrity"] in (True, "true")
+    assert rows[2]["excluded"] == "G19" and all(
+        r["excluded"] in (None, "") for i, r in enumerate(rows) if i != 2
+    )
+    assert float(rows[2]["test_statistic"]) < float(rows[2]["test_threshold"]) and rows[2]["integrity"] in (
+        True,
+        "true",
+    )
     e = np.linalg.norm(pos - truth, axis=1)
     assert np.isnan(e[4]) and np.nanmax(e) < 10.0, e
     fe = t.meta["fault_exclusion"]
-    assert fe["receivers_excluded"] == 1 and fe["excluded_by_receiver"] == {"G19": 1} and fe["epochs_alarmed"] == 1
+    assert (
+        fe["receivers_excluded"] == 1
+        and fe["excluded_by_receiver"] == {"G19": 1}
+        and fe["epochs_alarmed"] == 1
+    )
     assert t.meta["fixes"]["no_fix"] == {"too few receivers": 1}
     assert "1 measurement(s) excluded as faulty in 1 epoch(s)" in err
     # without the exclusion the fault pulls the fix hundreds of metres away, and the test says so
-    _, rows_off, pos_off, _ = _solve(capsys, tmp_path, _write(tmp_path, keep, change), "--earth-rotation", "--no-fde")
-    assert np.linalg.norm(pos_off[2] - truth[2]) > 100.0 and float(rows_off[2]["test_statistic"]) > float(rows_off[2]["test_threshold"])
+    _, rows_off, pos_off, _ = _solve(
+        capsys, tmp_path, _write(tmp_path, keep, change), "--earth-rotation", "--no-fde"
+    )
+    assert np.linalg.norm(pos_off[2] - truth[2]) > 100.0 and float(rows_off[2]["test_statistic"]) > float(
+        rows_off[2]["test_threshold"]
+    )
 
 
 def test_pseudoranges_in_km_without_a_unit_are_refused(capsys, tmp_path):
@@ -119,15 +139,15 @@ def test_pseudoranges_in_km_without_a_unit_are_refused(capsys, tmp_path):
 
     p = _write(tmp_path, change=km)
     err = one_line_error(capsys, "track-sat", "solve", str(p))
-    assert "gps.csv:2: column 'pseudorange': the pseudorange values do not fit the receivers' positions" in err
+    assert (
+        "gps.csv:2: column 'pseudorange': the pseudorange values do not fit the receivers' positions" in err
+    )
     assert "km below the WGS-84 ellipsoid" in err and "they fit as kilometres" in err, err
     rc, _, err2 = run(capsys, "track-sat", "solve", str(p), "--units", "pseudorange=km,sigma=km", "-q")
     assert rc == 0, err2
 
 
-@pytest.mark.parametrize(
-    ("sigma", "metres"), [("5", 5.0), ("5m", 5.0), ("500cm", 5.0), ("10ns", 2.99792458)]
-)
+@pytest.mark.parametrize(("sigma", "metres"), [("5", 5.0), ("5m", 5.0), ("500cm", 5.0), ("10ns", 2.99792458)])
 def test_sigma_is_in_the_measurement_unit_or_carries_one(capsys, tmp_path, sigma, metres):
     t, _, _, _ = _solve(capsys, tmp_path, RECORD, "--sigma", sigma, "-q")
     assert t.meta["sigma"].startswith("--sigma") and f"({metres:.6g} m of range)" in t.meta["sigma"]

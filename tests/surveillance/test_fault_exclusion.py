@@ -89,7 +89,11 @@ def test_the_detection_rate_is_the_noncentral_chi_square_one(geometry):
         r = _run(geometry, 7 + int(10 * target), fault=(k, f), p_fa=p_fa)
         pd = np.mean(r.first_statistic > r.first_threshold)
         expected = stats.ncx2.sf(thr, 3, lam)
-        assert _within_4se(pd, expected), (target, pd, expected)  # measured 0.497 (f = 28.6 m), 0.899 (41.2 m)
+        assert _within_4se(pd, expected), (
+            target,
+            pd,
+            expected,
+        )  # measured 0.497 (f = 28.6 m), 0.899 (41.2 m)
 
 
 def _solve_lambda(thr, target):
