@@ -19,9 +19,11 @@ epoch consecutive):
 - the measurement: ``toa`` [s] (aliases ``arrival``, ``time_of_arrival``, ``toa_s``) — the arrival time, in the time
   frame of the ``time`` column (seconds after its first timestamp when the times are timestamps), or
   measured from the epoch's own time with ``toa_origin="epoch"`` (and always without a time column) —
+  or ``tdoa`` [s] (aliases ``time_difference``, ``tdoa_s``): the arrival minus the arrival at the epoch's
+  reference receiver, which has its own row with 0 (the same fixes as the TOAs),
   or ``pseudorange`` [m] (aliases ``pr``, ``rho``, ``pseudorange_m``) = c(T − t_n);
 - optionally ``sigma`` (aliases ``sd``, ``std``, ``sigma_toa``, ``sigma_pr``): the measurement's standard
-  deviation, in the unit of the measurement (s for a TOA, m for a pseudorange, unless stated).
+  deviation, in the unit of the measurement (s for a TOA or TDOA, m for a pseudorange, unless stated).
 
 An empty or NaN measurement is a receiver that missed the pulse: it drops out of that epoch. The rows of
 an epoch share its time; the row that differs from the others is named.
@@ -38,16 +40,31 @@ when the JSON is parsed: give such times as strings or integers in JSON.
 receivers' common time frame minus the epoch's nominal time t_n (the ``time`` value; 0 for TOAs measured
 from their epoch and for pseudoranges). A transmitter that sends when its own clock reads t_n has a clock
 error (its reading minus true time) of −b_n/c. The speed of light is exact, c = 299 792 458 m/s, and the
-propagation is a straight line at c (no atmosphere, no Earth rotation during the flight: assumed).
+propagation is a straight line at c (no atmosphere: ionosphere, troposphere, satellite clocks and
+ephemerides are the user's corrections; the Earth's rotation during the flight only with
+``earth_rotation``).
 
 **Snapshot fixes** (:func:`~motionsig_cli.surveillance.toa_fix.solve_snapshot`): weighted least squares
-for (p, b) at every epoch with at least four receivers, Gauss–Newton (with a line search) from the
-receivers' centroid raised to 10 km above the ellipsoid (or a given point), an epoch that does not converge
-restarted from the nearest converged epoch's fix. For a ground network (receivers nearly in one plane) the
-fix's mirror image in the plane fits about as well; the starting point's side is kept (default: above the
-receivers), and a warning says when the other side fits much better over the record. The covariance is
-(HᵀWH)⁻¹ with W = 1/σ² when σ is known (a ``sigma`` column or ``sigma_ns``), else scaled by the pooled
-a-posteriori variance factor (``covariance="pooled"``), as the output's metadata states.
+for (p, b) at every epoch on its own, from the closed-form solution (Bancroft 1985, both roots refined;
+for receivers nearly in one plane the planar closed form above them:
+:mod:`~motionsig_cli.surveillance.bancroft`) or a given point, Gauss–Newton with a line search (Newton's
+steps where it crawls), an epoch that does not converge restarted from the nearest converged epoch's fix.
+Receivers come and go: a receiver without a row (or with an empty measurement) at an epoch is left out of
+it. An epoch with fewer than four receivers, a singular geometry or no convergence has no fix, and its row
+says why (``status``); the run goes on. For a ground network (receivers nearly in one plane) the fix's
+mirror image in the plane fits about as well; the start's side is kept (default: above the receivers),
+and a warning says when the other side fits much better over the record. The covariance is (HᵀWH)⁻¹ with
+W = 1/σ² when σ is known (a ``sigma`` column or ``sigma``), else scaled by each epoch's a-posteriori
+variance factor (``covariance="epoch"``; ``"pooled"`` pools it over the record), as the output's metadata
+states.
+
+**Faults** (σ known, ``fde=True``: :mod:`~motionsig_cli.surveillance.fault_exclusion`): each epoch's
+r'Wr is tested against the χ²(K − 4) quantile at the false-alarm probability ``p_fa``; a failing epoch
+loses the receiver with the largest standardised residual and is solved again, while five or more
+receivers remain. **Plausibility**: fixes whose median lies more than :data:`MAX_DEPTH_M` below the
+ellipsoid mean measurements that do not fit the receivers (a km/m mix-up): the record is refused.
+**Earth rotation** (``earth_rotation=True``): the anchors are rotated by ω_E·range/c about z
+(:mod:`~motionsig_cli.surveillance.earth_rotation`), for satellite positions given at the transmission.
 
 **Clock tracking** (``clock="track"``: :func:`track_clock`): the report's estimator (eqs 4.5.3–4.5.5,
 4.5.16–4.5.28, :class:`~motionsig_cli.surveillance.clock_tracking.ReportClock`) with the clock model of

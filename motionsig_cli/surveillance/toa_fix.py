@@ -23,8 +23,10 @@ a second minimum near the mirror image of the transmitter in that plane, which f
 data hardly tell them apart: measured χ² differences of 0.1 to 3 for a 30 km network and a transmitter 2 to
 5 km up) and which Gauss–Newton reaches from some starting points. For such a network (flatness below
 :data:`FLAT_RATIO`) the solver also starts from the mirror image of its fix and keeps the minimum on the
-starting point's side of the plane: the default start, :data:`START_ALT_M` above the receivers' centroid,
-says "above the receivers" (assumed); a transmitter below them needs a starting point below. The covariance of x̂ is
+starting point's side of the plane: the default start, the closed-form solution above the plane
+(:mod:`~motionsig_cli.surveillance.bancroft`; both of Bancroft's roots are refined for other geometries,
+and where the closed form fails the start is :data:`START_ALT_M` above the receivers' centroid), says
+"above the receivers" (assumed); a transmitter below them needs a starting point below. The covariance of x̂ is
 (HᵀWH)⁻¹ = R⁻¹R⁻ᵀ at the solution, unscaled when the σ_i are known (``scale="none"``), or multiplied by the
 a-posteriori variance factor s² = rᵀWr/(K − 4) of each epoch (``"epoch"``) or of all epochs pooled
 (``"pooled"``: Σ rᵀWr / Σ (K − 4)) when they are relative weights only.
@@ -36,7 +38,9 @@ vector, in c = 1 units).
 
 **Geometry.** A fix needs at least four receivers; a geometry whose H has a condition number above
 :data:`~motionsig_cli.surveillance.multilateration.COND_LIMIT` (e.g. all receivers on a line, or the clock
-column in the span of the directions) is refused with a :class:`SingularGeometry` naming the epoch.
+column in the span of the directions) is refused with a :class:`SingularGeometry` naming the epoch, or
+(``on_failure="flag"``) that epoch alone has no fix and a ``status`` saying why. A receiver absent at an
+epoch (NaN pseudorange or position) is left out of that epoch's algebra.
 """
 
 from __future__ import annotations
