@@ -198,8 +198,8 @@ def solve(
     measurements: Annotated[
         str,
         typer.Argument(
-            help="TOA record (CSV or JSON; '-' for stdin): epoch and/or time, receiver, toa [s] or pseudorange "
-            "[m], optional sigma, and the receivers' positions unless --receivers gives them.",
+            help="TOA record (CSV or JSON; '-' for stdin): epoch and/or time, receiver, toa [s], tdoa [s] or "
+            "pseudorange [m], optional sigma, and the receivers' positions unless --receivers gives them.",
             show_default=False,
         ),
     ],
@@ -237,14 +237,17 @@ def solve(
 
     Output per epoch: ECEF x, y, z, latitude, longitude, altitude (WGS-84), the clock offset (emission
     time minus the epoch's time), their standard deviations, GDOP/PDOP/HDOP/VDOP/TDOP, the number of
-    receivers and the RMS residual; with --clock track the tracked clock and position beside them
-    (3 receivers: the position from the clock prediction, the report's outage case).
+    receivers, the RMS residual, a status (why an epoch has no fix), the receivers excluded as faulty and
+    the fault test's statistic and threshold; with --clock track the tracked clock and position beside them
+    (3 receivers: the position from the clock prediction, the report's outage case). Ionosphere,
+    troposphere, satellite clocks and ephemerides are the user's corrections.
 
     \b
     Example:
       motionsig track-sat solve toa.csv --receivers stations.csv              # one fix per epoch
       motionsig track-sat solve toa.csv --receivers stations.csv --clock track --sigma0 20 --sigma 10
       motionsig track-sat solve toa.csv --receivers stations.csv --view residuals --units report
+      motionsig track-sat solve gps.csv --earth-rotation --sigma 5m         # GNSS pseudoranges
     """
     from motionsig_cli.atc10 import toa_solve as ts
 
