@@ -183,6 +183,11 @@ MAX_DEPTH_M = 100e3
 """Fixes whose median over a record lies more than this below the ellipsoid [m] (assumed: no transmitter or
 receiver is 100 km underground) mean measurements that do not fit the receivers' positions, such as
 pseudoranges in kilometres read as metres: the record is refused."""
+EXCESS_FRACTION = 0.01
+"""Measurement differences beyond the receivers' separation by more than this fraction of it (plus 10 σ)
+break the triangle inequality (assumed margin for positions and refraction)."""
+CHECK_EPOCHS = 2000
+"""Most epochs the triangle-inequality check looks at (evenly spaced)."""
 TIME_MATCH_S = 1e-6
 """Largest difference between a record's epoch time and a receivers file's time taken as the same [s]."""
 MAX_NS = 1e9
@@ -1076,6 +1081,44 @@ def _refuse_unsolvable(meas: Measurements, fix: SnapshotFix, role: str) -> None:
     )
 
 
+def _check_differences(meas: Measurements, role: str) -> None:
+    """The measurements' differences against the receivers' separations: for any transmitter position,
+    |ρ_i − ρ_j| = |‖p − S_i‖ − ‖p − S_j‖| ≤ ‖S_i − S_j‖ (the triangle inequality). A record where most epochs
+    break it by more than :data:`EXCESS_FRACTION` of the separation plus 10 σ (e.g. TOAs in milliseconds read
+    as seconds) does not fit the geometry and is refused; a fault at a few epochs is left to the fault test.
+    At most :data:`CHECK_EPOCHS` epochs (evenly spaced) and 50 receivers per epoch are looked at."""
+    E, K = meas.rho.shape
+    if K < 2:
+        return
+    ep = np.unique(np.linspace(0, E - 1, min(E, CHECK_EPOCHS)).astype(int))
+    k = slice(0, min(K, 50))
+    rho, S = meas.rho[ep, k], meas.receivers[ep, k]
+    sig = np.zeros(rho.shape) if meas.sigma is None else np.nan_to_num(meas.sigma[ep, k])
+    with np.errstate(invalid="ignore"):
+        diff = np.abs(rho[:, :, None] - rho[:, None, :])
+        base = np.linalg.norm(S[:, :, None, :] - S[:, None, :, :], axis=-1)
+        excess = diff - base * (1.0 + EXCESS_FRACTION) - 10.0 * (sig[:, :, None] + sig[:, None, :])
+        bad = np.nan_to_num(excess, nan=-1.0) > 0
+    n_pairs = np.sum(np.isfinite(diff) & (base > 0), axis=(1, 2))
+    checked = n_pairs > 0
+    broken = bad.any(axis=(1, 2))
+    if not checked.any() or broken.sum() <= 0.5 * checked.sum():
+        return
+    i = int(np.flatnonzero(broken)[0])
+    e = int(ep[i])
+    a, b = np.unravel_index(int(np.nanargmax(np.where(bad[i], diff[i] / np.where(base[i] > 0, base[i], np.inf), -1.0))),
+                            bad[i].shape)  # fmt: skip
+    ratio = diff[i, a, b] / base[i, a, b]
+    what = "times" if meas.kind != "pseudorange" else "pseudoranges"
+    raise InputError(
+        f"{meas.where(e, role)}: the {meas.kind} values do not fit the receivers' positions: at {int(broken.sum())} of "
+        f"{int(checked.sum())} epoch(s) two receivers' {what} differ by more than light covers between them (e.g. "
+        f"{meas.epoch_name(e)}: {meas.labels[a]!r} and {meas.labels[b]!r} are {base[i, a, b]:.6g} m apart, their "
+        f"{what} differ by {diff[i, a, b]:.6g} m of range, {ratio:.3g} times as much): a unit mix-up? (label "
+        f"the unit, e.g. '{meas.record.columns[role]} [ms]' in the header, or --units {role}=ms)"
+    )
+
+
 def _plausible(meas: Measurements, fix: SnapshotFix, cfg: SolveConfig, role: str) -> None:
     """A record whose fixes lie deep inside the Earth (median over the epochs with a fix more than
     :data:`MAX_DEPTH_M` below the ellipsoid) does not fit its receivers' positions: refused, with the unit
@@ -1137,6 +1180,7 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
                          run, fde_cfg)  # fmt: skip
     fix = scale_covariance(fde.fix, scale)
     _refuse_unsolvable(meas, fix, role)
+    _check_differences(meas, role)
     _plausible(meas, fix, cfg, role)
     if cfg.fde and sig_all is None:
         notes.append("fault detection and exclusion is off: it needs the measurements' sigma (--sigma or a sigma column)")
@@ -1333,6 +1377,15 @@ def _residual_table(
         ok = res.fix_epochs[res.fix.ok]
         resid[ok] = res.fix.residuals[res.fix.ok]
         norm[ok] = res.fix.normalised[res.fix.ok]
+        if res.fde is not None and res.fde.excluded.any():  # an excluded measurement against the final fix
+            S = meas.receivers
+            if cfg.earth_rotation:
+                S = rotate_for_flight(S, np.where(np.isfinite(res.fix.position), res.fix.position, 0.0))
+            rng = np.linalg.norm(res.fix.position[:, None, :] - S, axis=-1)
+            ex = res.fde.excluded & res.fix.ok[:, None]
+            resid[ex] = (meas.rho - rng - res.fix.bias[:, None])[ex]
+            if meas.sigma is not None:
+                norm[ex] = resid[ex] / meas.sigma[ex]
     cols: dict[str, list[Any]] = {"line": rec.lines[rows_rec].tolist()}
     cols["epoch"] = [epoch_cols["epoch"][e] for e in e_idx]
     if "time_s" in epoch_cols:

@@ -102,3 +102,32 @@ def test_a_tdoa_epoch_without_its_reference_row_is_refused(capsys, tmp_path, net
     m.write_text("\n".join(line for i, line in enumerate(lines) if i != 1) + "\n")  # epoch 0's reference row
     err = one_line_error(capsys, "track-sat", "solve", str(m), "--receivers", str(d / "stations.csv"))
     assert "t.csv:2: column 'tdoa': this epoch has no reference row" in err, err
+
+
+def test_toas_in_milliseconds_read_as_seconds_are_refused(capsys, tmp_path, network):
+    """The differences of the TOAs exceed the light time between the stations (triangle inequality)."""
+    d, _, _ = network
+    lines = open(d / "toa.csv").read().splitlines()[1:]
+    m = tmp_path / "ms.csv"
+    m.write_text("epoch,station,toa\n" + "".join(
+        f"{e},{st},{(Decimal(toa) - Decimal(t)) * 1000}\n" for e, t, st, toa in (x.split(",") for x in lines)))  # fmt: skip
+    args = ("track-sat", "solve", str(m), "--receivers", str(d / "stations.csv"), "--toa-origin", "epoch")
+    err = one_line_error(capsys, *args)
+    assert "ms.csv:2: column 'toa': the toa values do not fit the receivers' positions: at 20 of 20 epoch(s)" in err
+    assert "a unit mix-up? (label the unit, e.g. 'toa [ms]'" in err
+    rc, _, err = run(capsys, *args, "--units", "toa=ms", "-q")
+    assert rc == 0, err
+
+
+def test_one_faulty_station_is_excluded_and_named(capsys, tmp_path, network):
+    """A station 1 µs late at one epoch (300 m): excluded there, the other epochs untouched."""
+    d, _, _ = network
+    lines = open(d / "toa.csv").read().splitlines()
+    lines[1 + 5 * K + 2] = ",".join(
+        [*lines[1 + 5 * K + 2].split(",")[:3], str(Decimal(lines[1 + 5 * K + 2].split(",")[3]) + Decimal("1e-6"))]
+    )
+    m = tmp_path / "f.csv"
+    m.write_text("\n".join(lines) + "\n")
+    t, rows, _ = _fixes(capsys, tmp_path, str(m), "--receivers", str(d / "stations.csv"), "--sigma", "10ns")
+    assert [r["excluded"] or "" for r in rows] == [""] * 5 + ["ST2"] + [""] * (E - 6)
+    assert t.meta["fault_exclusion"]["excluded_by_receiver"] == {"ST2": 1}
