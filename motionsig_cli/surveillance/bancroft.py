@@ -46,14 +46,15 @@ def _lorentz(a: np.ndarray, c: np.ndarray) -> np.ndarray:
 
 def _wls(A: np.ndarray, w: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """Weighted least squares of A x = rhs per epoch (A (E, K, n), w (E, K) = 1/σ, rhs (E, K, m)):
-    (E, n, m), NaN where the system is singular."""
+    (E, n, m) by a batched SVD, NaN where the system is rank deficient (fewer than n receivers, a
+    degenerate geometry)."""
     Aw = A * w[..., None]
-    out = np.full((A.shape[0], A.shape[2], rhs.shape[2]), np.nan)
-    for e in range(A.shape[0]):  # lstsq per epoch: robust to rank deficiency (flagged as NaN)
-        sol, _, rank, _ = np.linalg.lstsq(Aw[e], rhs[e] * w[e][:, None], rcond=None)
-        if rank == A.shape[2]:
-            out[e] = sol
-    return out
+    u, sv, vt = np.linalg.svd(Aw, full_matrices=False)
+    tol = sv[:, :1] * max(A.shape[1], A.shape[2]) * np.finfo(float).eps
+    full = np.all(sv > tol, axis=1)
+    inv = np.where(sv > tol, 1.0 / np.where(sv > tol, sv, 1.0), 0.0)
+    sol = np.einsum("eji,ej,ekj,ekm->eim", vt, inv, u, rhs * w[..., None])
+    return np.where(full[:, None, None], sol, np.nan)
 
 
 def bancroft(receivers: np.ndarray, rho: np.ndarray, weight: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
