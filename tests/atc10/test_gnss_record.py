@@ -158,3 +158,32 @@ def test_a_plain_sigma_for_times_is_seconds(capsys, tmp_path):
     p.write_text("epoch,receiver,toa,x,y,z\n0,A,0.001,0,0,6378137\n")
     err = one_line_error(capsys, "track-sat", "solve", str(p), "--sigma", "10")
     assert "--sigma" in err and "10 ns is 10ns" in err, err
+
+
+def test_the_fixes_equal_gnss_lib_py_weighted_least_squares():
+    """gnss_lib_py's solve_wls on the same pseudoranges, satellite positions and weights 1/σ²: with the
+    positions taken as given (sv_rx_time=True) the fixes agree to 1e-8 m; with its Earth-rotation
+    correction (sv_rx_time=False) against --earth-rotation to 3e-6 m (measured; the two iterate the
+    flight time differently)."""
+    import warnings
+
+    snapshot = pytest.importorskip("gnss_lib_py.algorithms.snapshot")
+    NavData = pytest.importorskip("gnss_lib_py.navdata.navdata").NavData
+    from motionsig_cli.atc10 import toa_solve as ts
+
+    rows = list(csv.DictReader(open(RECORD, newline="")))
+    nd = NavData()
+    nd["gps_millis"] = np.array([float(r["epoch"]) * 1000 for r in rows])
+    for a in "xyz":
+        nd[f"{a}_sv_m"] = np.array([float(r[a]) for r in rows])
+    nd["corr_pr_m"] = np.array([float(r["pseudorange"]) for r in rows])
+    nd["weight"] = np.array([1 / float(r["sigma"]) ** 2 for r in rows])
+    meas = ts.read_measurements(RECORD)
+    for rx_time, rotate, tol in ((True, False, 1e-6), (False, True, 1e-4)):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            ref = snapshot.solve_wls(nd, weight_type="weight", sv_rx_time=rx_time, tol=1e-9, max_count=100)
+        xyz = np.stack([ref["x_rx_wls_m"], ref["y_rx_wls_m"], ref["z_rx_wls_m"]], axis=-1)
+        res = ts.solve(meas, ts.SolveConfig(earth_rotation=rotate))
+        np.testing.assert_allclose(res.fix.position, xyz, rtol=0, atol=tol)
+        np.testing.assert_allclose(res.fix.bias, ref["b_rx_wls_m"], rtol=0, atol=tol)
