@@ -670,7 +670,9 @@ def read_measurements(
                 + ")",
             )
     elif kind == "tdoa":
-        rho_row = C_M_PER_S * np.array([math.nan if a is None else float(a) for a in exact_values(rec, "tdoa", "time")])
+        rho_row = C_M_PER_S * np.array(
+            [math.nan if a is None else float(a) for a in exact_values(rec, "tdoa", "time")]
+        )
         _check_tdoa(rec, rho_row, group, len(start))
     else:
         rho_row = np.array(
@@ -738,7 +740,9 @@ def _check_tdoa(rec: Record, rho_row: np.ndarray, group: np.ndarray, E: int) -> 
     far = np.flatnonzero(np.abs(rho_row) > C_M_PER_S * MAX_TOA_OFFSET_S)
     if far.size:
         i = int(far[0])
-        raise rec.error(i, "tdoa", f"|tdoa| {abs(rho_row[i]) / C_M_PER_S:.6g} s is more than {MAX_TOA_OFFSET_S:g} s")
+        raise rec.error(
+            i, "tdoa", f"|tdoa| {abs(rho_row[i]) / C_M_PER_S:.6g} s is more than {MAX_TOA_OFFSET_S:g} s"
+        )
     has_ref = np.zeros(E, dtype=bool)
     has_ref[group[rho_row == 0.0]] = True
     missing = np.flatnonzero(~has_ref)
@@ -1057,7 +1061,9 @@ def _snapshot(
     if cfg.earth_rotation:
         for _ in range(2):
             ok = fix.ok
-            Sr = np.where(ok[:, None, None], rotate_for_flight(S, np.where(ok[:, None], fix.position, 0.0)), S)
+            Sr = np.where(
+                ok[:, None, None], rotate_for_flight(S, np.where(ok[:, None], fix.position, 0.0)), S
+            )
             fix = solve_snapshot(rho, Sr, sigma=sigma, p0=p0, max_iter=cfg.max_iter, on_failure="flag")
     return fix
 
@@ -1136,12 +1142,13 @@ def _plausible(meas: Measurements, fix: SnapshotFix, cfg: SolveConfig, role: str
     for factor, what in ((1e3, "kilometres" if meas.kind == "pseudorange" else "milliseconds"),
                          (1e-3, "millimetres" if meas.kind == "pseudorange" else "microseconds")):  # fmt: skip
         trial = solve_snapshot(meas.rho[sub] * factor, meas.receivers[sub], sigma=sig, on_failure="flag")
-        if trial.ok.any() and np.median(ecef_to_geodetic(trial.position[trial.ok], strict=False)[2]) > -MAX_DEPTH_M:
+        if (
+            trial.ok.any()
+            and np.median(ecef_to_geodetic(trial.position[trial.ok], strict=False)[2]) > -MAX_DEPTH_M
+        ):
             col = meas.record.columns[role]
             unit = {"kilometres": "km", "milliseconds": "ms", "millimetres": "mm", "microseconds": "us"}[what]
-            hint = (
-                f"; they fit as {what}: label the unit ('{col} [{unit}]' in the header, or --units {role}={unit})"
-            )
+            hint = f"; they fit as {what}: label the unit ('{col} [{unit}]' in the header, or --units {role}={unit})"
             break
     raise InputError(
         f"{meas.where(int(ok[0]), role)}: the {meas.kind} values do not fit the receivers' positions: the fixes lie "
@@ -1183,13 +1190,17 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
     _check_differences(meas, role)
     _plausible(meas, fix, cfg, role)
     if cfg.fde and sig_all is None:
-        notes.append("fault detection and exclusion is off: it needs the measurements' sigma (--sigma or a sigma column)")
+        notes.append(
+            "fault detection and exclusion is off: it needs the measurements' sigma (--sigma or a sigma column)"
+        )
     status = fix.status if fix.status is not None else np.where(fix.converged, "", "no convergence")
     for reason in NO_FIX:
         bad = np.flatnonzero(status == reason)
         if bad.size:
             names = ", ".join(meas.epoch_name(int(i)) for i in bad[:5])
-            notes.append(f"{bad.size} epoch(s) without a fix ({reason}: {names}{' ...' if bad.size > 5 else ''})")
+            notes.append(
+                f"{bad.size} epoch(s) without a fix ({reason}: {names}{' ...' if bad.size > 5 else ''})"
+            )
     if np.any(status == "no convergence"):
         notes.append(f"no convergence in {cfg.max_iter} Gauss-Newton steps: try --start or --max-iter")
     if fde.alarm.any():
@@ -1274,7 +1285,9 @@ def solve_report(meas: Measurements, cfg: SolveConfig, result: SolveResult | Non
         return out
 
     residual_unit = lu if meas.kind == "pseudorange" else tu
-    to_res = L if meas.kind == "pseudorange" else (Tf / C_M_PER_S)  # metres of pseudorange → the residual's unit
+    to_res = (
+        L if meas.kind == "pseudorange" else (Tf / C_M_PER_S)
+    )  # metres of pseudorange → the residual's unit
     cols: dict[str, list[Any]] = {"epoch": meas.epoch.tolist()}
     if meas.time is not None:
         cols["time_s"] = _cells(meas.time)
@@ -1327,7 +1340,9 @@ def _epoch_table(
         if fix is not None and fix.status is not None else ["fix"] * meas.E  # fmt: skip
     fde = res.fde
     if fde is not None:
-        cols["excluded"] = [" ".join(meas.labels[k] for k in np.flatnonzero(row)) or None for row in fde.excluded]
+        cols["excluded"] = [
+            " ".join(meas.labels[k] for k in np.flatnonzero(row)) or None for row in fde.excluded
+        ]
         cols["test_statistic"] = _cells(fde.statistic)
         cols["test_threshold"] = _cells(fde.threshold)
         cols["integrity"] = [None if not (t == t) or not (s == s) else bool(not a)
@@ -1479,7 +1494,9 @@ def _meta(
             else {
                 "epochs": len(res.fix_epochs),
                 "with_a_fix": int(np.sum(res.fix.ok)),
-                "no_fix": {r: int(np.sum(res.fix.status == r)) for r in NO_FIX if np.any(res.fix.status == r)},
+                "no_fix": {
+                    r: int(np.sum(res.fix.status == r)) for r in NO_FIX if np.any(res.fix.status == r)
+                },
                 "not_converged": int(np.sum(res.fix.status == "no convergence")),
                 "restarted_from_a_neighbour": int(np.sum(res.fix.retried)),
                 "mirror_image_taken": int(np.sum(res.fix.mirrored)),
@@ -1569,7 +1586,9 @@ def _summary(
             parts.append(f"{n_all - n_ok} epoch(s) without a fix (status column)")
         if res.fde is not None and res.fde.excluded.any():
             ex = res.fde.excluded
-            parts.append(f"{int(ex.sum())} measurement(s) excluded as faulty in {int(ex.any(axis=1).sum())} epoch(s)")
+            parts.append(
+                f"{int(ex.sum())} measurement(s) excluded as faulty in {int(ex.any(axis=1).sum())} epoch(s)"
+            )
     tr = res.track
     if tr is not None:
         sd = np.sqrt(tr.var[0, -1]) / C_M_PER_S * Tf

@@ -113,7 +113,10 @@ def test_toas_in_milliseconds_read_as_seconds_are_refused(capsys, tmp_path, netw
         f"{e},{st},{(Decimal(toa) - Decimal(t)) * 1000}\n" for e, t, st, toa in (x.split(",") for x in lines)))  # fmt: skip
     args = ("track-sat", "solve", str(m), "--receivers", str(d / "stations.csv"), "--toa-origin", "epoch")
     err = one_line_error(capsys, *args)
-    assert "ms.csv:2: column 'toa': the toa values do not fit the receivers' positions: at 20 of 20 epoch(s)" in err
+    assert (
+        "ms.csv:2: column 'toa': the toa values do not fit the receivers' positions: at 20 of 20 epoch(s)"
+        in err
+    )
     assert "a unit mix-up? (label the unit, e.g. 'toa [ms]'" in err
     rc, _, err = run(capsys, *args, "--units", "toa=ms", "-q")
     assert rc == 0, err
@@ -124,7 +127,10 @@ def test_one_faulty_station_is_excluded_and_named(capsys, tmp_path, network):
     d, _, _ = network
     lines = open(d / "toa.csv").read().splitlines()
     lines[1 + 5 * K + 2] = ",".join(
-        [*lines[1 + 5 * K + 2].split(",")[:3], str(Decimal(lines[1 + 5 * K + 2].split(",")[3]) + Decimal("1e-6"))]
+        [
+            *lines[1 + 5 * K + 2].split(",")[:3],
+            str(Decimal(lines[1 + 5 * K + 2].split(",")[3]) + Decimal("1e-6")),
+        ]
     )
     m = tmp_path / "f.csv"
     m.write_text("\n".join(lines) + "\n")
