@@ -66,7 +66,8 @@ ellipsoid mean measurements that do not fit the receivers (a km/m mix-up): the r
 **Earth rotation** (``earth_rotation=True``): the anchors are rotated by ω_E·range/c about z
 (:mod:`~motionsig_cli.surveillance.earth_rotation`), for satellite positions given at the transmission.
 
-**Clock tracking** (``clock="track"``: :func:`track_clock`): the report's estimator (eqs 4.5.3–4.5.5,
+**Clock tracking** (``clock="track"``: :func:`track_clock`; without the measurements the fault test
+excluded): the report's estimator (eqs 4.5.3–4.5.5,
 4.5.16–4.5.28, :class:`~motionsig_cli.surveillance.clock_tracking.ReportClock`) with the clock model of
 §4.3 (σ1 = σ2 = σ0, ρ = 1: x_n = Σ w_i + n a_0, eq 4.3.1) per step of the epoch grid (the epoch numbers, or
 the uniform grid of the times), the measurement rows whitened by 1/σ_i. It starts with the first epoch's
@@ -1222,7 +1223,8 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
     if cfg.clock == "track":
         steps, period = _steps(meas)
         assert meas.sigma is not None
-        weight = np.where(meas.used, 1.0 / np.where(meas.used, meas.sigma, 1.0), 0.0)
+        kept = meas.used & ~fde.excluded  # the tracker leaves out what the fault test excluded
+        weight = np.where(kept, 1.0 / np.where(kept, meas.sigma, 1.0), 0.0)
         start = np.full((1, meas.E, 3), np.nan)
         start[0] = np.where(fix.ok[:, None], fix.position, np.nan)
         try:
