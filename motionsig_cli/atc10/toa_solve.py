@@ -189,6 +189,8 @@ EXCESS_FRACTION = 0.01
 break the triangle inequality (assumed margin for positions and refraction)."""
 CHECK_EPOCHS = 2000
 """Most epochs the triangle-inequality check looks at (evenly spaced)."""
+CHECK_PAIRS = 1_000_000
+"""Most receiver pairs (over the epochs) that check holds in memory at once."""
 TIME_MATCH_S = 1e-6
 """Largest difference between a record's epoch time and a receivers file's time taken as the same [s]."""
 MAX_NS = 1e9
@@ -1097,8 +1099,9 @@ def _check_differences(meas: Measurements, role: str) -> None:
     E, K = meas.rho.shape
     if K < 2:
         return
-    ep = np.unique(np.linspace(0, E - 1, min(E, CHECK_EPOCHS)).astype(int))
-    k = slice(0, min(K, 50))
+    nk = min(K, 50)
+    ep = np.unique(np.linspace(0, E - 1, max(1, min(E, CHECK_EPOCHS, CHECK_PAIRS // (nk * nk)))).astype(int))
+    k = slice(0, nk)
     rho, S = meas.rho[ep, k], meas.receivers[ep, k]
     sig = np.zeros(rho.shape) if meas.sigma is None else np.nan_to_num(meas.sigma[ep, k])
     with np.errstate(invalid="ignore"):
