@@ -1210,8 +1210,9 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
     if fde.alarm.any():
         al = np.flatnonzero(fde.alarm)
         names = ", ".join(meas.epoch_name(int(i)) for i in al[:5])
+        why = "with no receiver left to exclude" if fde_cfg.enabled else "(--no-fde: nothing excluded)"
         notes.append(
-            f"{al.size} epoch(s) fail the fault test with no receiver left to exclude ({names}"
+            f"{al.size} epoch(s) fail the fault test {why} ({names}"
             f"{' ...' if al.size > 5 else ''}): their fixes are flagged (integrity = false)"
         )
     both = fix.ok & np.isfinite(fix.other_chi2)
@@ -1491,7 +1492,7 @@ def _meta(
         ),
         propagation="straight line at c: ionosphere, troposphere, satellite clocks and ephemerides are the "
         "user's corrections, applied before",
-        fault_exclusion=_fde_meta(res),
+        fault_exclusion=_fde_meta(res, cfg),
         max_iter=cfg.max_iter,
         fixes=(
             None
@@ -1520,10 +1521,12 @@ def _meta(
     )
 
 
-def _fde_meta(res: SolveResult) -> dict[str, Any] | str:
+def _fde_meta(res: SolveResult, cfg: SolveConfig) -> dict[str, Any] | str:
     fde = res.fde
     if fde is None or res.meas.sigma is None:
         return "off: the chi-square test needs the measurements' sigma"
+    if not cfg.fde:
+        return "off (--no-fde): the test statistic and threshold are reported, nothing is excluded"
     ex = fde.excluded
     counts = {res.meas.labels[k]: int(ex[:, k].sum()) for k in np.flatnonzero(ex.any(axis=0))}
     return {

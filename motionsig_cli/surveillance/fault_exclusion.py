@@ -63,7 +63,7 @@ class FdeResult:
         statistic: (E,) T = rᵀWr of the final fix (NaN without a fix).
         threshold: (E,) T_α for its degrees of freedom (NaN without redundancy: K = 4, no test).
         first_statistic, first_threshold: (E,) the same before any exclusion.
-        alarm: (E,) the final fix still fails the test (no receiver left to exclude).
+        alarm: (E,) the final fix still fails the test (no receiver left to exclude, or exclusion off).
         p_fa: the false-alarm probability used.
     """
 
@@ -167,7 +167,7 @@ def exclude_faults(
         fix = _merge(fix, part, can[good])
     stat = np.where(fix.ok, fix.chi2, np.nan)
     thr = chi2_threshold(np.where(fix.ok, fix.n_used - MIN_RECEIVERS, 0), cfg.p_fa)
-    alarm = stat > thr if cfg.enabled else np.zeros(E, dtype=bool)
+    alarm = stat > thr
     return FdeResult(fix, excluded, stat, thr, first_stat, first_thr, alarm, cfg.p_fa)
 
 
