@@ -88,7 +88,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from decimal import ROUND_FLOOR, Decimal, localcontext
 from pathlib import Path
 from typing import Any
@@ -1189,6 +1189,10 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
     fde_cfg = FaultExclusion(cfg.p_fa, enabled=cfg.fde and sig_all is not None)
     fde = exclude_faults(meas.rho, meas.receivers, np.ones(meas.rho.shape) if sig_all is None else sig_all,
                          run, fde_cfg)  # fmt: skip
+    if sig_all is None:  # unit weights: r'Wr is no chi-square, there is nothing to test
+        nan = np.full(meas.E, np.nan)
+        fde = replace(fde, statistic=nan, threshold=nan, first_statistic=nan, first_threshold=nan,
+                      alarm=np.zeros(meas.E, dtype=bool))  # fmt: skip
     fix = scale_covariance(fde.fix, scale)
     _refuse_unsolvable(meas, fix, role)
     _check_differences(meas, role)
