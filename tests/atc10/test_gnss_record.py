@@ -187,3 +187,33 @@ def test_the_fixes_equal_gnss_lib_py_weighted_least_squares():
         res = ts.solve(meas, ts.SolveConfig(earth_rotation=rotate))
         np.testing.assert_allclose(res.fix.position, xyz, rtol=0, atol=tol)
         np.testing.assert_allclose(res.fix.bias, ref["b_rx_wls_m"], rtol=0, atol=tol)
+
+
+def test_without_sigma_one_bad_epoch_does_not_inflate_the_others(capsys, tmp_path):
+    """No sigma column: unit weights, no fault test, and each epoch's covariance scaled by its own variance
+    factor, so a +3 km fault at epoch 2 leaves the other epochs' standard deviations as they were (pooling
+    across epochs, when asked, spreads it over all of them)."""
+
+    def nosig(r):
+        return r[:7] + r[8:]
+
+    def fault(r):
+        r = nosig(r)
+        if r[0] == "2" and r[2] == "G19":
+            r[6] = f"{float(r[6]) + 3000.0:.6f}"
+        return r
+
+    head, _ = _rows()
+    clean_p, bad_p = tmp_path / "clean.csv", tmp_path / "bad.csv"
+    for p, ch in ((clean_p, nosig), (bad_p, fault)):
+        body = [ch(list(r)) for r in _rows()[1]]
+        p.write_text("\n".join(",".join(r) for r in [nosig(list(head)), *body]) + "\n")
+    t, clean, _, _ = _solve(capsys, tmp_path, clean_p, "--earth-rotation")
+    _, bad, _, _ = _solve(capsys, tmp_path, bad_p, "--earth-rotation")
+    _, pooled, _, _ = _solve(capsys, tmp_path, bad_p, "--earth-rotation", "--covariance", "pooled")
+    assert t.meta["fault_exclusion"].startswith("off") and all(r["integrity"] in (None, "") for r in bad)
+    sd = lambda rows: np.array([float(r["sd_up_m"]) for r in rows])  # noqa: E731
+    others = [0, 1, 3, 4, 5]
+    np.testing.assert_allclose(sd(bad)[others], sd(clean)[others], rtol=1e-6)
+    assert sd(bad)[2] > 10 * sd(clean)[2]
+    assert np.all(sd(pooled)[others] > 5 * sd(clean)[others])
