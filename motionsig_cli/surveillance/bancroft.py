@@ -7,13 +7,13 @@ product ⟨a, c⟩ = a₁c₁ + a₂c₂ + a₃c₃ − a₄c₄ on a_i = (S_i, 
 
     ⟨a_i, a_i⟩ − 2⟨a_i, y⟩ + ⟨y, y⟩ = 0,   i.e.   B M y = α + Λ 1                               (1)
 
-with the rows of B the a_i, M = diag(1, 1, 1, −1), α_i = ½⟨a_i, a_i⟩ and Λ = ½⟨y, y⟩ (Bancroft's eq 6).
+with the rows of B the a_i, M = diag(1, 1, 1, −1), α_i = ½⟨a_i, a_i⟩ and Λ = ½⟨y, y⟩ (Bancroft's linear system).
 Given Λ, (1) is linear: My = Λu + v with u = B⁺1, v = B⁺α (B⁺ the weighted least-squares inverse
 (BᵀWB)⁻¹BᵀW for K > 4 receivers), and Λ = ½⟨y, y⟩ gives the quadratic
 
     ⟨u, u⟩ Λ² + 2(⟨u, v⟩ − 1) Λ + ⟨v, v⟩ = 0                                                    (2)
 
-(Bancroft's eq 10): two roots, two candidate solutions y = M(Λu + v). One of them has the transmitter where
+(Bancroft's quadratic): two roots, two candidate solutions y = M(Λu + v). One of them has the transmitter where
 the ranges ρ_i − b are positive; with noise both are examined (the least-squares refinement decides). The
 ρ_i are taken about their mean (the clock absorbs a
 constant). The positions stay about the Earth's centre (ECEF, as Bancroft's): about the receivers' centroid

@@ -12,7 +12,8 @@ non-central χ² with non-centrality λ = (f/σ_i)² (1 − h_ii), h_ii the leve
 the whitened hat matrix W^½H(HᵀWH)⁻¹HᵀW^½): the detection probability is P(χ²(K−4, λ) > T_α).
 
 **Exclusion.** The receiver with the largest standardised residual |r_i|/(σ_i √(1 − h_ii)) is excluded
-(for a single bias in a linear model the most likely faulty one: Brown 1992's parity-space identification)
+(for a single bias in a linear model with the others unbiased, the largest standardised residual is
+the maximum-likelihood identification; Brown 1992 compares it with the parity-space methods)
 and the epoch solved again without it; the test is repeated while the remaining receivers can still be
 tested (K − 1 ≥ 5: a set of four fits exactly and cannot confirm an exclusion). An epoch whose test still
 fails when no more receivers can be excluded keeps its fix, flagged as failing the test.
