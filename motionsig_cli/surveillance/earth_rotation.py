@@ -7,10 +7,11 @@ transmission time t_r − τ) is, in the frame of t_r, at
 
     S' = R_z(ω_E τ) S,   R_z(θ) = [[cos θ, sin θ, 0], [−sin θ, cos θ, 0], [0, 0, 1]],   τ = ‖p − S'‖/c
 
-(the frame has turned by ω_E τ about the z axis during the flight: the Earth-rotation correction of the GPS user algorithm, IS-GPS-200). τ depends
-on S' only through the range, so a fixed-point iteration from τ = ‖p − S‖/c converges at once: a
-change of the satellite's position by δ changes τ by at most δ/c, and θ by ω_E δ/c ≈ 2·10⁻¹³ δ/m. For
-a GPS satellite τ ≈ 70 ms and ω_E τ R ≈ 130 m; the fix moves by up to some tens of metres.
+(the frame has turned by ω_E τ about the z axis during the flight: the Earth-rotation correction of the
+GPS user algorithm, IS-GPS-200). τ depends on S' only through the range, so a fixed-point iteration from
+τ = ‖p − S‖/c converges at once: a change of the satellite's position by δ changes τ by at most δ/c, and
+θ by ω_E δ/c ≈ 2·10⁻¹³ δ/m. For a GPS satellite τ ≈ 70 ms and ω_E τ R ≈ 130 m; the fix moves by up to
+some tens of metres.
 """
 
 from __future__ import annotations
