@@ -4,7 +4,8 @@ arrival of its pulse at several receivers — the snapshot fix of ``motionsig tr
 
 The times of arrival T_i become pseudoranges ρ_i = c (T_i − t_ref) (eq 4.2.1 with the epoch's nominal time
 t_ref) and :func:`~motionsig_cli.surveillance.toa_fix.solve_snapshot` solves ρ_i = ‖p − S_i‖ + b by weighted
-least squares (Gauss–Newton on a thin QR, with the mirror-image start for a ground network): the same
+least squares (from the closed-form solution, Gauss–Newton on a thin QR, with the mirror-image start for a
+ground network): the same
 solver, the same numbers as the command.
 """
 
@@ -84,8 +85,8 @@ def solve_epoch(
             converts latitude, longitude, height).
         toa: (K,) times of arrival [s] (NaN: no time at that receiver).
         sigma: the times' standard deviation [s]: one number, or (K,) one per receiver (default 10 ns).
-        start: (latitude [deg], longitude [deg], height [m]) to start from; None: 10 km above the
-            receivers' centroid (a transmitter above a ground network).
+        start: (latitude [deg], longitude [deg], height [m]) to start from; None: the closed-form solution
+            (Bancroft's; for a ground network the planar one above the receivers).
         max_iter: most Gauss–Newton steps.
 
     Raises:

@@ -19,9 +19,11 @@ epoch consecutive):
 - the measurement: ``toa`` [s] (aliases ``arrival``, ``time_of_arrival``, ``toa_s``) — the arrival time, in the time
   frame of the ``time`` column (seconds after its first timestamp when the times are timestamps), or
   measured from the epoch's own time with ``toa_origin="epoch"`` (and always without a time column) —
+  or ``tdoa`` [s] (aliases ``time_difference``, ``tdoa_s``): the arrival minus the arrival at the epoch's
+  reference receiver, which has its own row with 0 (the same fixes as the TOAs),
   or ``pseudorange`` [m] (aliases ``pr``, ``rho``, ``pseudorange_m``) = c(T − t_n);
 - optionally ``sigma`` (aliases ``sd``, ``std``, ``sigma_toa``, ``sigma_pr``): the measurement's standard
-  deviation, in the unit of the measurement (s for a TOA, m for a pseudorange, unless stated).
+  deviation, in the unit of the measurement (s for a TOA or TDOA, m for a pseudorange, unless stated).
 
 An empty or NaN measurement is a receiver that missed the pulse: it drops out of that epoch. The rows of
 an epoch share its time; the row that differs from the others is named.
@@ -38,18 +40,34 @@ when the JSON is parsed: give such times as strings or integers in JSON.
 receivers' common time frame minus the epoch's nominal time t_n (the ``time`` value; 0 for TOAs measured
 from their epoch and for pseudoranges). A transmitter that sends when its own clock reads t_n has a clock
 error (its reading minus true time) of −b_n/c. The speed of light is exact, c = 299 792 458 m/s, and the
-propagation is a straight line at c (no atmosphere, no Earth rotation during the flight: assumed).
+propagation is a straight line at c (no atmosphere: ionosphere, troposphere, satellite clocks and
+ephemerides are the user's corrections; the Earth's rotation during the flight only with
+``earth_rotation``).
 
 **Snapshot fixes** (:func:`~motionsig_cli.surveillance.toa_fix.solve_snapshot`): weighted least squares
-for (p, b) at every epoch with at least four receivers, Gauss–Newton (with a line search) from the
-receivers' centroid raised to 10 km above the ellipsoid (or a given point), an epoch that does not converge
-restarted from the nearest converged epoch's fix. For a ground network (receivers nearly in one plane) the
-fix's mirror image in the plane fits about as well; the starting point's side is kept (default: above the
-receivers), and a warning says when the other side fits much better over the record. The covariance is
-(HᵀWH)⁻¹ with W = 1/σ² when σ is known (a ``sigma`` column or ``sigma_ns``), else scaled by the pooled
-a-posteriori variance factor (``covariance="pooled"``), as the output's metadata states.
+for (p, b) at every epoch on its own, from the closed-form solution (Bancroft 1985, both roots refined;
+for receivers nearly in one plane the planar closed form above them:
+:mod:`~motionsig_cli.surveillance.bancroft`) or a given point, Gauss–Newton with a line search (Newton's
+steps where it crawls), an epoch that does not converge restarted from the nearest converged epoch's fix.
+Receivers come and go: a receiver without a row (or with an empty measurement) at an epoch is left out of
+it. An epoch with fewer than four receivers, a singular geometry or no convergence has no fix, and its row
+says why (``status``); the run goes on. For a ground network (receivers nearly in one plane) the fix's
+mirror image in the plane fits about as well; the start's side is kept (default: above the receivers),
+and a warning says when the other side fits much better over the record. The covariance is (HᵀWH)⁻¹ with
+W = 1/σ² when σ is known (a ``sigma`` column or ``sigma``), else scaled by each epoch's a-posteriori
+variance factor (``covariance="epoch"``; ``"pooled"`` pools it over the record), as the output's metadata
+states.
 
-**Clock tracking** (``clock="track"``: :func:`track_clock`): the report's estimator (eqs 4.5.3–4.5.5,
+**Faults** (σ known, ``fde=True``: :mod:`~motionsig_cli.surveillance.fault_exclusion`): each epoch's
+r'Wr is tested against the χ²(K − 4) quantile at the false-alarm probability ``p_fa``; a failing epoch
+loses the receiver with the largest standardised residual and is solved again, while five or more
+receivers remain. **Plausibility**: fixes whose median lies more than :data:`MAX_DEPTH_M` below the
+ellipsoid mean measurements that do not fit the receivers (a km/m mix-up): the record is refused.
+**Earth rotation** (``earth_rotation=True``): the anchors are rotated by ω_E·range/c about z
+(:mod:`~motionsig_cli.surveillance.earth_rotation`), for satellite positions given at the transmission.
+
+**Clock tracking** (``clock="track"``: :func:`track_clock`; without the measurements the fault test
+excluded): the report's estimator (eqs 4.5.3–4.5.5,
 4.5.16–4.5.28, :class:`~motionsig_cli.surveillance.clock_tracking.ReportClock`) with the clock model of
 §4.3 (σ1 = σ2 = σ0, ρ = 1: x_n = Σ w_i + n a_0, eq 4.3.1) per step of the epoch grid (the epoch numbers, or
 the uniform grid of the times), the measurement rows whitened by 1/σ_i. It starts with the first epoch's
@@ -68,8 +86,9 @@ Every failure is one line: a bad record an :class:`~motionsig_cli.errors.InputEr
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from decimal import ROUND_FLOOR, Decimal, localcontext
 from pathlib import Path
 from typing import Any
@@ -95,6 +114,7 @@ from motionsig_cli.config import ConfigError, in_range, integer, one_of
 from motionsig_cli.errors import InputError
 from motionsig_cli.geodesy import ecef_to_geodetic, geodetic_to_ecef
 from motionsig_cli.records import (
+    UNITS,
     Record,
     RecordSpec,
     Role,
@@ -105,15 +125,18 @@ from motionsig_cli.records import (
 )
 from motionsig_cli.surveillance.clock import psi
 from motionsig_cli.surveillance.clock_tracking import ReportClock
+from motionsig_cli.surveillance.earth_rotation import rotate_for_flight
+from motionsig_cli.surveillance.fault_exclusion import P_FA, FaultExclusion, FdeResult, exclude_faults
 from motionsig_cli.surveillance.multilateration import COND_LIMIT, FOOT_M, GeometryError
 from motionsig_cli.surveillance.toa_fix import (
     C_M_PER_S,
     MIN_RECEIVERS,
+    NO_FIX,
     START_ALT_M,
     EpochError,
-    SingularGeometry,
     SnapshotFix,
     position_covariance,
+    scale_covariance,
     solve_snapshot,
     weighted_position_update,
     weighted_pseudo_measurement,
@@ -124,6 +147,7 @@ __all__ = [
     "CLOCKS",
     "COVARIANCES",
     "GAINS",
+    "KINDS",
     "MAX_MEASUREMENTS",
     "MAX_RECEIVERS",
     "MAX_TOA_OFFSET_S",
@@ -156,6 +180,17 @@ OTHER_SIDE_CHI2 = 25.0
 """Mirror-image fixes whose χ², summed over the epochs, is lower by more than this (a likelihood ratio of
 e^12.5: assumed) are reported: the transmitter may be on the other side of the receivers' plane from the
 starting point."""
+MAX_DEPTH_M = 100e3
+"""Fixes whose median over a record lies more than this below the ellipsoid [m] (assumed: no transmitter or
+receiver is 100 km underground) mean measurements that do not fit the receivers' positions, such as
+pseudoranges in kilometres read as metres: the record is refused."""
+EXCESS_FRACTION = 0.01
+"""Measurement differences beyond the receivers' separation by more than this fraction of it (plus 10 σ)
+break the triangle inequality (assumed margin for positions and refraction)."""
+CHECK_EPOCHS = 2000
+"""Most epochs the triangle-inequality check looks at (evenly spaced)."""
+CHECK_PAIRS = 1_000_000
+"""Most receiver pairs (over the epochs) that check holds in memory at once."""
 TIME_MATCH_S = 1e-6
 """Largest difference between a record's epoch time and a receivers file's time taken as the same [s]."""
 MAX_NS = 1e9
@@ -174,18 +209,26 @@ COVARIANCES = ("auto", "known", "epoch", "pooled")
 """The fix covariance: auto (known when σ is given, else pooled), (HᵀWH)⁻¹ with the known σ, or scaled by
 each epoch's or the pooled a-posteriori variance factor."""
 GAINS = ("recursive", "steady")
+KINDS = ("toa", "tdoa", "pseudorange")
+"""What a record measures: times of arrival, time differences of arrival against a reference receiver, or
+pseudoranges."""
+TDOA_ALIASES = ("time_difference", "tdoa_s")
 MODES = ("init", "update", "outage", "predict")
 """What the tracker did at an epoch: start (least squares), update the clock, predict the clock and solve
 the position (three receivers), predict the clock only (fewer)."""
 
 
 def measurement_spec(kind: str, max_rows: int = MAX_MEASUREMENTS) -> RecordSpec:
-    """The roles of a TOA record (``kind="toa"``) or a pseudorange record (``"pseudorange"``)."""
-    one_of("kind", kind, ("toa", "pseudorange"))
-    q = "time" if kind == "toa" else "length"
+    """The roles of a TOA record (``kind="toa"``), a TDOA record (``"tdoa"``) or a pseudorange record
+    (``"pseudorange"``)."""
+    one_of("kind", kind, KINDS)
+    q = "length" if kind == "pseudorange" else "time"
     if kind == "toa":
         meas = Role("toa", ("arrival", "time_of_arrival", "toa_s"), quantity="time", missing=True,
                     help="time of arrival [s] (empty: the receiver missed the pulse)")  # fmt: skip
+    elif kind == "tdoa":
+        meas = Role("tdoa", TDOA_ALIASES, quantity="time", missing=True,
+                    help="time difference of arrival against the epoch's reference receiver [s] (its own row: 0)")  # fmt: skip
     else:
         meas = Role("pseudorange", ("pr", "rho", "pseudorange_m"), quantity="length", missing=True,
                     help="pseudorange c(T - t) [m] (empty: the receiver missed the pulse)")  # fmt: skip
@@ -207,14 +250,64 @@ def measurement_spec(kind: str, max_rows: int = MAX_MEASUREMENTS) -> RecordSpec:
     )  # fmt: skip
 
 
+def parse_sigma(value: str | float) -> tuple[float, str | None]:
+    """``--sigma``: (value, unit) from a number (unit None: the measurement's own, s for TOAs and TDOAs, m
+    for pseudoranges) or a text with a time or length unit, ``"10ns"``, ``"3 m"``, ``"0.5us"``.
+
+    Raises:
+        ConfigError: (field ``sigma``) not a number with an optional known unit, or not > 0.
+    """
+    unit: str | None = None
+    if isinstance(value, str):
+        m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([A-Za-zµ]*)\s*", value)
+        try:
+            v = float(m.group(1)) if m else math.nan
+        except ValueError:
+            v = math.nan
+        if not m or not math.isfinite(v):
+            raise ConfigError("sigma", value, "is not a number with an optional unit (e.g. 10ns, 3m, 1e-8)")
+        unit = m.group(2) or None
+        if unit is not None and unit not in UNITS["time"] and unit not in UNITS["length"]:
+            known = ", ".join([*UNITS["time"], *UNITS["length"]])
+            raise ConfigError("sigma", value, f"has unit {unit!r}: not a time or length unit ({known})")
+    else:
+        v = float(value)
+    if not (v > 0 and math.isfinite(v)):
+        raise ConfigError("sigma", value, "is not > 0")
+    return v, unit
+
+
+def sigma_metres(value: str | float, kind: str) -> float:
+    """σ [m] of a ``--sigma`` value for a record of measurements ``kind`` (a time times c).
+
+    Raises:
+        ConfigError: (field ``sigma``) bad, or more than one second (c × 1 s).
+    """
+    v, unit = parse_sigma(value)
+    if unit is None:
+        unit = "m" if kind == "pseudorange" else "s"
+    metres = v * UNITS["length"][unit] if unit in UNITS["length"] else C_M_PER_S * v * UNITS["time"][unit]
+    if metres > C_M_PER_S * MAX_NS * 1e-9:
+        hint = (
+            f" (a number without a unit is in the measurement's unit, {unit} here: 10 ns is 10ns)"
+            if isinstance(value, float | int) or re.fullmatch(r"\s*[-+0-9.eE]+\s*", str(value))
+            else ""
+        )
+        raise ConfigError("sigma", value, f"is more than one second of light time{hint}")
+    return metres
+
+
 @dataclass(frozen=True)
 class SolveConfig:
     """What ``track-sat solve`` computes and writes.
 
     Attributes:
         clock: ``snapshot`` (a least-squares fix per epoch) or ``track`` (also the report's clock tracker).
-        sigma_ns: the TOA error σ [ns] of every measurement (overrides a ``sigma`` column), in
-            (0, :data:`MAX_NS`]; None: the record's ``sigma`` column, else unknown (unit weights).
+        sigma: the error σ of every measurement (overrides a ``sigma`` column): a number in the unit of the
+            measurement (seconds for TOAs and TDOAs, metres for pseudoranges) or a text with a unit
+            (``"10ns"``, ``"3 m"``: :func:`parse_sigma`), at most one second (c × 1 s as a length);
+            None: the record's ``sigma`` column, else unknown (unit weights).
+        sigma_ns: the same σ in nanoseconds (the older spelling; not with ``sigma``).
         sigma0_ns: the clock model's scale σ0 [ns] per epoch step (σ1 = σ2 = σ0, ρ = 1), in [0, MAX_NS];
             None: :data:`SIGMA0_NS` (the default of ``track-sat simulate``).
         gain: ``recursive`` (the exact γ_n) or ``steady`` (the constant ψ(α) from the first epoch's geometry).
@@ -229,9 +322,15 @@ class SolveConfig:
         max_iter: Gauss–Newton steps per epoch, 1 to 1000.
         view: ``epochs`` (one row per epoch) or ``residuals`` (one row per measurement).
         full_covariance: add the covariance of (x, y, z, clock offset) as columns.
+        fde: fault detection and exclusion (:mod:`~motionsig_cli.surveillance.fault_exclusion`; needs σ).
+        p_fa: the fault test's false-alarm probability per epoch, in (0, 0.5].
+        earth_rotation: rotate the anchors by the Earth's rotation during the signal's flight
+            (:mod:`~motionsig_cli.surveillance.earth_rotation`; for satellite positions given at the
+            transmission time).
     """
 
     clock: str = "snapshot"
+    sigma: str | float | None = None
     sigma_ns: float | None = None
     sigma0_ns: float | None = None
     gain: str = "recursive"
@@ -244,11 +343,21 @@ class SolveConfig:
     max_iter: int = 20
     view: str = "epochs"
     full_covariance: bool = False
+    fde: bool = True
+    p_fa: float = P_FA
+    earth_rotation: bool = False
 
     def __post_init__(self) -> None:
         one_of("clock", self.clock, CLOCKS)
         if self.sigma_ns is not None:
             in_range("sigma_ns", self.sigma_ns, 0.0, MAX_NS, lo_open=True, unit="ns")
+            if self.sigma is not None:
+                raise ConfigError("sigma_ns", self.sigma_ns, "and sigma both given: give one")
+        if self.sigma is not None:
+            parse_sigma(self.sigma)
+        FaultExclusion(self.p_fa, self.fde)
+        if self.earth_rotation and self.clock == "track":
+            raise ConfigError("earth_rotation", True, "applies to the snapshot fixes: not with --clock track")
         if self.sigma0_ns is not None:
             in_range("sigma0_ns", self.sigma0_ns, 0.0, MAX_NS, unit="ns")
         one_of("gain", self.gain, GAINS)
@@ -349,34 +458,37 @@ class Measurements:
 
 
 def _kind(table: Table, colmap: dict[str, str]) -> str:
-    """``toa`` or ``pseudorange``: which measurement column the record has."""
+    """``toa``, ``tdoa`` or ``pseudorange``: which measurement column the record has."""
     probe = RecordSpec(
         (
             Role(
                 "toa", ("arrival", "time_of_arrival", "toa_s"), quantity="time", required=False, missing=True
             ),
+            Role("tdoa", TDOA_ALIASES, quantity="time", required=False, missing=True),
             Role(
                 "pseudorange", ("pr", "rho", "pseudorange_m"), quantity="length", required=False, missing=True
             ),
         ),
         max_rows=max(len(table.rows), 1),
     )
-    sub_c = {k: v for k, v in colmap.items() if k in ("toa", "pseudorange")}
+    sub_c = {k: v for k, v in colmap.items() if k in KINDS}
     found = read_record(Table(table.columns, [], table.meta, (), table.source, table.header_line), probe,
                         columns=sub_c)  # fmt: skip
     where = f"{table.source}:{table.header_line}" if table.header_line else table.source
-    if found.has("toa") and found.has("pseudorange"):
+    have = [k for k in KINDS if found.has(k)]
+    if len(have) > 1:
+        cols = " and ".join(repr(found.columns[k]) for k in have)
         raise InputError(
-            f"{where}: columns {found.columns['toa']!r} and {found.columns['pseudorange']!r}: a record holds "
-            "times of arrival or pseudoranges, not both; map one with --columns toa=NAME or pseudorange=NAME"
+            f"{where}: columns {cols}: a record holds times of arrival, time differences or pseudoranges, not "
+            "several; map one with --columns toa=NAME, tdoa=NAME or pseudorange=NAME"
         )
-    if not (found.has("toa") or found.has("pseudorange")):
-        toa, pr = (", ".join(repr(a) for a in r.aliases) for r in probe.roles)
+    if not have:
+        toa, tdoa, pr = (", ".join(repr(a) for a in r.aliases) for r in probe.roles)
         raise InputError(
-            f"{where}: missing column 'toa' (or {toa}) [s] or 'pseudorange' (or {pr}) [m]: "
-            f"columns are {', '.join(table.columns)}; map one with --columns toa=NAME"
+            f"{where}: missing column 'toa' (or {toa}) [s], 'tdoa' (or {tdoa}) [s] or 'pseudorange' (or {pr}) "
+            f"[m]: columns are {', '.join(table.columns)}; map one with --columns toa=NAME"
         )
-    return "toa" if found.has("toa") else "pseudorange"
+    return have[0]
 
 
 def _filter_units(unitmap: dict[str, str], spec: RecordSpec) -> dict[str, str]:
@@ -393,6 +505,7 @@ def read_measurements(
     receivers_columns: str | Mapping[str, str] | None = None,
     toa_origin: str = "time",
     sigma_ns: float | None = None,
+    sigma: str | float | None = None,
 ) -> Measurements:
     """Read a TOA record (and a receivers file) into epochs and receiver slots (module docstring).
 
@@ -406,6 +519,8 @@ def read_measurements(
         receivers_columns: ``--columns`` of the receivers file.
         toa_origin: one of :data:`TOA_ORIGINS`.
         sigma_ns: a σ [ns] for every measurement (overrides a ``sigma`` column).
+        sigma: a σ for every measurement in its own unit or with a unit (:func:`parse_sigma`; overrides a
+            ``sigma`` column; not with ``sigma_ns``).
 
     Raises:
         ConfigError: a bad ``columns``/``units`` text or option.
@@ -557,6 +672,11 @@ def read_measurements(
                 )
                 + ")",
             )
+    elif kind == "tdoa":
+        rho_row = C_M_PER_S * np.array(
+            [math.nan if a is None else float(a) for a in exact_values(rec, "tdoa", "time")]
+        )
+        _check_tdoa(rec, rho_row, group, len(start))
     else:
         rho_row = np.array(
             [math.nan if a is None else float(a) for a in exact_values(rec, "pseudorange", "length")]
@@ -572,14 +692,23 @@ def read_measurements(
     measured = np.isfinite(rho_row)
     # σ [m]
     sigma_row: np.ndarray | None
-    if sigma_ns is not None:
+    if sigma is not None:
+        if sigma_ns is not None:
+            raise ConfigError("sigma_ns", sigma_ns, "and sigma both given: give one")
+        sm = sigma_metres(sigma, kind)
+        sigma_row = np.full(len(rec), sm)
+        v, u = parse_sigma(sigma)
+        source_s = f"--sigma {v:g} {u or ('m' if kind == 'pseudorange' else 's')} ({sm:.6g} m of range)" + (
+            " (over the record's sigma column)" if rec.has("sigma") else ""
+        )
+    elif sigma_ns is not None:
         in_range("sigma_ns", sigma_ns, 0.0, MAX_NS, lo_open=True, unit="ns")
         sigma_row = np.full(len(rec), C_M_PER_S * sigma_ns * 1e-9)
         source_s = f"--sigma {sigma_ns:g} ns" + (
             " (over the record's sigma column)" if rec.has("sigma") else ""
         )
     elif rec.has("sigma"):
-        s = rec["sigma"] * (C_M_PER_S if kind == "toa" else 1.0)
+        s = rec["sigma"] * (1.0 if kind == "pseudorange" else C_M_PER_S)
         bad = np.flatnonzero(measured & ~(s > 0))
         if bad.size:
             i = int(bad[0])
@@ -606,6 +735,29 @@ def read_measurements(
     ep = epochs if epochs is not None else np.arange(E, dtype=np.int64)
     first = None if t_dec is None else format(t_dec[0].normalize(), "f")
     return Measurements(kind, rho, sig, source_s, S, row, labels, ep, times, t_ref, start, rec, rx, first)
+
+
+def _check_tdoa(rec: Record, rho_row: np.ndarray, group: np.ndarray, E: int) -> None:
+    """Every epoch of a TDOA record has its reference receiver's row (tdoa 0), and no TDOA is further than
+    :data:`MAX_TOA_OFFSET_S` (another frame, or times in the wrong unit)."""
+    far = np.flatnonzero(np.abs(rho_row) > C_M_PER_S * MAX_TOA_OFFSET_S)
+    if far.size:
+        i = int(far[0])
+        raise rec.error(
+            i, "tdoa", f"|tdoa| {abs(rho_row[i]) / C_M_PER_S:.6g} s is more than {MAX_TOA_OFFSET_S:g} s"
+        )
+    has_ref = np.zeros(E, dtype=bool)
+    has_ref[group[rho_row == 0.0]] = True
+    missing = np.flatnonzero(~has_ref)
+    if missing.size:
+        e = int(missing[0])
+        i = int(np.flatnonzero(group == e)[0])
+        raise rec.error(
+            i,
+            "tdoa",
+            "this epoch has no reference row: a TDOA record lists each epoch's reference receiver with tdoa 0 "
+            "(the time differences are taken against it)",
+        )
 
 
 def _receiver_positions(
@@ -840,11 +992,12 @@ class SolveResult:
     period: float | None
     covariance: str
     notes: tuple[str, ...] = field(default=())
+    fde: FdeResult | None = None
 
 
 def _covariance_mode(cfg: SolveConfig, meas: Measurements) -> str:
     if cfg.covariance == "auto":
-        return "known" if meas.sigma is not None else "pooled"
+        return "known" if meas.sigma is not None else "epoch"
     if cfg.covariance == "known" and meas.sigma is None:
         raise ConfigError(
             "covariance", "known", "needs σ: give --sigma or a sigma column (or use --covariance pooled)"
@@ -902,79 +1055,186 @@ def _check_epoch_times(meas: Measurements, steps: np.ndarray) -> None:
         )
 
 
+def _snapshot(
+    rho: np.ndarray, S: np.ndarray, sigma: np.ndarray | None, p0: np.ndarray | None, cfg: SolveConfig
+) -> SnapshotFix:
+    """Unscaled fixes of some epochs, every epoch decided on its own (``on_failure="flag"``); with
+    ``earth_rotation`` solved again with the anchors rotated for the flight time at the fix (twice)."""
+    fix = solve_snapshot(rho, S, sigma=sigma, p0=p0, max_iter=cfg.max_iter, on_failure="flag")
+    if cfg.earth_rotation:
+        for _ in range(2):
+            ok = fix.ok
+            Sr = np.where(
+                ok[:, None, None], rotate_for_flight(S, np.where(ok[:, None], fix.position, 0.0)), S
+            )
+            fix = solve_snapshot(rho, Sr, sigma=sigma, p0=p0, max_iter=cfg.max_iter, on_failure="flag")
+    return fix
+
+
+def _refuse_unsolvable(meas: Measurements, fix: SnapshotFix, role: str) -> None:
+    """A record none of whose epochs can be solved for want of receivers or geometry is refused (one line,
+    naming the first epoch): there is nothing to write. With --clock track three receivers are enough."""
+    st = fix.status
+    if st is None or fix.ok.any() or not np.all((st == "too few receivers") | (st == "singular geometry")):
+        return
+    e = 0
+    if st[e] == "too few receivers":
+        raise InputError(
+            f"{meas.where(e, role)}: {meas.epoch_name(e)} has {int(meas.n_used[e])} receiver(s) with a measurement: "
+            f"a snapshot fix needs at least {MIN_RECEIVERS} (and no epoch of the record has a fix)"
+        )
+    raise InputError(
+        f"{meas.where(e, 'receiver' if meas.record.has('receiver') else None)}: {meas.epoch_name(e)}: the geometry "
+        "is singular: position and clock cannot be separated (e.g. all receivers on a line, or in a plane with the "
+        "transmitter), and no epoch of the record has a fix"
+    )
+
+
+def _check_differences(meas: Measurements, role: str) -> None:
+    """The measurements' differences against the receivers' separations: for any transmitter position,
+    |ρ_i − ρ_j| = |‖p − S_i‖ − ‖p − S_j‖| ≤ ‖S_i − S_j‖ (the triangle inequality). A record where most epochs
+    break it by more than :data:`EXCESS_FRACTION` of the separation plus 10 σ (e.g. TOAs in milliseconds read
+    as seconds) does not fit the geometry and is refused; a fault at a few epochs is left to the fault test.
+    At most :data:`CHECK_EPOCHS` epochs (evenly spaced) and 50 receivers per epoch are looked at."""
+    E, K = meas.rho.shape
+    if K < 2:
+        return
+    nk = min(K, 50)
+    ep = np.unique(np.linspace(0, E - 1, max(1, min(E, CHECK_EPOCHS, CHECK_PAIRS // (nk * nk)))).astype(int))
+    k = slice(0, nk)
+    rho, S = meas.rho[ep, k], meas.receivers[ep, k]
+    sig = np.zeros(rho.shape) if meas.sigma is None else np.nan_to_num(meas.sigma[ep, k])
+    with np.errstate(invalid="ignore"):
+        diff = np.abs(rho[:, :, None] - rho[:, None, :])
+        base = np.linalg.norm(S[:, :, None, :] - S[:, None, :, :], axis=-1)
+        excess = diff - base * (1.0 + EXCESS_FRACTION) - 10.0 * (sig[:, :, None] + sig[:, None, :])
+        bad = np.nan_to_num(excess, nan=-1.0) > 0
+    n_pairs = np.sum(np.isfinite(diff) & (base > 0), axis=(1, 2))
+    checked = n_pairs > 0
+    broken = bad.any(axis=(1, 2))
+    if not checked.any() or broken.sum() <= 0.5 * checked.sum():
+        return
+    i = int(np.flatnonzero(broken)[0])
+    e = int(ep[i])
+    a, b = np.unravel_index(int(np.nanargmax(np.where(bad[i], diff[i] / np.where(base[i] > 0, base[i], np.inf), -1.0))),
+                            bad[i].shape)  # fmt: skip
+    ratio = diff[i, a, b] / base[i, a, b]
+    what = "times" if meas.kind != "pseudorange" else "pseudoranges"
+    raise InputError(
+        f"{meas.where(e, role)}: the {meas.kind} values do not fit the receivers' positions: at {int(broken.sum())} of "
+        f"{int(checked.sum())} epoch(s) two receivers' {what} differ by more than light covers between them (e.g. "
+        f"{meas.epoch_name(e)}: {meas.labels[a]!r} and {meas.labels[b]!r} are {base[i, a, b]:.6g} m apart, their "
+        f"{what} differ by {diff[i, a, b]:.6g} m of range, {ratio:.3g} times as much): a unit mix-up? (label "
+        f"the unit, e.g. '{meas.record.columns[role]} [ms]' in the header, or --units {role}=ms)"
+    )
+
+
+def _plausible(meas: Measurements, fix: SnapshotFix, cfg: SolveConfig, role: str) -> None:
+    """A record whose fixes lie deep inside the Earth (median over the epochs with a fix more than
+    :data:`MAX_DEPTH_M` below the ellipsoid) does not fit its receivers' positions: refused, with the unit
+    that would fit (a kilometre/metre mix-up) when one of ×1000 or ÷1000 does."""
+    ok = np.flatnonzero(fix.ok)
+    if not ok.size:
+        return
+    alt = ecef_to_geodetic(fix.position[ok], strict=False)[2]
+    med = float(np.median(alt))
+    if med >= -MAX_DEPTH_M:
+        return
+    hint = ""
+    sub = ok[: min(ok.size, 5)]
+    sig = None if meas.sigma is None else meas.sigma[sub]
+    for factor, what in ((1e3, "kilometres" if meas.kind == "pseudorange" else "milliseconds"),
+                         (1e-3, "millimetres" if meas.kind == "pseudorange" else "microseconds")):  # fmt: skip
+        trial = solve_snapshot(meas.rho[sub] * factor, meas.receivers[sub], sigma=sig, on_failure="flag")
+        if (
+            trial.ok.any()
+            and np.median(ecef_to_geodetic(trial.position[trial.ok], strict=False)[2]) > -MAX_DEPTH_M
+        ):
+            col = meas.record.columns[role]
+            unit = {"kilometres": "km", "milliseconds": "ms", "millimetres": "mm", "microseconds": "us"}[what]
+            hint = f"; they fit as {what}: label the unit ('{col} [{unit}]' in the header, or --units {role}={unit})"
+            break
+    raise InputError(
+        f"{meas.where(int(ok[0]), role)}: the {meas.kind} values do not fit the receivers' positions: the fixes lie "
+        f"{-med / 1e3:.6g} km below the WGS-84 ellipsoid (median over {ok.size} epoch(s)){hint}"
+    )
+
+
 def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
-    """Snapshot fixes, and with ``cfg.clock == "track"`` the clock track (module docstring).
+    """Snapshot fixes (every epoch on its own: one that cannot be solved gets a status), faults excluded
+    (with σ known), and with ``cfg.clock == "track"`` the clock track (module docstring).
 
     Raises:
-        InputError: an epoch with too few receivers for what is asked, or a singular geometry (naming the
-            epoch's first line).
+        InputError: the fixes lie deep inside the Earth (a unit mix-up), or the clock track cannot start.
         ConfigError: ``covariance="known"`` without σ, or ``clock="track"`` without σ.
     """
     cov_mode = _covariance_mode(cfg, meas)
     scale = {"known": "none", "epoch": "epoch", "pooled": "pooled"}[cov_mode]
-    n = meas.n_used
-    role = "toa" if meas.kind == "toa" else "pseudorange"
-    if cfg.clock == "snapshot":
-        few = np.flatnonzero(n < MIN_RECEIVERS)
-        if few.size:
-            e = int(few[0])
-            raise InputError(
-                f"{meas.where(e, role)}: {meas.epoch_name(e)} has {int(n[e])} receiver(s) with a measurement: a "
-                f"snapshot fix needs at least {MIN_RECEIVERS} (with --clock track, 3 are enough: the position then "
-                "follows from the clock prediction)"
-            )
-    elif meas.sigma is None:
+    role = {"toa": "toa", "tdoa": "tdoa"}.get(meas.kind, "pseudorange")
+    if cfg.clock == "track" and meas.sigma is None:
         raise ConfigError(
             "sigma_ns",
             None,
             "is needed by --clock track: the gain weighs the clock model against the measurements; give --sigma "
             "or a sigma column",
         )
-    fix_epochs = np.flatnonzero(n >= MIN_RECEIVERS)
-    fix = None
+    fix_epochs = np.arange(meas.E)
     notes: list[str] = []
-    if fix_epochs.size:
-        p0 = None
-        if cfg.start is not None:
-            p0 = geodetic_to_ecef(*cfg.start)
-        sig = None if meas.sigma is None else meas.sigma[fix_epochs]
-        try:
-            fix = solve_snapshot(
-                meas.rho[fix_epochs],
-                meas.receivers[fix_epochs],
-                sigma=sig,
-                p0=p0,
-                scale=scale,
-                max_iter=cfg.max_iter,
-            )
-        except SingularGeometry as exc:
-            e = int(fix_epochs[exc.epoch])
-            raise InputError(f"{meas.where(e, 'receiver' if meas.record.has('receiver') else None)}: "
-                             f"{meas.epoch_name(e)}: {exc.reason}") from None  # fmt: skip
-        bad = np.flatnonzero(~fix.converged)
+    p0 = None if cfg.start is None else geodetic_to_ecef(*cfg.start)
+    sig_all = meas.sigma
+
+    def run(rho: np.ndarray, idx: np.ndarray) -> SnapshotFix:
+        return _snapshot(rho, meas.receivers[idx], None if sig_all is None else sig_all[idx], p0, cfg)
+
+    fde_cfg = FaultExclusion(cfg.p_fa, enabled=cfg.fde and sig_all is not None)
+    fde = exclude_faults(meas.rho, meas.receivers, np.ones(meas.rho.shape) if sig_all is None else sig_all,
+                         run, fde_cfg)  # fmt: skip
+    if sig_all is None:  # unit weights: r'Wr is no chi-square, there is nothing to test
+        nan = np.full(meas.E, np.nan)
+        fde = replace(fde, statistic=nan, threshold=nan, first_statistic=nan, first_threshold=nan,
+                      alarm=np.zeros(meas.E, dtype=bool))  # fmt: skip
+    fix = scale_covariance(fde.fix, scale)
+    _refuse_unsolvable(meas, fix, role)
+    _check_differences(meas, role)
+    _plausible(meas, fix, cfg, role)
+    if cfg.fde and sig_all is None:
+        notes.append(
+            "fault detection and exclusion is off: it needs the measurements' sigma (--sigma or a sigma column)"
+        )
+    status = fix.status if fix.status is not None else np.where(fix.converged, "", "no convergence")
+    for reason in NO_FIX:
+        bad = np.flatnonzero(status == reason)
         if bad.size:
-            names = ", ".join(meas.epoch_name(int(fix_epochs[i])) for i in bad[:5])
+            names = ", ".join(meas.epoch_name(int(i)) for i in bad[:5])
             notes.append(
-                f"{bad.size} epoch(s) did not converge in {cfg.max_iter} Gauss-Newton steps ({names}"
-                f"{' ...' if bad.size > 5 else ''}): no fix is written for them (converged = false); try "
-                "--start or --max-iter"
+                f"{bad.size} epoch(s) without a fix ({reason}: {names}{' ...' if bad.size > 5 else ''})"
             )
-        both = fix.converged & np.isfinite(fix.other_chi2)
-        gain = float(np.sum((fix.chi2 - fix.other_chi2)[both]))
-        if gain > OTHER_SIDE_CHI2:
-            notes.append(
-                f"the mirror images of the fixes in the receivers' plane fit better (chi-square lower by {gain:.3g} "
-                f"over {int(both.sum())} epoch(s)): is the transmitter on the other side of the receivers from the "
-                "starting point? (--start)"
-            )
+    if np.any(status == "no convergence"):
+        notes.append(f"no convergence in {cfg.max_iter} Gauss-Newton steps: try --start or --max-iter")
+    if fde.alarm.any():
+        al = np.flatnonzero(fde.alarm)
+        names = ", ".join(meas.epoch_name(int(i)) for i in al[:5])
+        why = "with no receiver left to exclude" if fde_cfg.enabled else "(--no-fde: nothing excluded)"
+        notes.append(
+            f"{al.size} epoch(s) fail the fault test {why} ({names}"
+            f"{' ...' if al.size > 5 else ''}): their fixes are flagged (integrity = false)"
+        )
+    both = fix.ok & np.isfinite(fix.other_chi2)
+    gain = float(np.sum((fix.chi2 - fix.other_chi2)[both]))
+    if gain > OTHER_SIDE_CHI2:
+        notes.append(
+            f"the mirror images of the fixes in the receivers' plane fit better (chi-square lower by {gain:.3g} "
+            f"over {int(both.sum())} epoch(s)): is the transmitter on the other side of the receivers from the "
+            "starting point? (--start)"
+        )
     track = steps = period = None
     if cfg.clock == "track":
         steps, period = _steps(meas)
         assert meas.sigma is not None
-        weight = np.where(meas.used, 1.0 / np.where(meas.used, meas.sigma, 1.0), 0.0)
+        kept = meas.used & ~fde.excluded  # the tracker leaves out what the fault test excluded
+        weight = np.where(kept, 1.0 / np.where(kept, meas.sigma, 1.0), 0.0)
         start = np.full((1, meas.E, 3), np.nan)
-        if fix is not None:
-            start[0, fix_epochs] = np.where(fix.converged[:, None], fix.position, np.nan)
+        start[0] = np.where(fix.ok[:, None], fix.position, np.nan)
         try:
             track = track_clock(
                 np.where(meas.used, meas.rho, 0.0)[None],
@@ -991,7 +1251,7 @@ def solve(meas: Measurements, cfg: SolveConfig) -> SolveResult:
             e = int(getattr(exc, "epoch", 0))
             reason = getattr(exc, "reason", str(exc))
             raise InputError(f"{meas.where(e, role)}: {meas.epoch_name(e)}: {reason}") from None
-    return SolveResult(meas, fix_epochs, fix, track, steps, period, cov_mode, tuple(notes))
+    return SolveResult(meas, fix_epochs, fix, track, steps, period, cov_mode, tuple(notes), fde)
 
 
 # --- the table ------------------------------------------------------------------------------------------------
@@ -1030,12 +1290,14 @@ def solve_report(meas: Measurements, cfg: SolveConfig, result: SolveResult | Non
         """Per-epoch values of the fixes (NaN without a fix, or where it did not converge)."""
         out = np.full((E, *shape), np.nan)
         if fix is not None:
-            keep = np.ones(len(fe), dtype=bool) if all_fixes else fix.converged
+            keep = np.ones(len(fe), dtype=bool) if all_fixes else fix.ok
             out[fe[keep]] = np.asarray(values)[keep]
         return out
 
-    residual_unit = tu if meas.kind == "toa" else lu
-    to_res = (Tf / C_M_PER_S) if meas.kind == "toa" else L  # metres of pseudorange → the residual's unit
+    residual_unit = lu if meas.kind == "pseudorange" else tu
+    to_res = (
+        L if meas.kind == "pseudorange" else (Tf / C_M_PER_S)
+    )  # metres of pseudorange → the residual's unit
     cols: dict[str, list[Any]] = {"epoch": meas.epoch.tolist()}
     if meas.time is not None:
         cols["time_s"] = _cells(meas.time)
@@ -1045,6 +1307,13 @@ def solve_report(meas: Measurements, cfg: SolveConfig, result: SolveResult | Non
         table = _epoch_table(meas, cfg, res, cols, full, residual_unit, to_res, L, lu, Tf, tu)
     summary = _summary(meas, res, residual_unit, to_res, Tf, tu)
     return SolveReport(table, summary, res.notes)
+
+
+def _status_text(reason: str, n: int) -> str:
+    """The status column of an epoch without a fix."""
+    if reason == "too few receivers":
+        return f"no fix: {n} receiver(s), a fix needs {MIN_RECEIVERS}"
+    return f"no fix: {reason}"
 
 
 def _epoch_table(
@@ -1076,12 +1345,18 @@ def _epoch_table(
     cols[f"rms_residual_{residual_unit}"] = _cells(full(fix.rms_residual if fix else None) * to_res)
     it = full(fix.iterations.astype(float) if fix else None, all_fixes=True)
     cols["iterations"] = [None if v != v else int(v) for v in it.tolist()]
-    conv = np.zeros(meas.E, dtype=bool)
-    has_fix = np.zeros(meas.E, dtype=bool)
-    if fix is not None:
-        conv[res.fix_epochs] = fix.converged
-        has_fix[res.fix_epochs] = True
-    cols["converged"] = [bool(c) if h else None for c, h in zip(conv, has_fix, strict=True)]
+    cols["converged"] = [bool(c) for c in fix.ok] if fix is not None else [None] * meas.E
+    cols["status"] = ["fix" if not st else _status_text(st, int(n)) for st, n in zip(fix.status, meas.n_used, strict=True)] \
+        if fix is not None and fix.status is not None else ["fix"] * meas.E  # fmt: skip
+    fde = res.fde
+    if fde is not None:
+        cols["excluded"] = [
+            " ".join(meas.labels[k] for k in np.flatnonzero(row)) or None for row in fde.excluded
+        ]
+        cols["test_statistic"] = _cells(fde.statistic)
+        cols["test_threshold"] = _cells(fde.threshold)
+        cols["integrity"] = [None if not (t == t) or not (s == s) else bool(not a)
+                             for t, s, a in zip(fde.threshold.tolist(), fde.statistic.tolist(), fde.alarm.tolist(), strict=True)]  # fmt: skip
     if cfg.full_covariance:
         P = full(fix.covariance if fix else None, (4, 4))
         names = ("x", "y", "z", "clock")
@@ -1124,15 +1399,26 @@ def _residual_table(
     resid = np.full(meas.row.shape, np.nan)
     norm = np.full(meas.row.shape, np.nan)
     if res.fix is not None:
-        ok = res.fix_epochs[res.fix.converged]
-        resid[ok] = res.fix.residuals[res.fix.converged]
-        norm[ok] = res.fix.normalised[res.fix.converged]
+        ok = res.fix_epochs[res.fix.ok]
+        resid[ok] = res.fix.residuals[res.fix.ok]
+        norm[ok] = res.fix.normalised[res.fix.ok]
+        if res.fde is not None and res.fde.excluded.any():  # an excluded measurement against the final fix
+            S = meas.receivers
+            if cfg.earth_rotation:
+                S = rotate_for_flight(S, np.where(np.isfinite(res.fix.position), res.fix.position, 0.0))
+            rng = np.linalg.norm(res.fix.position[:, None, :] - S, axis=-1)
+            ex = res.fde.excluded & res.fix.ok[:, None]
+            resid[ex] = (meas.rho - rng - res.fix.bias[:, None])[ex]
+            if meas.sigma is not None:
+                norm[ex] = resid[ex] / meas.sigma[ex]
     cols: dict[str, list[Any]] = {"line": rec.lines[rows_rec].tolist()}
     cols["epoch"] = [epoch_cols["epoch"][e] for e in e_idx]
     if "time_s" in epoch_cols:
         cols["time_s"] = [epoch_cols["time_s"][e] for e in e_idx]
     cols["receiver"] = [meas.labels[k] for k in k_idx]
     cols["measured"] = meas.used[e_idx, k_idx].tolist()
+    if res.fde is not None:
+        cols["excluded"] = res.fde.excluded[e_idx, k_idx].tolist()
     cols[f"residual_{residual_unit}"] = _cells(resid[e_idx, k_idx] * to_res)
     if meas.sigma is not None:
         cols[f"sigma_{residual_unit}"] = _cells(meas.sigma[e_idx, k_idx] * to_res)
@@ -1186,26 +1472,42 @@ def _meta(
         sigma=meas.sigma_source,
         covariance={
             "known": "(H'WH)^-1 with W = 1/sigma^2 (sigma known), not scaled",
-            "epoch": "(H'WH)^-1 scaled by each epoch's a-posteriori variance factor r'Wr/(K - 4)",
+            "epoch": "(H'WH)^-1 scaled by each epoch's a-posteriori variance factor r'Wr/(K - 4) (an epoch with 4 "
+            "receivers: the pooled factor of the others)",
             "pooled": "(H'WH)^-1 scaled by the pooled a-posteriori variance factor sum r'Wr / sum (K - 4)",
         }[res.covariance],
         variance_factor=(
             float(res.fix.variance_factor[0]) if res.fix is not None and res.covariance == "pooled" else None
         ),
-        solver="weighted least squares, Gauss-Newton by thin QR, step < 1e-6 m; an epoch that does not converge "
-        "is restarted from the nearest converged epoch's fix",
+        solver="weighted least squares, Gauss-Newton by thin QR, step < 1e-6 m, each epoch on its own; an epoch "
+        "that does not converge is restarted from the nearest converged epoch's fix",
         start=(
             list(cfg.start)
             if cfg.start is not None
-            else f"the receivers' centroid, {START_ALT_M:g} m above the WGS-84 ellipsoid"
+            else "closed form (Bancroft 1985, both roots refined, the lower chi-square kept; for receivers nearly "
+            f"in one plane the planar closed form above the plane); where it fails the receivers' centroid "
+            f"{START_ALT_M:g} m above the WGS-84 ellipsoid"
         ),
+        earth_rotation=(
+            "the anchors rotated about z by omega_E * range / c (the Earth's rotation during the signal's flight; "
+            "positions given at the transmission)"
+            if cfg.earth_rotation
+            else "not corrected (anchor positions taken in the frame of the reception)"
+        ),
+        propagation="straight line at c: ionosphere, troposphere, satellite clocks and ephemerides are the "
+        "user's corrections, applied before",
+        fault_exclusion=_fde_meta(res, cfg),
         max_iter=cfg.max_iter,
         fixes=(
             None
             if res.fix is None
             else {
                 "epochs": len(res.fix_epochs),
-                "not_converged": int(np.sum(~res.fix.converged)),
+                "with_a_fix": int(np.sum(res.fix.ok)),
+                "no_fix": {
+                    r: int(np.sum(res.fix.status == r)) for r in NO_FIX if np.any(res.fix.status == r)
+                },
+                "not_converged": int(np.sum(res.fix.status == "no convergence")),
                 "restarted_from_a_neighbour": int(np.sum(res.fix.retried)),
                 "mirror_image_taken": int(np.sum(res.fix.mirrored)),
                 "side": "the starting point's side of the receivers' plane (for a nearly planar network the "
@@ -1221,6 +1523,29 @@ def _meta(
         track=track,
         view=cfg.view,
     )
+
+
+def _fde_meta(res: SolveResult, cfg: SolveConfig) -> dict[str, Any] | str:
+    fde = res.fde
+    if fde is None or res.meas.sigma is None:
+        return "off: the chi-square test needs the measurements' sigma"
+    if not cfg.fde:
+        return "off (--no-fde): the test statistic and threshold are reported, nothing is excluded"
+    ex = fde.excluded
+    counts = {res.meas.labels[k]: int(ex[:, k].sum()) for k in np.flatnonzero(ex.any(axis=0))}
+    return {
+        "test": "chi-square of the weighted residuals r'Wr against its (1 - p_fa) quantile with K - 4 degrees of "
+        "freedom (Parkinson & Axelrad 1988; Brown 1992); epochs with 4 receivers are not tested",
+        "exclusion": "the receiver with the largest standardised residual |r|/(sigma sqrt(1 - h)), then solved "
+        "again, while at least 5 receivers remain",
+        "p_fa": fde.p_fa,
+        "epochs_tested": int(np.isfinite(fde.first_threshold).sum()),
+        "epochs_alarmed": int(np.sum(fde.first_statistic > fde.first_threshold)),
+        "epochs_with_exclusions": int(ex.any(axis=1).sum()),
+        "receivers_excluded": int(ex.sum()),
+        "excluded_by_receiver": counts,
+        "epochs_failing_after_exclusion": int(fde.alarm.sum()),
+    }
 
 
 def _reading(meas: Measurements, cfg: SolveConfig) -> dict[str, Any]:
@@ -1245,6 +1570,8 @@ def _reading(meas: Measurements, cfg: SolveConfig) -> dict[str, Any]:
 
 
 def _tref_text(meas: Measurements, cfg: SolveConfig) -> str:
+    if meas.kind == "tdoa":
+        return "the arrival at the epoch's reference receiver (tdoa 0): the offset is minus the reference's range / c"
     if meas.kind == "pseudorange":
         return "the pseudoranges' own reference: rho = c(T - t)"
     if meas.time is not None and cfg.toa_origin == "time":
@@ -1258,16 +1585,22 @@ def _summary(
     parts = [f"track-sat solve: {meas.E} epoch(s), {meas.K} receiver(s)"]
     fix = res.fix
     if fix is not None:
-        ok = fix.converged
+        ok = fix.ok
         n_ok, n_all = int(ok.sum()), len(res.fix_epochs)
         if n_ok:
-            of = f" (of {n_all} epochs with four receivers)" if n_ok < n_all else ""
             parts.append(
-                f"{n_ok} snapshot fix(es){of}: median PDOP {float(np.median(fix.pdop[ok])):.3g}, median RMS "
+                f"{n_ok} snapshot fix(es): median PDOP {float(np.median(fix.pdop[ok])):.3g}, median RMS "
                 f"residual {float(np.median(fix.rms_residual[ok])) * to_res:.4g} {residual_unit}"
             )
-        else:
+        elif fix.status is not None and np.all(fix.status == "no convergence"):
             parts.append(f"no snapshot fix: none of {n_all} epoch(s) converged")
+        if n_ok < n_all:
+            parts.append(f"{n_all - n_ok} epoch(s) without a fix (status column)")
+        if res.fde is not None and res.fde.excluded.any():
+            ex = res.fde.excluded
+            parts.append(
+                f"{int(ex.sum())} measurement(s) excluded as faulty in {int(ex.any(axis=1).sum())} epoch(s)"
+            )
     tr = res.track
     if tr is not None:
         sd = np.sqrt(tr.var[0, -1]) / C_M_PER_S * Tf

@@ -20,6 +20,9 @@ from motionsig_cli.cli.option_groups import options
 
 OPTIONS = {
     "sigma_ns": "--sigma",
+    "p_fa": "--p-fa",
+    "fde": "--fde",
+    "earth_rotation": "--earth-rotation",
     "sigma0_ns": "--sigma0",
     "receivers_columns": "--receivers-columns",
     "toa_origin": "--toa-origin",
@@ -95,18 +98,18 @@ class Solver:
         ),
     ] = ToaOrigin.time
     sigma: Annotated[
-        float | None,
+        str | None,
         typer.Option(
             "--sigma",
-            help="TOA error σ [ns] of every measurement (as track-sat simulate; 1 m of pseudorange = 3.336 ns); "
-            "default the record's sigma column, else unknown.",
+            help="Error σ of every measurement, in the measurement's unit (s for TOAs and TDOAs, m for "
+            "pseudoranges) or with a unit: 10ns, 3m; default the record's sigma column, else unknown.",
         ),
     ] = None
     covariance: Annotated[
         Covariance,
         typer.Option(
             "--covariance",
-            help="auto: (H'WH)^-1 with the known σ, else scaled by the pooled variance factor; known; epoch or "
+            help="auto: (H'WH)^-1 with the known σ, else scaled by each epoch's variance factor; known; epoch or "
             "pooled: scaled by each epoch's or the pooled a-posteriori variance factor.",
         ),
     ] = Covariance.auto
@@ -140,9 +143,9 @@ class Solver:
         str | None,
         typer.Option(
             "--start",
-            help="Gauss-Newton starting point latitude,longitude,altitude (deg, deg, m); default the receivers' "
-            "centroid 10 km above the ellipsoid. For ground receivers it also says on which side of their "
-            "plane the transmitter is (the mirror image fits about as well).",
+            help="Gauss-Newton starting point latitude,longitude,altitude (deg, deg, m); default the closed-form "
+            "solution (Bancroft), above the receivers' plane for a ground network. For ground receivers it also "
+            "says on which side of their plane the transmitter is (the mirror image fits about as well).",
         ),
     ] = None
     max_iter: Annotated[int, typer.Option("--max-iter", help="Gauss-Newton steps per epoch (1-1000).")] = 20
@@ -156,16 +159,36 @@ class Solver:
             "--full-covariance", help="Add the covariance of x, y, z and the clock offset as columns."
         ),
     ] = False
+    fde: Annotated[
+        bool,
+        typer.Option(
+            "--fde/--no-fde",
+            help="Fault detection and exclusion: chi-square test of each epoch's residuals, the most likely "
+            "faulty receiver excluded and the epoch solved again while 5 or more remain (needs σ).",
+        ),
+    ] = True
+    p_fa: Annotated[
+        float, typer.Option("--p-fa", help="False-alarm probability of the fault test per epoch, (0, 0.5].")
+    ] = 1e-3
+    earth_rotation: Annotated[
+        bool,
+        typer.Option(
+            "--earth-rotation",
+            help="Rotate the anchors by the Earth's rotation during the signal's flight (Sagnac): for "
+            "satellite positions given at the transmission time.",
+        ),
+    ] = False
 
     def config(self, units: str) -> Any:
         """The solver's configuration (which checks every value), in output units ``units``."""
         from motionsig_cli.atc10 import toa_solve as ts
 
         return ts.SolveConfig(
-            clock=self.clock.value, sigma_ns=self.sigma, sigma0_ns=self.sigma0, gain=self.gain.value,
+            clock=self.clock.value, sigma=self.sigma, sigma0_ns=self.sigma0, gain=self.gain.value,
             reinit_after_outage=self.reinit_after_outage, relinearise=self.relinearise, units=units,
             toa_origin=self.toa_origin.value, covariance=self.covariance.value, start=_start(self.start),
-            max_iter=self.max_iter, view=self.view.value, full_covariance=self.full_covariance,
+            max_iter=self.max_iter, view=self.view.value, full_covariance=self.full_covariance, fde=self.fde,
+            p_fa=self.p_fa, earth_rotation=self.earth_rotation,
         )  # fmt: skip
 
 
@@ -175,8 +198,8 @@ def solve(
     measurements: Annotated[
         str,
         typer.Argument(
-            help="TOA record (CSV or JSON; '-' for stdin): epoch and/or time, receiver, toa [s] or pseudorange "
-            "[m], optional sigma, and the receivers' positions unless --receivers gives them.",
+            help="TOA record (CSV or JSON; '-' for stdin): epoch and/or time, receiver, toa [s], tdoa [s] or "
+            "pseudorange [m], optional sigma, and the receivers' positions unless --receivers gives them.",
             show_default=False,
         ),
     ],
@@ -214,14 +237,17 @@ def solve(
 
     Output per epoch: ECEF x, y, z, latitude, longitude, altitude (WGS-84), the clock offset (emission
     time minus the epoch's time), their standard deviations, GDOP/PDOP/HDOP/VDOP/TDOP, the number of
-    receivers and the RMS residual; with --clock track the tracked clock and position beside them
-    (3 receivers: the position from the clock prediction, the report's outage case).
+    receivers, the RMS residual, a status (why an epoch has no fix), the receivers excluded as faulty and
+    the fault test's statistic and threshold; with --clock track the tracked clock and position beside them
+    (3 receivers: the position from the clock prediction, the report's outage case). Ionosphere,
+    troposphere, satellite clocks and ephemerides are the user's corrections.
 
     \b
     Example:
       motionsig track-sat solve toa.csv --receivers stations.csv              # one fix per epoch
       motionsig track-sat solve toa.csv --receivers stations.csv --clock track --sigma0 20 --sigma 10
       motionsig track-sat solve toa.csv --receivers stations.csv --view residuals --units report
+      motionsig track-sat solve gps.csv --earth-rotation --sigma 5m         # GNSS pseudoranges
     """
     from motionsig_cli.atc10 import toa_solve as ts
 
@@ -236,7 +262,7 @@ def solve(
         receivers=receivers,
         receivers_columns=receivers_columns,
         toa_origin=cfg.toa_origin,
-        sigma_ns=cfg.sigma_ns,
+        sigma=cfg.sigma,
     )
     report = ts.solve_report(meas, cfg)
     output.emit(report.table)

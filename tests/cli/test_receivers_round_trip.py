@@ -45,8 +45,11 @@ def test_the_satellites_view_of_a_receivers_table_is_a_receivers_table(capsys, e
     assert rc == 0, err
     ref_rows, got_rows = _rows(ref), _rows(got)
     assert len(got_rows) == len(ref_rows) and got_rows[0] == ref_rows[0]
+    skip = ref_rows[0].split(",").index("iterations")  # a count, not a fix: the round off may change it
     for a, b in zip(ref_rows[1:], got_rows[1:], strict=True):  # the same fixes (ECEF ↔ geodetic round off)
-        for x, y in zip(a.split(","), b.split(","), strict=True):
+        for i, (x, y) in enumerate(zip(a.split(","), b.split(","), strict=True)):
+            if i == skip:
+                continue
             try:
                 assert float(x) == pytest.approx(float(y), rel=1e-9, abs=1e-6)
             except ValueError:

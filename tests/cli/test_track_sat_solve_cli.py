@@ -286,8 +286,6 @@ BAD = {
     "coincident receivers": ({"stations": lambda s: s.replace(s.splitlines()[3].split(",", 1)[1], s.splitlines()[2].split(",", 1)[1])},
                              (), r"s.csv:4: column 'latitude': receivers 'FRS' \(line 3\) and 'ERD' \(line 4\) coincide"),
     "singular geometry": ({"stations": _line_of_stations}, (), r"m.csv:2: column 'station': epoch 0: the geometry is singular"),
-    "too few receivers": ({"toa": lambda s: "\n".join(r for i, r in enumerate(s.splitlines(), 1) if i not in (363, 364, 365)) + "\n"},
-                          (), r"m.csv:362: column 'toa': epoch 60 has 3 receiver\(s\) with a measurement: a snapshot fix needs at least 4 \(with --clock track, 3 are enough"),
     "time going backwards": ({"toa": _replace_line(8, lambda r: r.replace("1001.0,", "999.0,", 1))}, (),
                              r"m.csv:8: column 'time': epoch 1 has two times: 999.0 s here, 1001.0 s at line 9"),
     "odd time in an epoch": ({"toa": _replace_line(4, lambda r: r.replace("1000.0,", "1000.5,", 1))}, (),
@@ -303,12 +301,28 @@ BAD = {
     "empty file": ({"toa": lambda s: ""}, (), r"m.csv: no header row"),
     "unknown unit": ({}, ("--units", "toa=fortnight"), r"Invalid value for --units: 'toa=fortnight' is not a time unit"),
     "unknown output units": ({}, ("--units", "imperial"), r"Invalid value for --units: 'imperial' is neither si, report nor role=unit"),
+    "sigma with an unknown unit": ({}, ("--sigma", "5parsec"), r"Invalid value for --sigma: '5parsec' has unit 'parsec': not a time or length unit"),
+    "plain sigma for TOAs is seconds": ({}, ("--sigma", "10"), r"Invalid value for --sigma: '10' is more than one second of light time \(a number without a unit is in the measurement's unit, s here: 10 ns is 10ns\)"),
+    "false-alarm probability": ({}, ("--p-fa", "0"), r"Invalid value for --p-fa: 0 is not in \(0, 0.5\]"),
+    "earth rotation with tracking": ({}, ("--earth-rotation", "--clock", "track"), r"Invalid value for --earth-rotation: True applies to the snapshot fixes: not with --clock track"),
     "sigma0 without tracking": ({}, ("--sigma0", "5"), r"Invalid value for --sigma0: 5 applies to the clock tracker: add --clock track"),
     "tracking without sigma": ({"toa": lambda s: s.replace(",sigma [ns]", "").replace(",10.0\n", "\n")}, ("--clock", "track"),
                                r"Invalid value for --sigma: None is needed by --clock track"),
     "bad start": ({}, ("--start", "48,11"), r"Invalid value for --start: expected latitude,longitude,altitude"),
     "receivers columns without receivers": ({}, ("--receivers-columns", "x=east"), None),
 }  # fmt: skip
+
+
+def test_an_epoch_with_three_receivers_gets_a_no_fix_row_and_the_run_goes_on(capsys, tmp_path, plain):
+    m, s = _files(tmp_path, plain, toa=lambda s: "\n".join(r for i, r in enumerate(s.splitlines(), 1) if i not in (363, 364, 365)) + "\n")  # fmt: skip
+    rc, out, err = run(capsys, "track-sat", "solve", str(m), "--receivers", str(s))
+    assert rc == 0, err
+    assert "1 epoch(s) without a fix (too few receivers: epoch 60)" in err
+    t = table(out, tmp_path)
+    rows = [dict(zip(t.columns, r, strict=True)) for r in t.rows]
+    assert rows[60]["status"] == "no fix: 3 receiver(s), a fix needs 4" and rows[60]["x_m"] in (None, "")
+    assert sum(r["status"] == "fix" for r in rows) == 119
+    assert t.meta["fixes"]["no_fix"] == {"too few receivers": 1}
 
 
 @pytest.mark.parametrize("name", list(BAD))

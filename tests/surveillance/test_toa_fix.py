@@ -163,7 +163,8 @@ def test_variance_factor_scales_the_covariance():
     assert abs(known.chi2.sum() / dof - 1.0) < 4 * se
     assert abs(half.variance_factor[0] / 4.0 - 1.0) < 4 * se
     assert abs(unit.variance_factor[0] / 9.0 - 1.0) < 4 * se
-    np.testing.assert_allclose(half.covariance, known.covariance * half.variance_factor[0] / 4.0, rtol=1e-9)
+    # (1e-8: an epoch whose χ² is flat along one direction stops where its step is below its own rounding)
+    np.testing.assert_allclose(half.covariance, known.covariance * half.variance_factor[0] / 4.0, rtol=1e-8)
     per = tf.solve_snapshot(rho, S, sigma=sig, scale="epoch")
     np.testing.assert_allclose(per.variance_factor, known.chi2 / 2.0, rtol=1e-12)
 
