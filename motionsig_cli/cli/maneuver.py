@@ -126,13 +126,13 @@ ImmQOpt = Annotated[
         "1e6 (default the paper's 0,0.001,0.0144).",
     ),
 ]
-Q0Opt = Annotated[float, _opt("--q0", "GLR/MLR/CV filter acceleration psd q̃0 [m²/s³], 0 to 1e6.")]
-WindowOpt = Annotated[int, _opt("--window", "GLR/MLR onset window s [scans], 1 to 200.")]
+Q0Opt = Annotated[float | None, _opt("--q0", "GLR/MLR/CV filter acceleration psd q̃0 [m²/s³], 0 to 1e6 (paper tuning 1, aircraft 0.5).")]
+WindowOpt = Annotated[int | None, _opt("--window", "GLR/MLR onset window s [scans], 1 to 200 (paper tuning 10, aircraft 20).")]
 GlrThresholdOpt = Annotated[
-    float, _opt("--glr-threshold", "GLR threshold λ on ΔJ, ≥ 0 (default: χ²₂ 0.999 quantile).")
+    float | None, _opt("--glr-threshold", "GLR threshold λ on ΔJ, ≥ 0 (paper tuning: χ²₂ 0.999 quantile, 13.8; aircraft: 30).")
 ]
-MlrThresholdOpt = Annotated[float, _opt("--mlr-threshold", "MLR threshold h on max_n J(n) (paper: 0).")]
-SigmaUOpt = Annotated[float, _opt("--mlr-sigma-u", "MLR prior σ_u of each input [m/s²], 1e-3 to 1e6.")]
+MlrThresholdOpt = Annotated[float | None, _opt("--mlr-threshold", "MLR threshold h on max_n J(n) (paper: 0; aircraft: 8).")]
+SigmaUOpt = Annotated[float | None, _opt("--mlr-sigma-u", "MLR prior σ_u of each input [m/s²], 1e-3 to 1e6 (paper tuning 20, aircraft 10).")]
 CorrectionOpt = Annotated[
     Correction, _opt("--correction", "exact (updated estimate) or paper (prediction, re-update).")
 ]
@@ -193,31 +193,95 @@ PlotCompareOpt = Annotated[
 @dataclass(frozen=True)
 class TrackerOptions:
     """The trackers' settings: the IMM's G2, transition matrix, initial probabilities and noise, and the
-    GLR/MLR detectors'."""
+    GLR/MLR detectors'. An option left out takes the tuning's value (``--tuning``)."""
 
     g2: G2Opt = G2.paper_fixed
     transition: TransitionOpt = None
     mu0: Mu0Opt = None
     imm_q: ImmQOpt = None
-    q0: Q0Opt = 1.0
-    window: WindowOpt = 10
-    glr_threshold: GlrThresholdOpt = CHI2_2_999
-    mlr_threshold: MlrThresholdOpt = 0.0
-    mlr_sigma_u: SigmaUOpt = 20.0
+    q0: Q0Opt = None
+    window: WindowOpt = None
+    glr_threshold: GlrThresholdOpt = None
+    mlr_threshold: MlrThresholdOpt = None
+    mlr_sigma_u: SigmaUOpt = None
     correction: CorrectionOpt = Correction.exact
     continuation: ContinuationOpt = Continuation.estimate
 
-    def config(self) -> exp.TrackerConfig:
-        """The trackers' configuration (which checks every value)."""
+    def config(self, tuning: str = "paper") -> exp.TrackerConfig:
+        """The trackers' configuration: the tuning's defaults with the options given (which it checks)."""
         from motionsig_cli.maneuver import study as exp
 
         extra = _probabilities(self.transition, self.mu0)
         if self.imm_q is not None:
             extra["imm_q"] = tuple(common.checked("--imm-q", common.float_list, self.imm_q, what="variance"))
-        return exp.TrackerConfig(g2=self.g2.value, q0=self.q0, window=self.window,
-                                 glr_threshold=self.glr_threshold, mlr_threshold=self.mlr_threshold,
-                                 sigma_u=self.mlr_sigma_u, correction=self.correction.value,
-                                 continuation=self.continuation.value, **extra)  # fmt: skip
+        for name, field_name in (("q0", "q0"), ("window", "window"), ("glr_threshold", "glr_threshold"),
+                                 ("mlr_threshold", "mlr_threshold"), ("mlr_sigma_u", "sigma_u")):  # fmt: skip
+            if getattr(self, name) is not None:
+                extra[field_name] = getattr(self, name)
+        return exp.TrackerConfig.tuned(tuning, g2=self.g2.value, correction=self.correction.value,
+                                       continuation=self.continuation.value, **extra)  # fmt: skip
+
+
+Tuning = choices("Tuning", "Tracker defaults.", "paper", "aircraft")
+Stale = choices("Stale", "What to do with stale repeats.", "drop", "keep")
+Convention = choices("Convention", "Bearing convention.", "north-clockwise", "math")
+OnOff = choices("OnOff", "On or off.", "on", "off")
+
+
+@dataclass(frozen=True)
+class RealRecordOptions:
+    """How a real record (FILE) is read and watched: its frame, its hygiene, the tracker defaults and the
+    consistency checks."""
+
+    tuning: Annotated[Tuning | None, _opt(
+        "--tuning", "Tracker defaults: aircraft (real records; the default with FILE) or paper (the paper's "
+        "values; the default for the paper's scenario). Options given override them.")] = None
+    origin: Annotated[str | None, _opt(
+        "--origin", "Local frame origin LAT,LON[,ALT] [deg, deg, m] for latitude/longitude or range/bearing "
+        "records (default: the middle of the record's box, or the sensor).")] = None
+    sensor: Annotated[str | None, _opt(
+        "--sensor", "The sensor LAT,LON[,ALT] of range/bearing plots (default: the metadata 'sensor').")] = None
+    bearing_convention: Annotated[Convention, _opt(
+        "--bearing-convention", "north-clockwise (default: degrees from north, clockwise) or math "
+        "(counter-clockwise from east).")] = Convention.north_clockwise
+    max_gap: Annotated[float | None, _opt(
+        "--max-gap", "A gap longer than this [s] ends a segment; the trackers restart after it (default: the "
+        "larger of 30 s and 8 median steps).")] = None
+    strict: Annotated[bool, typer.Option(
+        "--strict", help="Refuse unsorted rows and duplicate times instead of sorting and dropping them.")] = False
+    stale: Annotated[Stale, _opt(
+        "--stale", "Stale repeats (the previous position under a new time): drop (default) or keep.")] = Stale.drop
+    consistency: Annotated[OnOff, _opt(
+        "--consistency", "Each tracker's own checks (NIS gate and window, speed, acceleration, covariance; a "
+        "track that fails restarts and says so): on (default) or off.")] = OnOff.on
+    max_speed: Annotated[float, _opt("--max-speed", "Largest plausible speed [m/s] (600).")] = 600.0
+    max_accel: Annotated[float, _opt("--max-accel", "Largest plausible acceleration [m/s²] (100).")] = 100.0
+
+    def refuse(self) -> None:
+        """Without FILE these options are usage errors (the paper's scenario has no frame or feed)."""
+        for name in ("origin", "sensor", "max_gap"):
+            if getattr(self, name) is not None:
+                raise typer.BadParameter("describes a record; give FILE", param_hint="--" + name.replace("_", "-"))
+
+    def read_options(self, record: RecordOptions, T: float | None) -> Any:
+        from motionsig_cli.maneuver.record import ReadOptions
+        from motionsig_cli.surveillance.report_hygiene import HygienePolicy
+
+        def point(opt: str, text: str | None) -> tuple[float, ...] | None:
+            return None if text is None else tuple(common.checked(opt, common.float_list, text, what="LAT,LON"))
+
+        return ReadOptions(columns=record.columns, units=record.units, T=T,
+                           origin=point("--origin", self.origin), sensor=point("--sensor", self.sensor),
+                           bearing_convention=self.bearing_convention.value,
+                           hygiene=HygienePolicy(strict=self.strict, stale=self.stale.value,
+                                                 max_gap=self.max_gap))  # fmt: skip
+
+    def checks(self) -> Any:
+        from motionsig_cli.filters.consistency import Consistency
+
+        if self.consistency is OnOff.off:
+            return None
+        return Consistency(max_speed=self.max_speed, max_accel=self.max_accel)
 
 
 @dataclass(frozen=True)
@@ -245,7 +309,7 @@ class RadarOptions:
 
 
 @command(parallel=True, options=OPTIONS)
-@options(record=RecordOptions, tracker=TrackerOptions, radar=RadarOptions)
+@options(record=RecordOptions, tracker=TrackerOptions, radar=RadarOptions, real=RealRecordOptions)
 def maneuver(
     record: RecordOptions,
     method: MethodOpt = "imm",
@@ -261,6 +325,7 @@ def maneuver(
     plot_compare: PlotCompareOpt = None,
     front_end: FrontEndOpt = FrontEnd.gaussian,
     radar: RadarOptions = RadarOptions(),
+    real: RealRecordOptions = RealRecordOptions(),
     *,
     output: Output,
     parallel: Parallel,
@@ -271,8 +336,11 @@ def maneuver(
     multiple model filter; GLR / MLR = generalised / marginalised likelihood ratio; CV = constant velocity.
 
     FILE: track one record instead of simulating: CSV or JSON with time (t, timestamp: seconds or ISO 8601)
-    and/or scan, and x (z_x, east), y (z_y, north) [m]; '-' for stdin. Empty or NaN cells and absent scans
-    are missed scans (--input FILE, the old spelling, still works).
+    and/or scan, and x, y [m], or latitude, longitude [deg] (altitude), or range, bearing from --sensor
+    (unit suffixes such as range_nm, bearing_deg read as units); '-' for stdin. Rows are sorted, duplicates
+    and stale repeats dropped, gaps end a segment; each step uses its own time (irregular reports are fine).
+    Every tracker checks its consistency and restarts (and says so) rather than diverge. --view events lists
+    the declared manoeuvres of every method (the IMM declares too).
 
     \b
     Example:
@@ -280,6 +348,8 @@ def maneuver(
       motionsig maneuver --method all --view summary --plot-compare cmp.png
       motionsig maneuver --view measurements --runs 1 --sigma 100 | motionsig maneuver - --method glr
       motionsig maneuver export.csv --columns x=East,y=North --units x=km,y=km --plot track.png
+      motionsig maneuver adsb.csv --method all --view events        # latitude/longitude, ISO times
+      motionsig maneuver plots.csv --sensor 51.40,-3.34,50           # range_nm, bearing_deg plots
       motionsig maneuver --runs 5000 --method all --workers 8 --checkpoint ckpt/   # resumable if interrupted
       motionsig maneuver --front-end ebpsk --method all --view summary   # on the EBPSK radar's positions
       motionsig maneuver --front-end ebpsk --view front-end --plot sigma.png
@@ -292,7 +362,6 @@ def maneuver(
     output.check(plot_compare=plot_compare)
     engine = parallel.engine()
     methods = _methods(method, exp.METHODS)
-    cfg = tracker.config()
     if front_end is FrontEnd.gaussian:
         radar.refuse()
         if view is View.front_end:
@@ -305,9 +374,12 @@ def maneuver(
             raise typer.BadParameter(
                 "with a record (FILE) the record holds the measurements", param_hint="--front-end"
             )
-        _track_record(path, methods, cfg, sigma, T, record, view, plot_compare, output)
+        cfg = tracker.config(real.tuning.value if real.tuning is not None else "aircraft")
+        _track_record(path, methods, cfg, sigma, T, record, real, view, plot_compare, output)
         return
     record.refuse_without_file()
+    real.refuse()
+    cfg = tracker.config(real.tuning.value if real.tuning is not None else "paper")
     if sigma is not None and sigma.strip().lower() == "estimate":
         raise typer.BadParameter("'estimate' estimates σ from a record (FILE)", param_hint="--sigma")
     sigmas = (
@@ -434,14 +506,16 @@ def _front_end_view(sc: exp.ManeuverScenario, fe: Any, sigmas: Any, calibrate: b
 
 def _track_record(
     path: str, methods: tuple[str, ...], cfg: exp.TrackerConfig, sigma: str | None, T: float | None,
-    record: RecordOptions, view: View, plot_compare: Path | None, output: Output,
+    record: RecordOptions, real: RealRecordOptions, view: View, plot_compare: Path | None, output: Output,
 ) -> None:  # fmt: skip
     """Track one measurement record with every requested method (and draw it with --plot)."""
     from motionsig_cli.maneuver import record as mr
+    from motionsig_cli.maneuver import record_tracking as rt
 
-    if view is not View.scans:
+    if view not in (View.scans, View.events):
         raise typer.BadParameter(
-            "with a record (FILE) the output is the per-scan track; leave --view out", param_hint="--view"
+            "with a record (FILE) the output is the per-step track (scans) or its declarations (events)",
+            param_hint="--view",
         )
     if plot_compare is not None:
         raise typer.BadParameter(
@@ -457,16 +531,16 @@ def _track_record(
         if len(vals) != 1:
             raise typer.BadParameter("give one σ with a record (FILE) (or 'estimate')", param_hint="--sigma")
         s = vals[0]
-    rec = mr.read_track_record(path, columns=record.columns, units=record.units, T=T)
-    result = mr.track_record(rec, methods, cfg, sigma=s)
+    rec = mr.read_track_record(path, real.read_options(record, T))
+    result = rt.track_record(rec, methods, cfg, sigma=s, consistency=real.checks())
     if output.plot is not None:
         from motionsig_cli.plotting import maneuver_record_figure
 
         output.figure(maneuver_record_figure(**result.figure))
-    output.emit(result.table)  # after the figure: all or nothing
+    output.emit(result.events if view is View.events else result.table)  # after the figure: all or nothing
     if result.sigma_estimated:
         output.note(
             f"maneuver: no σ given (--sigma) or in the record's metadata: estimated σ = "
-            f"{result.table.meta['sigma']:.4g} m from the second differences of the positions"
+            f"{result.table.meta['sigma']:.4g} m from the positions (deviations of measured triples)"
         )
     output.note(f"maneuver: {result.note}")

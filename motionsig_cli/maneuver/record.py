@@ -1,42 +1,41 @@
-"""One user's track record through the manoeuvre trackers of Yao, Teng & Wu, *Maneuvering Target Tracking
-Based on EBPSK Modulated JRC System*: the IMM of three Kalman filters, the GLR and MLR input-estimation
-trackers, and the constant-velocity Kalman filter (:mod:`motionsig_cli.maneuver.study`).
+"""One user's track record for the manoeuvre trackers of Yao, Teng & Wu, *Maneuvering Target Tracking Based on
+EBPSK Modulated JRC System*: read as recorded, cleaned by a stated policy, converted to a local east/north
+frame, and cut into segments at coverage gaps (tracked by :mod:`motionsig_cli.maneuver.record_tracking`).
 
-**Reading** (:func:`read_track_record`, through :func:`motionsig_cli.records.read_record`). The roles are
-``time`` (aliases ``t``, ``timestamp``: seconds or ISO 8601) and/or ``scan`` (an integer), and the position
-``x`` (aliases ``z_x``, ``east``) and ``y`` (``z_y``, ``north``) [length: metres unless the header, the
-metadata or ``--units`` say otherwise]. Columns are mapped with ``--columns role=name``. The records of
-``motionsig maneuver --view measurements`` are read as they are (``scan``, ``t``, ``z_x``, ``z_y``).
+**Roles** (:data:`SPEC`, through :func:`motionsig_cli.records.read_record`; ``--columns role=name`` maps a
+column, a unit comes from ``--units``, the header ``range [NM]``, a name suffix ``range_nm`` or the
+metadata):
 
-**The scan grid.** The trackers' motion models are built for one scan period T, so the record is placed on
-a uniform grid of scans:
+* ``time`` (``t``, ``timestamp``: seconds or ISO 8601) and/or ``scan`` (an integer);
+* the position, one of three forms:
+  - ``x``, ``y`` (``z_x``/``east``, ``z_y``/``north``) [length, metres by default], a local frame already;
+  - ``latitude``, ``longitude`` (``lat``, ``lon``/``lng``) [deg] and optionally ``altitude`` (``alt``)
+    [length]: WGS-84, projected on the tangent plane of ``origin`` (default: the middle of the record's
+    latitude/longitude box; :mod:`motionsig_cli.surveillance.local_positions`);
+  - ``range``, ``bearing`` (``azimuth``) and optionally ``elevation`` and ``altitude``: plots of a sensor at
+    ``sensor`` (latitude, longitude[, altitude]: the option, else the metadata ``sensor``), bearing clockwise
+    from north (``bearing_convention="math"``: counter-clockwise from east); the range is the slant range
+    (with ``elevation`` or ``altitude``, else taken as the ground range: the metadata says which);
+* the noise, optionally: ``sigma`` (per-axis σ of a Cartesian or geodetic position, per row), ``sigma_range``
+  and ``sigma_bearing`` (polar σ per row, or the metadata ``sigma_range``/``sigma_bearing`` with a unit
+  suffix such as ``sigma_range_nm``). A polar plot's covariance is converted per row (not one σ for both
+  axes).
 
-* with a time column: the period is estimated from the times
-  (:func:`~motionsig_cli.records.grid_period`: the coarsest grid that
-  holds every row, least squares over it), the rows are placed on the grid and checked by
-  :func:`motionsig_cli.records.uniform_grid`: jitter up to :data:`JITTER_TOL` of T from the grid point is
-  tolerated (each measurement is then taken at its grid point: assumed), a gap is a run of missed scans, and
-  a time further from the grid (non-uniform sampling) is refused with its line, as are two rows on one scan.
-  T is then ``--T``, else the metadata ``T``, else the estimate; a given T that disagrees with the times'
-  period by more than :data:`T_AGREE` is refused (an option: naming ``--T``; the metadata: naming the file).
-  A ``scan`` column beside the times must count the same grid steps;
-* with a scan column only, the scans are the grid (a missing number is a missed scan) and T is ``--T``,
-  else the metadata ``T``, else 1 s (assumed, as for the paper's scenario).
+**Hygiene** (:mod:`motionsig_cli.surveillance.report_hygiene`): rows sorted by time (``strict`` refuses
+instead), exact duplicates dropped, conflicting duplicates keep the first, stale repeats (the previous
+position under a new time) dropped, and a gap longer than ``max_gap`` ends a segment: the trackers start
+again after it. The metadata counts each.
 
-**Missed scans** — absent rows (gaps), empty cells, ``nan``/``null`` — are predict-only steps in all four
-trackers (:mod:`motionsig_cli.filters.imm`, :mod:`motionsig_cli.detection.glr`); a row with only one
-coordinate is a missed scan too (assumed: the trackers update with both coordinates or none). The two-point
-initialisation uses the first two *measured* scans a < b (velocity (z_b − z_a)/((b − a) T)); the trackers
-run from the scan after b, and the output has one row per grid scan from there on, with ``measured``
-true/false.
+**Time.** When the cleaned times lie on a uniform grid (jitter up to :data:`JITTER_TOL` of the period, gaps
+allowed: :func:`motionsig_cli.records.grid_period`) or the record has only scans, the steps are the grid's
+scans (a missed scan is a predict-only step at its grid time, Δt = T) — the paper's case, tracked as before.
+Otherwise (ADS-B at irregular 0.4–0.6 s, a radar's jittered scans) every row is a step at its own time, Δt
+its distance from the row before. A given T (``--T``, metadata ``T``) must agree with the grid's period, and
+is refused for irregular times (each step has its own Δt there).
 
-**σ** (per axis, the same for the whole record) is ``--sigma``, else the metadata ``sigma`` [m], else
-estimated from the data (:func:`estimate_sigma`: a robust estimate from the second differences of the
-positions), and the metadata of the output says which, with the method. A ``sigma`` column that varies
-from row to row (a per-scan σ) is not supported: it is ignored when σ is given or in the metadata (the
-output's metadata says so, ``sigma_column``), and refused, naming its line, when σ would be estimated
-(assumed: the user then chooses ``--sigma`` or ``--sigma estimate``). Where σ cannot be estimated (too few
-consecutive measured scans, or noise-free positions) and none was given, the error names the file.
+**σ** per axis (a Cartesian record without σ columns) is ``sigma``, else the metadata ``sigma`` [m], else
+estimated (:func:`estimate_sigma`: a robust estimate from each measured triple's deviation from the line
+through its neighbours, on the cleaned rows, so stale repeats cannot fool it).
 
 Every failure is one line: a bad record an :class:`~motionsig_cli.errors.InputError` ``file:line: column
 'name': …``, a bad option a :class:`~motionsig_cli.config.ConfigError` naming its field.
@@ -46,24 +45,16 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from motionsig_cli.config import ConfigError, in_range
+from motionsig_cli.config import ConfigError, in_range, one_of
 from motionsig_cli.errors import InputError
 from motionsig_cli.maneuver.scenario import SCANS_RANGE, T_RANGE
-from motionsig_cli.maneuver.study import (
-    SIGMA_RANGE,
-    TrackerConfig,
-    _check_methods,
-    _check_sigma,
-    _numerics,
-    track_from,
-)
-from motionsig_cli.models.motion import imm_models
+from motionsig_cli.maneuver.study import SIGMA_RANGE
 from motionsig_cli.records import (
     Record,
     RecordSpec,
@@ -74,9 +65,11 @@ from motionsig_cli.records import (
     read_record,
     uniform_grid,
 )
-from motionsig_cli.tables import Table, make_meta, read_table
+from motionsig_cli.surveillance.report_hygiene import Cleaned, HygieneError, HygienePolicy, clean_reports
+from motionsig_cli.tables import Table, read_table
 
 __all__ = [
+    "FORMS",
     "JITTER_TOL",
     "MAD_TO_SD",
     "MAX_COORD",
@@ -84,80 +77,474 @@ __all__ = [
     "MIN_SIGMA_DIFFS",
     "SPEC",
     "T_AGREE",
-    "RecordTrack",
+    "ReadOptions",
     "SigmaEstimate",
     "TrackRecord",
     "estimate_sigma",
     "read_track_record",
-    "track_record",
 ]
 
 MAX_SCANS = SCANS_RANGE[1]
-"""Most scans of a record (rows, and grid scans including the missed ones): the trackers' scan limit."""
+"""Most steps of a record (rows, and grid scans including the missed ones): the trackers' scan limit."""
 MAX_COORD = 1e9
 """Largest |measurement| accepted from a record [m] (a million km; squares stay far from overflow)."""
 JITTER_TOL = 0.05
-"""Largest distance of a time from its grid point, as a fraction of T (assumed: 5 %). The trackers take the
-measurement at the grid time; at 450 m/s and T = 1 s, 5 % is a position error of at most 22 m, below the
-σ of the paper's scenario (100–200 m). Further from the grid, the sampling is non-uniform and refused."""
+"""Largest distance of a time from its grid point, as a fraction of T, for the record to be read on a scan
+grid (assumed: 5 %). The trackers then take the measurement at the grid time; at 450 m/s and T = 1 s, 5 % is a
+position error of at most 22 m. Further from the grid, each row is a step at its own time."""
 T_AGREE = 1e-3
 """Largest relative difference between a given T (``--T``, metadata) and the period of the record's times."""
 MIN_SIGMA_DIFFS = 10
-"""Fewest second differences (three consecutive measured scans each) to estimate σ from (assumed: the
-relative standard error of :func:`estimate_sigma` is then about 30 %)."""
+"""Fewest measured triples to estimate σ from (assumed: the relative standard error of :func:`estimate_sigma`
+is then about 30 %)."""
 MAD_TO_SD = 1.0 / 0.6744897501960817
 """1/Φ⁻¹(3/4) = 1.4826…: the standard deviation of a Gaussian per unit median absolute deviation."""
+FORMS = ("cartesian", "geodetic", "polar")
+"""The position forms a record may have (module docstring)."""
 
 SPEC = RecordSpec(
     (
-        Role("time", ("t", "timestamp"), kind="time", required=False, order="increasing",
-             help="measurement time: seconds or ISO 8601 (the scan grid and T come from it)"),
-        Role("scan", (), kind="integer", required=False, order="increasing",
+        Role("time", ("t", "timestamp"), kind="time", required=False,
+             help="measurement time: seconds or ISO 8601"),
+        Role("scan", (), kind="integer", required=False,
              help="scan number (without a time column: the grid; a missing number is a missed scan)"),
-        Role("x", ("z_x", "east"), quantity="length", missing=True, help="measured x (east) position"),
-        Role("y", ("z_y", "north"), quantity="length", missing=True, help="measured y (north) position"),
+        Role("x", ("z_x", "east"), quantity="length", required=False, missing=True,
+             help="measured x (east) position"),
+        Role("y", ("z_y", "north"), quantity="length", required=False, missing=True,
+             help="measured y (north) position"),
+        Role("latitude", ("lat",), quantity="angle", unit="deg", required=False, missing=True,
+             help="WGS-84 latitude (deg unless stated)"),
+        Role("longitude", ("lon", "lng", "long"), quantity="angle", unit="deg", required=False, missing=True,
+             help="WGS-84 longitude (deg unless stated)"),
+        Role("altitude", ("alt", "height"), quantity="length", required=False, missing=True,
+             help="height above the ellipsoid (with latitude/longitude, or a polar plot's target)"),
+        Role("range", ("r", "slant_range"), quantity="length", required=False, missing=True,
+             help="slant range from the sensor"),
+        Role("bearing", ("azimuth", "phi"), quantity="angle", unit="deg", required=False, missing=True,
+             help="bearing from the sensor (clockwise from north unless stated; deg unless stated)"),
+        Role("elevation", ("el",), quantity="angle", unit="deg", required=False, missing=True,
+             help="elevation from the sensor"),
+        Role("sigma", ("sd", "std"), quantity="length", required=False, missing=True,
+             help="per-axis σ of the position, per row"),
+        Role("sigma_range", ("sigma_r",), quantity="length", required=False, missing=True,
+             help="σ of the range, per row"),
+        Role("sigma_bearing", ("sigma_phi", "sigma_theta"), quantity="angle", unit="deg", required=False,
+             missing=True, help="σ of the bearing, per row"),
     ),
     max_rows=MAX_SCANS,
     what="track record",
-    hint="a track record has a time and/or a scan column and the positions x, y",
+    hint="a track record has a time and/or a scan column and the positions x, y (or latitude, longitude, "
+    "or range, bearing)",
 )  # fmt: skip
-"""What ``maneuver --input`` reads."""
+"""What ``maneuver FILE`` reads."""
+
+
+@dataclass(frozen=True)
+class ReadOptions:
+    """How a record is read (module docstring); every field is checked here.
+
+    Attributes:
+        columns, units: the ``--columns`` and ``--units`` texts (or mappings).
+        T: the scan period given by the user [s], in :data:`~motionsig_cli.maneuver.scenario.T_RANGE`.
+        origin: the local frame's origin (lat, lon[, alt]) [deg, deg, m] for geodetic and polar records.
+        sensor: the sensor (lat, lon[, alt]) of a polar record (default: the metadata ``sensor``).
+        bearing_convention: ``north-clockwise`` (default) or ``math`` (counter-clockwise from east).
+        hygiene: the cleaning policy.
+    """
+
+    columns: str | dict[str, str] | None = None
+    units: str | dict[str, str] | None = None
+    T: float | None = None
+    origin: tuple[float, ...] | None = None
+    sensor: tuple[float, ...] | None = None
+    bearing_convention: str = "north-clockwise"
+    hygiene: HygienePolicy = field(default_factory=HygienePolicy)
+
+    def __post_init__(self) -> None:
+        if self.T is not None:
+            in_range("T", self.T, *T_RANGE, unit="s")
+        one_of("bearing_convention", self.bearing_convention, ("north-clockwise", "math"))
+        for name in ("origin", "sensor"):
+            v = getattr(self, name)
+            if v is not None:
+                object.__setattr__(self, name, _geodetic_point(name, v))
+
+
+def _geodetic_point(name: str, v: Any) -> tuple[float, ...]:
+    """(lat [deg], lon [deg], alt [m]) from 2 or 3 numbers, checked (a ConfigError on ``name``)."""
+    try:
+        vals = tuple(float(a) for a in v)
+    except (TypeError, ValueError):
+        raise ConfigError(name, v, "is not LAT,LON[,ALT] (degrees, degrees, metres)") from None
+    if len(vals) not in (2, 3) or not all(math.isfinite(a) for a in vals):
+        raise ConfigError(name, v, "is not LAT,LON[,ALT] (degrees, degrees, metres)")
+    if abs(vals[0]) > 90 or abs(vals[1]) > 360:
+        raise ConfigError(name, v, "has a latitude beyond ±90° or a longitude beyond ±360°")
+    return vals if len(vals) == 3 else (*vals, 0.0)
 
 
 @dataclass(frozen=True)
 class TrackRecord:
-    """A track record on its scan grid.
+    """A track record cleaned, in a local frame, as steps of one or more segments.
 
     Attributes:
-        z: (K, 2) measured positions [m] of the K grid scans; a NaN row is a missed scan.
-        scan: (K,) the scan number of each grid scan (the record's ``scan`` column, continued over its gaps;
-            without one, 1..K).
-        t: (K,) the grid time of each scan [s] (relative to ``record.time_origin`` for timestamps; without
-            a time column (k − 1) T).
-        T: the scan period [s].
-        T_source: how T was obtained (for the metadata).
-        record: the record read (its provenance, metadata and lines).
-        sigma_column: where the record's ``sigma`` column varies from row to row: (line, ``σ changes from
-            5 to 6``), or None. A per-scan σ is not supported: the column is ignored when σ is
-            given (or in the metadata), and refused when σ would be estimated (:func:`track_record`).
+        z: (K, 2) measured positions (east, north) [m] of the K steps; a NaN row is a step without one.
+        R: (K, 2, 2) their covariances [m²] where the record gives them (σ columns, polar plots), else None
+            (one σ per axis for the record: :func:`estimate_sigma` or given).
+        t: (K,) each step's time [s] (relative to ``record.time_origin`` for timestamps).
+        scan: (K,) each step's scan number (the record's scans continued over gaps on a grid; else 1..K).
+        segment: (K,) the segment of each step (0, 1, …: a gap longer than the limit starts a new one).
+        line: (K,) the file line of each step's row (0 for a grid scan with no row).
+        T: the scan period [s] (grid), or the median step (irregular).
+        T_source: how T was obtained.
+        grid: the steps are a uniform scan grid (else each row at its own time).
+        record: the record read.
+        form: one of :data:`FORMS`.
+        frame: the local frame (a :class:`~motionsig_cli.surveillance.local_positions.LocalFrame`) of a
+            geodetic or polar record, else None.
+        hygiene: the cleaning's counts and policy (for the metadata).
+        conversion: what the position conversion assumed (for the metadata).
     """
 
     z: np.ndarray
-    scan: np.ndarray
+    R: np.ndarray | None
     t: np.ndarray
+    scan: np.ndarray
+    segment: np.ndarray
+    line: np.ndarray
     T: float
     T_source: str
+    grid: bool
     record: Record
-    sigma_column: tuple[int, str] | None = None
+    form: str = "cartesian"
+    frame: Any = None
+    hygiene: dict[str, Any] = field(default_factory=dict)
+    conversion: dict[str, Any] = field(default_factory=dict)
 
     @property
     def measured(self) -> np.ndarray:
-        """(K,) whether each grid scan has a measurement."""
+        """(K,) whether each step has a measurement."""
         return ~np.any(np.isnan(self.z), axis=1)
+
+    @property
+    def dt(self) -> np.ndarray:
+        """(K,) the time from the step before [s] (NaN at each segment's first step)."""
+        d = np.empty_like(self.t)
+        d[0] = np.nan
+        d[1:] = np.diff(self.t)
+        d[1:][np.diff(self.segment) != 0] = np.nan
+        return d
 
     @property
     def source(self) -> str:
         return self.record.source
+
+
+def read_track_record(
+    source: str | Path | Table,
+    options: ReadOptions | None = None,
+    *,
+    columns: str | dict[str, str] | None = None,
+    units: str | dict[str, str] | None = None,
+    T: float | None = None,
+) -> TrackRecord:
+    """Read a track record, clean it and lay out its steps (module docstring).
+
+    Args:
+        source: a path (``-``: standard input) or a table already read.
+        options: how to read it; ``columns``, ``units`` and ``T`` are shortcuts for the same fields.
+
+    Raises:
+        ConfigError: a bad option (naming it; also: ``T`` disagreeing with the times, or given for irregular
+            times).
+        InputError: a bad record (``file:line: column 'name': …``).
+    """
+    opts = options if options is not None else ReadOptions(columns=columns, units=units, T=T)
+    colmap = parse_columns(opts.columns, SPEC)
+    table = source if isinstance(source, Table) else read_table(source, max_rows=SPEC.max_rows)
+    _one_run(table, set(colmap.values()))
+    rec = read_record(table, SPEC, columns=colmap, units=opts.units)
+    if not (rec.has("time") or rec.has("scan")):
+        cols = ", ".join(rec.table.columns) if rec.table is not None else ""
+        raise rec.error(
+            None,
+            None,
+            f"missing column 'time' (or 't', 'timestamp') or 'scan': columns are {cols}; map one with "
+            "--columns time=NAME or --columns scan=NAME",
+        )
+    form, raw = _raw_positions(rec)
+    T_scan: float | None = None
+    if rec.has("time"):
+        key = rec["time"]
+        if rec.has("scan"):
+            _same_order(rec)
+    else:
+        meta_T = _meta_number(rec, "T", *T_RANGE, "s")
+        T_scan = opts.T if opts.T is not None else meta_T
+        key = rec["scan"].astype(float) * (T_scan if T_scan is not None else 1.0)
+    try:
+        clean = clean_reports(key, raw, opts.hygiene)
+    except HygieneError as exc:
+        role = "time" if rec.has("time") else "scan"
+        raise rec.error(exc.row, role, exc.message) from None
+    rows = clean.rows
+    n_meas = int(np.sum(~np.isnan(raw[rows, 0])))
+    if n_meas < 3:
+        raise InputError(
+            f"{rec.source}: need at least 3 scans with a measurement (two initialise the trackers), "
+            f"found {n_meas}"
+        )
+    z_all, R_all, frame, conversion = _local_positions(rec, form, opts)
+    sub = _subset(rec, rows)
+    if rec.has("time"):
+        grid = _try_grid(sub, opts.T)
+    else:
+        k = sub["scan"] - sub["scan"][0]
+        if opts.T is not None:
+            grid = (k, float(opts.T), "--T")
+        elif T_scan is not None:
+            grid = (k, T_scan, "metadata 'T'")
+        else:
+            grid = (k, 1.0, "assumed 1 s (no time column, no --T, no metadata 'T')")
+    hyg = {"policy": _policy_meta(opts.hygiene), "max_gap_s": clean.max_gap, **clean.counts}
+    if grid is None:
+        return _irregular(rec, sub, rows, clean, z_all, R_all, form, frame, conversion, hyg)
+    return _on_grid(rec, sub, rows, clean, grid, z_all, R_all, form, frame, conversion, hyg)
+
+
+def _policy_meta(p: HygienePolicy) -> str:
+    return (
+        f"sorted by time{' (strict: unsorted refused)' if p.strict else ''}; exact duplicates dropped; "
+        f"conflicting duplicates: {p.conflicting}; stale repeats (the previous position under a new time): "
+        f"{p.stale}; a gap longer than max_gap_s ends a segment"
+    )
+
+
+def _same_order(rec: Record) -> None:
+    """A scan column beside the times must not run against them."""
+    s, t = rec["scan"], rec["time"]
+    o = np.argsort(t, kind="stable")
+    bad = np.flatnonzero(np.diff(s[o]) < 0)
+    if bad.size:
+        i = int(o[bad[0] + 1])
+        raise rec.error(i, "scan", f"scan {s[i]} is earlier than the scan of an earlier time")
+
+
+def _subset(rec: Record, rows: np.ndarray) -> Record:
+    """The record restricted to ``rows`` (messages still name the file's lines)."""
+    from dataclasses import replace
+
+    return replace(rec, values={k: v[rows] for k, v in rec.values.items()}, lines=rec.lines[rows])
+
+
+def _raw_positions(rec: Record) -> tuple[str, np.ndarray]:
+    """The record's position form and its position values as read (N, 2) (a row with one coordinate
+    missing has none)."""
+    pairs = {"cartesian": ("x", "y"), "geodetic": ("latitude", "longitude"), "polar": ("range", "bearing")}
+    have = [f for f, (a, b) in pairs.items() if rec.has(a) or rec.has(b)]
+    for f in have:
+        a, b = pairs[f]
+        if not (rec.has(a) and rec.has(b)):
+            given, missing = (a, b) if rec.has(a) else (b, a)
+            raise rec.error(None, None, f"column {rec.columns[given]!r} ({given}) needs a {missing} column too")
+    if not have:
+        cols = ", ".join(rec.table.columns) if rec.table is not None else ""
+        raise rec.error(
+            None,
+            None,
+            f"missing column 'x' (or 'z_x', 'east'), or 'latitude'/'longitude', or 'range'/'bearing': columns "
+            f"are {cols}; map them with --columns x=NAME,y=NAME",
+        )
+    if len(have) > 1:
+        raise rec.error(
+            None, None, f"the record has positions in two forms ({' and '.join(have)}): map one with --columns"
+        )
+    form = have[0]
+    a, b = pairs[form]
+    raw = np.stack([rec[a], rec[b]], axis=-1) if len(rec) else np.zeros((0, 2))
+    if form == "cartesian":
+        for j, role in enumerate((a, b)):
+            big = np.flatnonzero(np.abs(raw[:, j]) > MAX_COORD)  # NaN compares False
+            if big.size:
+                i = int(big[0])
+                raise rec.error(i, role, f"|measurement| {abs(raw[i, j]):g} m exceeds {MAX_COORD:g} m")
+    elif form == "geodetic":
+        for j, (role, lim) in enumerate(((a, 90.0), (b, 360.0))):
+            big = np.flatnonzero(np.abs(np.degrees(raw[:, j])) > lim)
+            if big.size:
+                i = int(big[0])
+                raise rec.error(i, role, f"{np.degrees(raw[i, j]):g}° is beyond ±{lim:g}° (degrees expected)")
+    raw[np.any(np.isnan(raw), axis=1)] = np.nan  # one coordinate missing: no position
+    return form, raw
+
+
+def _meta_sigma(rec: Record, name: str, quantity: str) -> float | None:
+    """A polar σ from the metadata: ``name`` in SI, or ``name_<unit>`` (e.g. ``sigma_range_nm``)."""
+    from motionsig_cli.records import UNITS
+
+    for key, value in rec.meta.items():
+        unit = None
+        if key == name:
+            unit = next(iter(UNITS[quantity]))
+        elif key.startswith(name + "_"):
+            suffix = key[len(name) + 1 :]
+            unit = next((u for u in UNITS[quantity] if u.lower() == suffix.lower()), None)
+        if unit is None:
+            continue
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            raise InputError(f"{rec.source}: metadata {key!r} must be a number, got {value!r}") from None
+        if not (math.isfinite(v) and v > 0):
+            raise InputError(f"{rec.source}: metadata {key!r} must be a finite number > 0, got {v:g}")
+        return v * UNITS[quantity][unit]
+    return None
+
+
+def _meta_sensor(rec: Record) -> tuple[float, ...] | None:
+    """The metadata ``sensor``: {"latitude", "longitude"[, "altitude_m"]} or [lat, lon(, alt)]."""
+    if "sensor" not in rec.meta:
+        return None
+    v = rec.meta["sensor"]
+    try:
+        if isinstance(v, dict):
+            lat = v.get("latitude", v.get("lat"))
+            lon = v.get("longitude", v.get("lon"))
+            alt = v.get("altitude_m", v.get("altitude", v.get("alt", 0.0)))
+            return _geodetic_point("sensor", (lat, lon, alt))
+        return _geodetic_point("sensor", v)
+    except ConfigError as exc:
+        raise InputError(f"{rec.source}: metadata 'sensor' = {exc.detail}") from None
+
+
+def _local_positions(rec: Record, form: str, opts: ReadOptions) -> tuple[np.ndarray, np.ndarray | None, Any, dict]:
+    """(z (N, 2) east/north [m], R (N, 2, 2) or None, the frame or None, what the conversion assumed)."""
+    from motionsig_cli.surveillance import local_positions as lp
+
+    n = len(rec)
+    R = None
+    if rec.has("sigma"):
+        s = rec["sigma"]
+        bad = np.flatnonzero(~np.isnan(s) & ~((s >= SIGMA_RANGE[0]) & (s <= SIGMA_RANGE[1])))
+        if bad.size:
+            i = int(bad[0])
+            raise rec.error(i, "sigma", f"σ {s[i]:g} m is not in [{SIGMA_RANGE[0]:g}, {SIGMA_RANGE[1]:g}] m")
+        R = (s**2)[:, None, None] * np.eye(2)
+    if form == "cartesian":
+        if opts.origin is not None or opts.sensor is not None:
+            name = "origin" if opts.origin is not None else "sensor"
+            raise ConfigError(name, ",".join(f"{v:g}" for v in getattr(opts, name)),
+                              "places geodetic or polar records; this record has x, y already")  # fmt: skip
+        z = np.stack([rec["x"], rec["y"]], axis=-1) if n else np.zeros((0, 2))
+        return z, R, None, {"frame": "the record's own x, y [m]"}
+    alt = rec["altitude"] if rec.has("altitude") else None
+    if form == "geodetic":
+        lat, lon = np.degrees(rec["latitude"]), np.degrees(rec["longitude"])
+        if opts.sensor is not None:
+            raise ConfigError("sensor", ",".join(f"{v:g}" for v in opts.sensor),
+                              "places polar plots; this record has latitude, longitude")  # fmt: skip
+        frame = lp.LocalFrame(*opts.origin) if opts.origin is not None else lp.default_origin(lat, lon)
+        enu = frame.to_local(lat, lon, np.where(np.isnan(alt), 0.0, alt) if alt is not None else 0.0)
+        z = enu[:, :2].copy()
+        z[np.isnan(lat) | np.isnan(lon)] = np.nan
+        how = "--origin" if opts.origin is not None else "the middle of the record's latitude/longitude box"
+        return z, R, frame, {"frame": f"east, north [m] on the WGS-84 tangent plane at {frame.lat_deg:.6f}, "
+                             f"{frame.lon_deg:.6f}, {frame.alt_m:g} m ({how}); up dropped",
+                             "altitude": "taken as height above the ellipsoid (horizontal effect negligible)"
+                             if alt is not None else "none (0 m)"}  # fmt: skip
+    sensor = opts.sensor if opts.sensor is not None else _meta_sensor(rec)
+    if sensor is None:
+        raise InputError(
+            f"{rec.source}: range/bearing plots need the sensor's position: give --sensor LAT,LON[,ALT] or "
+            'the metadata \'sensor\' ({"latitude": …, "longitude": …, "altitude_m": …})'
+        )
+    frame = lp.LocalFrame(*(opts.origin if opts.origin is not None else sensor))
+    sr = rec["sigma_range"] if rec.has("sigma_range") else _meta_sigma(rec, "sigma_range", "length")
+    sb = rec["sigma_bearing"] if rec.has("sigma_bearing") else _meta_sigma(rec, "sigma_bearing", "angle")
+    if sr is None or sb is None:
+        missing = "sigma_range" if sr is None else "sigma_bearing"
+        raise InputError(
+            f"{rec.source}: range/bearing plots need their σ: a {missing} column or metadata {missing!r} (with a "
+            "unit suffix such as sigma_range_nm, sigma_bearing_deg)"
+        )
+    try:
+        pp = lp.polar_to_local(rec["range"], rec["bearing"], lp.LocalFrame(*sensor), frame,
+                               sigma_range_m=sr, sigma_bearing_rad=sb,
+                               elevation_rad=rec["elevation"] if rec.has("elevation") else None,
+                               altitude_m=alt, convention=opts.bearing_convention)  # fmt: skip
+    except ConfigError as exc:
+        raise InputError(f"{rec.source}: {exc.field}: {exc.detail}") from None
+    meta = {"frame": f"east, north [m] on the WGS-84 tangent plane at {frame.lat_deg:.6f}, {frame.lon_deg:.6f}, "
+            f"{frame.alt_m:g} m; sensor at {sensor[0]:.6f}, {sensor[1]:.6f}, {sensor[2]:g} m", **pp.meta()}
+    return pp.position, pp.covariance, frame, meta
+
+
+def _try_grid(sub: Record, T: float | None) -> tuple[np.ndarray, float, str] | None:
+    """The scan grid of the cleaned times (:func:`_time_grid`), or None where they are irregular and no T
+    was given (each row is then a step at its own time)."""
+    if T is None and not _meta_has_T(sub):
+        try:
+            return _time_grid(sub, None)
+        except InputError:
+            return None
+    return _time_grid(sub, T)
+
+
+def _meta_has_T(rec: Record) -> bool:
+    return "T" in rec.meta
+
+
+def _segments_of_steps(step_seg_rows: np.ndarray, row_step: np.ndarray, K: int) -> tuple[np.ndarray, np.ndarray]:
+    """Each grid step's segment, and which steps to keep (the scans inside a gap are not tracked)."""
+    seg = np.full(K, -1, dtype=np.int64)
+    seg[row_step] = step_seg_rows
+    last = np.maximum.accumulate(np.where(seg >= 0, np.arange(K), -1))
+    seg_ff = seg[np.maximum(last, 0)]
+    keep = np.ones(K, dtype=bool)
+    first_of = {}
+    for s_, st in zip(step_seg_rows, row_step, strict=True):
+        first_of.setdefault(int(s_), int(st))
+    last_of: dict[int, int] = {}
+    for s_, st in zip(step_seg_rows, row_step, strict=True):
+        last_of[int(s_)] = int(st)
+    for s_ in last_of:
+        if s_ + 1 in first_of:
+            keep[last_of[s_] + 1 : first_of[s_ + 1]] = False
+    return seg_ff, keep
+
+
+def _on_grid(rec, sub, rows, clean, grid, z_all, R_all, form, frame, conversion, hyg) -> TrackRecord:  # type: ignore[no-untyped-def]
+    k, T_used, T_source = grid
+    K = int(k[-1]) + 1
+    if K > MAX_SCANS:
+        role = "time" if rec.has("time") else "scan"
+        raise sub.error(len(sub) - 1, role,
+                        f"the record spans {K} scans of {T_used:g} s; at most {MAX_SCANS} (the trackers' limit)")  # fmt: skip
+    z = np.full((K, 2), np.nan)
+    z[k] = z_all[rows]
+    R = None
+    if R_all is not None:
+        R = np.full((K, 2, 2), np.nan)
+        R[k] = R_all[rows]
+    line = np.zeros(K, dtype=np.int64)
+    line[k] = sub.lines
+    scan0 = int(sub["scan"][0]) if sub.has("scan") else 1
+    t0 = float(sub["time"][0]) if sub.has("time") else 0.0
+    steps = np.arange(K)
+    seg, keep = _segments_of_steps(clean.segment, k, K)
+    return TrackRecord(z[keep], None if R is None else R[keep], (t0 + steps * T_used)[keep], (scan0 + steps)[keep],
+                       seg[keep], line[keep], T_used, T_source, True, rec, form, frame, hyg, conversion)  # fmt: skip
+
+
+def _irregular(rec, sub, rows, clean, z_all, R_all, form, frame, conversion, hyg) -> TrackRecord:  # type: ignore[no-untyped-def]
+    t = sub["time"]
+    K = t.size
+    dts = np.diff(t)[np.diff(clean.segment) == 0]
+    T_med = float(np.median(dts)) if dts.size else math.nan
+    return TrackRecord(z_all[rows], None if R_all is None else R_all[rows], t, np.arange(1, K + 1),
+                       clean.segment, sub.lines.astype(np.int64), T_med,
+                       f"irregular times: each step its own Δt (median {T_med:.6g} s)", False, rec, form, frame,
+                       hyg, conversion)  # fmt: skip
 
 
 def _meta_number(rec: Record, key: str, lo: float, hi: float, unit: str) -> float | None:
@@ -177,6 +564,7 @@ def _meta_number(rec: Record, key: str, lo: float, hi: float, unit: str) -> floa
         return in_range(key, v, lo, hi, unit=unit)
     except ConfigError as exc:
         raise InputError(f"{rec.source}: metadata {key!r} = {exc.detail}") from None
+
 
 
 def _one_run(t: Table, mapped: set[str]) -> tuple[int, str] | None:
@@ -204,77 +592,6 @@ def _one_run(t: Table, mapped: set[str]) -> tuple[int, str] | None:
     return None
 
 
-def read_track_record(
-    source: str | Path | Table,
-    *,
-    columns: str | dict[str, str] | None = None,
-    units: str | dict[str, str] | None = None,
-    T: float | None = None,
-) -> TrackRecord:
-    """Read a track record and place it on its scan grid (module docstring).
-
-    Args:
-        source: a path (``-``: standard input) or a table already read.
-        columns, units: the ``--columns`` and ``--units`` texts (or mappings).
-        T: the scan period given by the user [s], in :data:`~motionsig_cli.maneuver.scenario.T_RANGE`.
-
-    Raises:
-        ConfigError: a bad ``columns``, ``units`` or ``T`` (also: ``T`` disagreeing with the times).
-        InputError: a bad record (``file:line: column 'name': …``).
-    """
-    if T is not None:
-        in_range("T", T, *T_RANGE, unit="s")
-    colmap = parse_columns(columns, SPEC)
-    table = source if isinstance(source, Table) else read_table(source, max_rows=SPEC.max_rows)
-    sigma_column = _one_run(table, set(colmap.values()))
-    rec = read_record(table, SPEC, columns=colmap, units=units)
-    if not (rec.has("time") or rec.has("scan")):
-        cols = ", ".join(rec.table.columns) if rec.table is not None else ""
-        raise rec.error(
-            None,
-            None,
-            f"missing column 'time' (or 't', 'timestamp') or 'scan': columns are {cols}; map one with "
-            "--columns time=NAME or --columns scan=NAME",
-        )
-    xy = np.stack([rec["x"], rec["y"]], axis=-1) if len(rec) else np.zeros((0, 2))
-    for j, role in enumerate(("x", "y")):
-        big = np.flatnonzero(np.abs(xy[:, j]) > MAX_COORD)  # NaN compares False
-        if big.size:
-            i = int(big[0])
-            raise rec.error(i, role, f"|measurement| {abs(xy[i, j]):g} m exceeds {MAX_COORD:g} m")
-    xy[np.any(np.isnan(xy), axis=1)] = np.nan  # one coordinate missing: the scan is missed
-    n_meas = int(np.sum(~np.isnan(xy[:, 0])))
-    if n_meas < 3:
-        raise InputError(
-            f"{rec.source}: need at least 3 scans with a measurement (two initialise the trackers), "
-            f"found {n_meas}"
-        )
-    if rec.has("time"):
-        k, T_used, T_source = _time_grid(rec, T)
-    else:
-        k = rec["scan"] - rec["scan"][0]
-        meta_T = _meta_number(rec, "T", *T_RANGE, "s")
-        if T is not None:
-            T_used, T_source = float(T), "--T"
-        elif meta_T is not None:
-            T_used, T_source = meta_T, "metadata 'T'"
-        else:
-            T_used, T_source = 1.0, "assumed 1 s (no time column, no --T, no metadata 'T')"
-    K = int(k[-1]) + 1
-    if K > MAX_SCANS:
-        role = "time" if rec.has("time") else "scan"
-        raise rec.error(
-            len(rec) - 1,
-            role,
-            f"the record spans {K} scans of {T_used:g} s; at most {MAX_SCANS} (the trackers' limit)",
-        )
-    z = np.full((K, 2), np.nan)
-    z[k] = xy
-    scan0 = int(rec["scan"][0]) if rec.has("scan") else 1
-    t0 = float(rec["time"][0]) if rec.has("time") else 0.0
-    steps = np.arange(K)
-    return TrackRecord(z, scan0 + steps, t0 + steps * T_used, T_used, T_source, rec, sigma_column)
-
 
 def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.ndarray, float]:
     """Grid steps k of the rows for the period T (one row per scan), and the least-squares period on
@@ -292,6 +609,7 @@ def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.
             f"time {times[i]:.9g} s falls on the same scan as the previous row's (T = {T:.6g} s){note}",
         )
     return k, fit_period(times, k)[1]
+
 
 
 def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
@@ -356,6 +674,8 @@ def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
     return k, T_used, T_source
 
 
+
+
 # ------------------------------------------------------------------------------------------------ σ
 @dataclass(frozen=True)
 class SigmaEstimate:
@@ -363,37 +683,44 @@ class SigmaEstimate:
 
     Attributes:
         sigma: σ̂ [m].
-        n: the number of second differences per axis it used.
+        n: the number of measured triples per axis it used.
         method: how (for the metadata).
     """
 
     sigma: float
     n: int
     method: str = (
-        "second differences d_k = z_(k+1) - 2 z_k + z_(k-1) over three consecutive measured scans, per axis; "
-        "var d = 6 σ² on a constant-velocity segment (more with process noise); σ̂ = 1.4826 MAD(d) / √6, "
-        "the MAD about each axis' median, pooled over both axes (robust to manoeuvres)"
+        "each measured triple's deviation from the line through its neighbours, "
+        "d = z_1 - (a z_0 + b z_2), a = (t_2 - t_1)/(t_2 - t_0), b = 1 - a, of variance (1 + a² + b²) σ² on a "
+        "constant-velocity segment; σ̂ = 1.4826 MAD(d/√(1 + a² + b²)), the MAD about each axis' median, "
+        "pooled over both axes (robust to manoeuvres); on a scan grid, triples of consecutive scans "
+        "(1.4826 MAD(z_(k+1) - 2 z_k + z_(k-1)) / √6)"
     )
 
 
-def estimate_sigma(z: np.ndarray) -> SigmaEstimate:
-    """A robust estimate of the measurement noise σ per axis from positions z (K, 2) on a uniform scan grid
-    (NaN rows: missed scans).
+def estimate_sigma(
+    z: np.ndarray, t: np.ndarray | None = None, segment: np.ndarray | None = None
+) -> SigmaEstimate:
+    """A robust estimate of the measurement noise σ per axis from positions z (K, 2) (NaN rows: no
+    measurement), at times ``t`` (None: a uniform scan grid, triples of consecutive scans only) within
+    ``segment`` (triples never straddle a gap).
 
-    For three consecutive measured scans the second difference d_k = z_{k+1} − 2 z_k + z_{k−1} of a
-    constant-velocity target is ε_{k+1} − 2ε_k + ε_{k−1} (the motion cancels), of variance (1 + 4 + 1) σ² =
-    6σ²; a constant acceleration a adds the constant a T², a manoeuvre's onset a few outliers, process noise
-    some variance (σ̂ is then too large). The median absolute deviation about each axis' median is robust to
-    both, so σ̂ = 1.4826 · MAD(d) / √6 with the deviations of both axes pooled. Consecutive d_k are
-    correlated (−2/3 at lag 1, 1/6 at lag 2): σ̂ stays consistent (no bias detectable in 6000 simulated
-    records: +0.04 % ± 0.06 %), with a standard error of about σ/√n for n differences per axis (measured
-    0.99 σ/√n for n = 48 to 2000), against 0.83 σ/√n for a MAD of 2n independent samples.
+    For three measured positions at t₀ < t₁ < t₂ of a constant-velocity target, the middle one's deviation
+    from the line through the other two, d = z₁ − (a z₀ + b z₂) with a = (t₂ − t₁)/(t₂ − t₀), b = 1 − a,
+    is ε₁ − a ε₀ − b ε₂ (the motion cancels), of variance (1 + a² + b²) σ²; on a uniform grid (a = b = ½) it
+    is minus half the second difference z_{k+1} − 2 z_k + z_{k−1}, of variance 6σ²/4. A manoeuvre adds a
+    few outliers, process noise some variance (σ̂ is then too large). The median absolute deviation of
+    d/√(1 + a² + b²) about each axis' median is robust to both: σ̂ = 1.4826 · MAD with both axes pooled.
+    Consecutive d are correlated (−2/3 at lag 1 on a grid): σ̂ stays consistent (no bias detectable in 6000
+    simulated records: +0.04 % ± 0.06 %), with a standard error of about σ/√n for n triples per axis
+    (measured 0.99 σ/√n for n = 48 to 2000). Stale repeats (a position repeated under a new time) would
+    make d = 0 and fool it: the record's hygiene drops them first.
 
     Raises:
-        ConfigError: on ``sigma``: fewer than :data:`MIN_SIGMA_DIFFS` second differences, or σ̂ outside
+        ConfigError: on ``sigma``: fewer than :data:`MIN_SIGMA_DIFFS` triples, or σ̂ outside
             :data:`~motionsig_cli.maneuver.study.SIGMA_RANGE` (give σ instead).
     """
-    d = _second_differences(z)
+    d = _deviations(z, t, segment)
     n = int(d.shape[0])
     if n < MIN_SIGMA_DIFFS:
         raise ConfigError(
@@ -413,187 +740,70 @@ def estimate_sigma(z: np.ndarray) -> SigmaEstimate:
     return SigmaEstimate(sigma, n)
 
 
-def _second_differences(z: np.ndarray) -> np.ndarray:
-    """(n, 2) second differences z_(k+1) − 2 z_k + z_(k−1) over the runs of three consecutive measured
-    scans of z (K, 2) (NaN rows: missed scans)."""
+def _deviations(z: np.ndarray, t: np.ndarray | None = None, segment: np.ndarray | None = None) -> np.ndarray:
+    """(n, 2) normalised deviations d/√(1 + a² + b²) of the measured triples (:func:`estimate_sigma`)."""
     z = np.asarray(z, float)
     if z.shape[0] < 3:
         return np.zeros((0, 2))
     ok = ~np.any(np.isnan(z), axis=1)
-    triple = ok[:-2] & ok[1:-1] & ok[2:]
-    return (z[2:] - 2.0 * z[1:-1] + z[:-2])[triple]
+    if t is None:  # a uniform grid: triples of consecutive scans; d/√1.5 = −(second difference)/√6
+        triple = ok[:-2] & ok[1:-1] & ok[2:]
+        return (z[2:] - 2.0 * z[1:-1] + z[:-2])[triple] / math.sqrt(6.0)
+    idx = np.flatnonzero(ok)
+    seg = np.zeros(z.shape[0], np.int64) if segment is None else np.asarray(segment)
+    if idx.size < 3:
+        return np.zeros((0, 2))
+    i0, i1, i2 = idx[:-2], idx[1:-1], idx[2:]
+    same = (seg[i0] == seg[i2])
+    t0, t1, t2 = t[i0], t[i1], t[i2]
+    span = t2 - t0
+    good = same & (span > 0)
+    a = np.where(good, (t2 - t1) / np.where(span > 0, span, 1.0), 0.5)
+    b = 1.0 - a
+    dev = z[i1] - (a[:, None] * z[i0] + b[:, None] * z[i2])
+    return (dev / np.sqrt(1.0 + a * a + b * b)[:, None])[good]
 
 
 def _mad_sigma(d: np.ndarray) -> float:
-    """σ̂ = 1.4826 MAD(d) / √6, the deviations about each axis' median pooled (:func:`estimate_sigma`)."""
+    """σ̂ = 1.4826 MAD(d) of normalised deviations, about each axis' median, pooled (:func:`estimate_sigma`)."""
     dev = np.abs(d - np.median(d, axis=0))
-    return MAD_TO_SD * float(np.median(dev)) / math.sqrt(6.0)
+    return MAD_TO_SD * float(np.median(dev))
 
 
-# --------------------------------------------------------------------------------------------- tracking
-@dataclass(frozen=True)
-class RecordTrack:
-    """One record tracked by every requested method.
-
-    Attributes:
-        table: one row per method and grid scan from the first tracked scan, with the provenance.
-        note: a one-line summary (scans, missed scans, σ and how it was obtained).
-        figure: keyword arguments of :func:`motionsig_cli.plotting.maneuver_record_figure`.
-        sigma_estimated: σ was estimated because none was given or in the record (the command says so).
-    """
-
-    table: Table
-    note: str
-    figure: dict[str, Any]
-    sigma_estimated: bool
+def _record_deviations(rec: TrackRecord) -> np.ndarray:
+    return _deviations(rec.z, None if rec.grid else rec.t, rec.segment)
 
 
-def _estimable(rec: TrackRecord) -> None:
-    """Refuse, naming the file, a record σ cannot be estimated from when no σ was given (the failure of
-    :func:`estimate_sigma` names ``--sigma`` only when the user asked for the estimate)."""
-    d = _second_differences(rec.z)
-    n = int(d.shape[0])
-    if n < MIN_SIGMA_DIFFS:
-        raise InputError(
-            f"{rec.source}: σ cannot be estimated from {n} second difference{'s' * (n != 1)} (need "
-            f"{MIN_SIGMA_DIFFS}: three consecutive measured scans each): give σ [m] with --sigma"
-        )
-    sigma = _mad_sigma(d)
-    if not (SIGMA_RANGE[0] <= sigma <= SIGMA_RANGE[1]):
-        raise InputError(
-            f"{rec.source}: σ estimated from the positions is {sigma:g} m, not in [{SIGMA_RANGE[0]:g}, "
-            f"{SIGMA_RANGE[1]:g}] m (noise-free positions?): give σ [m] with --sigma"
-        )
-
-
-def _sigma(rec: TrackRecord, sigma: float | str | None) -> tuple[float, dict[str, Any], bool]:
-    """σ, its metadata and whether it was estimated without being asked to."""
+def choose_sigma(rec: TrackRecord, sigma: float | str | None) -> tuple[float, dict[str, Any], bool]:
+    """σ per axis for a record without per-row covariances, its metadata and whether it was estimated
+    without being asked to: ``sigma`` (a number, or ``"estimate"``), else the metadata ``sigma``, else
+    estimated (where it cannot be, the error names the file)."""
     if isinstance(sigma, str):
         if sigma != "estimate":
             raise ConfigError("sigma", sigma, "is not a number [m] or 'estimate'")
     elif sigma is not None:
-        return _check_sigma("sigma", sigma), {"sigma_source": "--sigma"}, False
+        return in_range("sigma", sigma, *SIGMA_RANGE, unit="m"), {"sigma_source": "--sigma"}, False
     else:
         meta = _meta_number(rec.record, "sigma", *SIGMA_RANGE, "m")
         if meta is not None:
             return meta, {"sigma_source": "metadata 'sigma'"}, False
-        if rec.sigma_column is not None:
-            line, change = rec.sigma_column
+        d = _record_deviations(rec)
+        n = int(d.shape[0])
+        if n < MIN_SIGMA_DIFFS:
             raise InputError(
-                f"{rec.source}:{line}: column 'sigma': {change}: a per-scan σ column is not supported (the trackers use one σ per "
-                "record): give σ [m] with --sigma, or --sigma estimate to estimate it from the positions"
+                f"{rec.source}: σ cannot be estimated from {n} second difference{'s' * (n != 1)} (need "
+                f"{MIN_SIGMA_DIFFS}: three consecutive measured scans each): give σ [m] with --sigma"
             )
-        _estimable(rec)
-    est = estimate_sigma(rec.z)
+        s_hat = _mad_sigma(d)
+        if not (SIGMA_RANGE[0] <= s_hat <= SIGMA_RANGE[1]):
+            raise InputError(
+                f"{rec.source}: σ estimated from the positions is {s_hat:g} m, not in [{SIGMA_RANGE[0]:g}, "
+                f"{SIGMA_RANGE[1]:g}] m (noise-free positions?): give σ [m] with --sigma"
+            )
+    est = estimate_sigma(rec.z, None if rec.grid else rec.t, rec.segment)
     how = "--sigma estimate" if sigma == "estimate" else "estimated: no --sigma, no metadata 'sigma'"
     return (
         est.sigma,
         {"sigma_source": how, "sigma_method": est.method, "sigma_differences": est.n},
         sigma is None,
     )
-
-
-def track_record(
-    rec: TrackRecord, methods: Sequence[str], cfg: TrackerConfig, *, sigma: float | str | None = None
-) -> RecordTrack:
-    """Track one record with every method in ``methods`` (module docstring).
-
-    Args:
-        rec: the record on its grid (:func:`read_track_record`).
-        methods: among :data:`~motionsig_cli.maneuver.study.METHODS`.
-        cfg: the trackers' settings.
-        sigma: σ per axis [m]; ``"estimate"`` (:func:`estimate_sigma`); None: the record's metadata
-            ``sigma``, else estimated.
-
-    Returns:
-        The table (columns method, scan, t, measured, x, vx, y, vy, ax, ay, mu_1..mu_3, declared, onset:
-        the scan number of a declared manoeuvre's estimated onset, in the convention of
-        :mod:`motionsig_cli.detection.glr`: the input jump first moves the position of the next scan), the
-        summary line and the figure's data.
-    """
-    _check_methods(methods)
-    s, sigma_meta, implicit = _sigma(rec, sigma)
-    if rec.sigma_column is not None:
-        line, change = rec.sigma_column
-        sigma_meta["sigma_column"] = (
-            f"ignored (line {line}: {change}): a per-scan σ is not supported, one σ for the record"
-        )
-    measured = rec.measured
-    idx = np.flatnonzero(measured)
-    a, b = int(idx[0]), int(idx[1])
-    K = rec.z.shape[0]
-    T = rec.T
-    rows: list[tuple[Any, ...]] = []
-    tracks: dict[str, np.ndarray] = {}
-    speeds: dict[str, np.ndarray] = {}
-    declarations: dict[str, list[tuple[int, int]]] = {}
-    mu_imm = None
-    grid = np.arange(b + 1, K)
-    for m in methods:
-        with _numerics(s, T), np.errstate(all="ignore"):
-            tr = track_from(
-                m,
-                rec.z[None, a],
-                rec.z[None, b],
-                rec.z[None, b + 1 :],
-                T,
-                s,
-                cfg,
-                init_gap=b - a,
-                first_scan=b + 1,
-            )
-        tracks[m] = tr.pos[0]
-        speeds[m] = np.hypot(tr.state[0, :, 1], tr.state[0, :, 3])
-        if tr.mu is not None:
-            mu_imm = tr.mu[0]
-        if tr.detected is not None and tr.onset is not None:
-            hits = np.flatnonzero(tr.detected[0])
-            declarations[m] = [(int(grid[i]), int(tr.onset[0, i])) for i in hits]
-        for i, g in enumerate(grid):
-            st = tr.state[0, i]
-            mu = tr.mu[0, i] if tr.mu is not None else (None, None, None)
-            det = bool(tr.detected[0, i]) if tr.detected is not None else None
-            onset = int(rec.scan[tr.onset[0, i]]) if (tr.onset is not None and tr.onset[0, i] >= 0) else None
-            rows.append((m, int(rec.scan[g]), float(rec.t[g]), bool(measured[g]), *(float(v) for v in st),
-                         *(None if v is None else float(v) for v in mu), det, onset))  # fmt: skip
-    cols = ("method", "scan", "t", "measured", "x", "vx", "y", "vy", "ax", "ay", "mu_1", "mu_2", "mu_3",
-            "declared", "onset")  # fmt: skip
-    missed = int(K - measured.sum())
-    meta = make_meta(
-        "maneuver",
-        **rec.record.provenance(),
-        T=T,
-        T_source=rec.T_source,
-        sigma=s,
-        **sigma_meta,
-        scans=K,
-        measured_scans=int(measured.sum()),
-        missed_scans=missed,
-        missed="predict-only steps in every tracker (absent rows, empty or NaN cells; a row with one "
-        "coordinate missing is a missed scan)",
-        init=f"two-point differencing on the first two measured scans, {int(rec.scan[a])} and "
-        f"{int(rec.scan[b])}; tracked from scan {int(rec.scan[b]) + 1}",
-        methods=list(methods),
-        config=cfg.meta(),
-        transition=[list(row) for row in cfg.Pi],
-        mu0=list(cfg.mu0),
-    )
-    ms_names = imm_models(T, g2=cfg.g2, q=cfg.imm_q).names
-    figure = {
-        "z": rec.z,
-        "scan": rec.scan,
-        "first": b + 1,
-        "tracks": {m.upper(): tracks[m] for m in methods},
-        "speeds": {m.upper(): speeds[m] for m in methods},
-        "declarations": {m.upper(): d for m, d in declarations.items()},
-        "mu": mu_imm,
-        "model_names": ms_names,
-        "title": f"{rec.source}: σ = {s:.4g} m, T = {T:.6g} s, {missed} of {K} scans missed",
-    }
-    n_decl = ", ".join(f"{m} {len(d)} declaration{'s' * (len(d) != 1)}" for m, d in declarations.items())
-    how = sigma_meta["sigma_source"].split(":")[0]
-    note = (
-        f"tracked {K - b - 1} scans of {rec.source} ({missed} of {K} missed) with {', '.join(methods)}; "
-        f"σ = {s:.4g} m ({how}), T = {T:.6g} s" + (f"; {n_decl}" if n_decl else "")
-    )
-    return RecordTrack(Table(columns=cols, rows=rows, meta=meta), note, figure, implicit)

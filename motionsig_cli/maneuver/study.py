@@ -53,6 +53,8 @@ from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.maneuver.ebpsk_tracking import EbpskPositions
 from motionsig_cli.maneuver.scenario import FIRST_SCAN, PRESETS, ManeuverScenario
 from motionsig_cli.models.motion import (
+    AIRCRAFT_Q,
+    AIRCRAFT_SOJOURN,
     G2_FORMS,
     H_POS4,
     H_POS6,
@@ -60,6 +62,8 @@ from motionsig_cli.models.motion import (
     PI_PAPER,
     Q0_RANGE,
     Q_PAPER,
+    ModelSet,
+    aircraft_models,
     check_distribution,
     check_transition,
     cv_input_model,
@@ -144,7 +148,18 @@ class TrackerConfig:
         correction, continuation: see :class:`~motionsig_cli.detection.glr.GLRConfig`.
         imm_q: the IMM models' acceleration-increment variances (q₁, q₂, q₃) [(m/s²)²]: model j's process
             noise is q_j G_j G_jᵀ (:func:`~motionsig_cli.models.motion.imm_models`); default the paper's
-            Q₁ = 0, Q₂ = 0.001 I, Q₃ = 0.0144 I (§IV), each in :data:`IMM_Q_RANGE`.
+            Q₁ = 0, Q₂ = 0.001 I, Q₃ = 0.0144 I (§IV), each in :data:`IMM_Q_RANGE`. With ``imm_model =
+            "aircraft"``, the models' psds (q̃₁ [m²/s³], q̃₂, q̃₃ [m²/s⁵], each > 0:
+            :func:`~motionsig_cli.models.motion.aircraft_models`).
+        imm_model: ``paper`` (the paper's three models, one discrete noise per step) or ``aircraft``
+            (continuous-time models for real aircraft on irregular times).
+        sojourn: mean sojourn τ_i in each model [s] (``aircraft`` only; ``Pi`` is then built from it).
+        declare: the IMM's declaration thresholds (on, off) on the manoeuvre probability 1 − μ_CV: a
+            manoeuvre is declared when it rises above ``on`` and may be declared again once it has fallen
+            below ``off`` (hysteresis), 0 < off < on < 1.
+
+    :data:`TUNINGS` holds the two sets of defaults: ``paper`` (the class defaults) and ``aircraft`` (for
+    real records; :meth:`tuned`).
 
     Examples:
         >>> from motionsig_cli import ConfigError, TrackerConfig
@@ -168,10 +183,30 @@ class TrackerConfig:
     correction: str = "exact"
     continuation: str = "estimate"
     imm_q: tuple[float, ...] = Q_PAPER
+    imm_model: str = "paper"
+    sojourn: tuple[float, ...] = AIRCRAFT_SOJOURN
+    declare: tuple[float, float] = (0.9, 0.5)
 
     def __post_init__(self) -> None:
         one_of("g2", self.g2, G2_FORMS)
+        one_of("imm_model", self.imm_model, ("paper", "aircraft"))
         object.__setattr__(self, "imm_q", _check_imm_q(self.imm_q))
+        if self.imm_model == "aircraft" and min(self.imm_q) <= 0:
+            raise ConfigError("imm_q", self.imm_q, "must be > 0 for every aircraft model (psds)")
+        try:
+            soj = tuple(float(v) for v in self.sojourn)
+        except (TypeError, ValueError):
+            raise ConfigError("sojourn", self.sojourn, "is not three times [s]") from None
+        if len(soj) != 3 or not all(math.isfinite(v) and v > 0 for v in soj):
+            raise ConfigError("sojourn", self.sojourn, "is not three mean sojourn times > 0 [s]")
+        object.__setattr__(self, "sojourn", soj)
+        try:
+            on, off = (float(v) for v in self.declare)
+        except (TypeError, ValueError):
+            raise ConfigError("declare", self.declare, "is not two probabilities (on, off)") from None
+        if not (0 < off < on < 1):
+            raise ConfigError("declare", self.declare, "is not 0 < off < on < 1")
+        object.__setattr__(self, "declare", (on, off))
         Pi = check_transition("Pi", self.Pi, r=3)
         mu0 = check_distribution("mu0", self.mu0, r=3)
         object.__setattr__(self, "Pi", tuple(tuple(row) for row in Pi.tolist()))
@@ -188,6 +223,18 @@ class TrackerConfig:
         one_of("correction", self.correction, CORRECTIONS)
         one_of("continuation", self.continuation, CONTINUATIONS)
 
+    @classmethod
+    def tuned(cls, tuning: str, **given: Any) -> TrackerConfig:
+        """The defaults of ``tuning`` (a key of :data:`TUNINGS`) with the ``given`` fields over them."""
+        one_of("tuning", tuning, tuple(TUNINGS))
+        return cls(**{**TUNINGS[tuning], **given})
+
+    def models(self, T: float) -> ModelSet:
+        """The IMM's model set (``imm_model``) at the period T [s] (its ``steps`` give any Δt)."""
+        if self.imm_model == "aircraft":
+            return aircraft_models(q=self.imm_q, sojourn=self.sojourn, mu0=self.mu0, T=T)  # type: ignore[arg-type]
+        return imm_models(T, g2=self.g2, q=self.imm_q, Pi=np.asarray(self.Pi), mu0=np.asarray(self.mu0))  # type: ignore[arg-type]
+
     def glr(self, method: str) -> GLRConfig:
         """The detector of ``method`` (``glr``, ``mlr`` or ``none``: the CV filter)."""
         thr = {"glr": self.glr_threshold, "mlr": self.mlr_threshold, "none": math.inf}[method]
@@ -198,7 +245,27 @@ class TrackerConfig:
         """The detector settings as a record's provenance names them."""
         return {"q0": self.q0, "window": self.window, "glr_threshold": self.glr_threshold,
                 "mlr_threshold": self.mlr_threshold, "sigma_u": self.sigma_u, "correction": self.correction,
-                "continuation": self.continuation, "g2": self.g2, "imm_q": list(self.imm_q)}  # fmt: skip
+                "continuation": self.continuation, "g2": self.g2, "imm_q": list(self.imm_q),
+                "imm_model": self.imm_model, "sojourn": list(self.sojourn),
+                "declare": list(self.declare)}  # fmt: skip
+
+
+TUNINGS: dict[str, dict[str, Any]] = {
+    "paper": {},
+    "aircraft": {
+        "imm_model": "aircraft",
+        "imm_q": AIRCRAFT_Q,
+        "q0": 0.5,
+        "window": 20,
+        "glr_threshold": 30.0,
+        "mlr_threshold": 8.0,
+        "sigma_u": 10.0,
+    },
+}
+"""Tracker defaults: ``paper`` (the paper's values and this project's reading of the unstated ones: the
+class defaults, used for the paper's scenario) and ``aircraft`` (for real records: every model with process
+noise, the thresholds set for a false-alarm rate on real straight flight — measured in the notebook
+*Tracking a real flight*)."""
 
 
 def _check_imm_q(q: Any) -> tuple[float, ...]:

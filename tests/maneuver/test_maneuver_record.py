@@ -13,6 +13,7 @@ import pytest
 from motionsig_cli.config import ConfigError
 from motionsig_cli.errors import InputError
 from motionsig_cli.maneuver import record as mr
+from motionsig_cli.maneuver import record_tracking as rt
 from motionsig_cli.maneuver import study as ex
 from motionsig_cli.models.motion import Q_PAPER
 
@@ -219,14 +220,14 @@ def test_without_a_given_sigma_a_failed_estimate_names_the_file_not_the_option(t
     z[::3] = np.nan  # 8 measured scans, never three consecutive: 0 second differences
     rec = mr.read_track_record(_csv(tmp_path, ["scan", "x", "y"], [[i + 1, *r] for i, r in enumerate(z)]))
     with pytest.raises(InputError) as exc:
-        mr.track_record(rec, ("cv",), cfg)
+        rt.track_record(rec, ("cv",), cfg)
     msg = str(exc.value)
     assert msg.startswith(f"{rec.source}: σ cannot be estimated from 0 second differences (need 10")
     assert "--sigma" in msg and "Invalid value" not in msg
     with pytest.raises(ConfigError) as cexc:
-        mr.track_record(rec, ("cv",), cfg, sigma="estimate")
+        rt.track_record(rec, ("cv",), cfg, sigma="estimate")
     assert cexc.value.field == "sigma"
-    assert mr.track_record(rec, ("cv",), cfg, sigma=50.0).table.meta["sigma_source"] == "--sigma"
+    assert rt.track_record(rec, ("cv",), cfg, sigma=50.0).table.meta["sigma_source"] == "--sigma"
     # 9 differences: one short of MIN_SIGMA_DIFFS (11 consecutive measured scans)
     nine = mr.read_track_record(
         _csv(
@@ -237,11 +238,11 @@ def test_without_a_given_sigma_a_failed_estimate_names_the_file_not_the_option(t
         )
     )
     with pytest.raises(InputError, match=r"n.csv: σ cannot be estimated from 9 second differences \(need 10"):
-        mr.track_record(nine, ("cv",), cfg)
+        rt.track_record(nine, ("cv",), cfg)
     ten = mr.read_track_record(
         _csv(tmp_path, ["t", "x", "y"], [[i, *r] for i, r in enumerate(_cv(12)[1])], name="t.csv")
     )
-    assert mr.track_record(ten, ("cv",), cfg).table.meta["sigma_differences"] == 10
+    assert rt.track_record(ten, ("cv",), cfg).table.meta["sigma_differences"] == 10
     # noise-free positions: σ̂ = 0 m, outside the accepted range
     exact = mr.read_track_record(
         _csv(tmp_path, ["scan", "x", "y"], [[i + 1, *r] for i, r in enumerate(pos)], name="e.csv")
@@ -249,7 +250,7 @@ def test_without_a_given_sigma_a_failed_estimate_names_the_file_not_the_option(t
     with pytest.raises(
         InputError, match=r"e.csv: σ estimated from the positions is 0 m, not in .*give σ \[m\] with --sigma"
     ):
-        mr.track_record(exact, ("cv",), cfg)
+        rt.track_record(exact, ("cv",), cfg)
 
 
 def test_a_varying_sigma_column_is_not_a_per_scan_sigma(tmp_path):
@@ -264,26 +265,26 @@ def test_a_varying_sigma_column_is_not_a_per_scan_sigma(tmp_path):
     p = _csv(tmp_path, ["time", "x", "y", "sigma"], rows)
     rec = mr.read_track_record(p)
     with pytest.raises(InputError) as exc:
-        mr.track_record(rec, ("cv",), cfg)
+        rt.track_record(rec, ("cv",), cfg)
     msg = str(exc.value)
     assert msg.startswith(
         f"{p}:3: column 'sigma': σ changes from 7 to 5: a per-scan σ column is not supported"
     )
     assert "several values" not in msg and "--sigma" in msg
-    given = mr.track_record(rec, ("cv",), cfg, sigma=30.0).table.meta
+    given = rt.track_record(rec, ("cv",), cfg, sigma=30.0).table.meta
     assert given["sigma"] == 30.0 and given["sigma_column"].startswith(
         "ignored (line 3: σ changes from 7 to 5)"
     )
-    est = mr.track_record(rec, ("cv",), cfg, sigma="estimate").table.meta
+    est = rt.track_record(rec, ("cv",), cfg, sigma="estimate").table.meta
     assert est["sigma_source"] == "--sigma estimate" and "sigma_column" in est
     in_meta = mr.read_track_record(
         _csv(tmp_path, ["time", "x", "y", "sigma"], rows, meta=["sigma: 30"], name="m.csv")
     )
-    assert mr.track_record(in_meta, ("cv",), cfg).table.meta["sigma_source"] == "metadata 'sigma'"
+    assert rt.track_record(in_meta, ("cv",), cfg).table.meta["sigma_source"] == "metadata 'sigma'"
     const = mr.read_track_record(
         _csv(tmp_path, ["time", "x", "y", "sigma"], [[*r[:3], 5] for r in rows], name="c.csv")
     )
-    out = mr.track_record(const, ("cv",), cfg).table.meta
+    out = rt.track_record(const, ("cv",), cfg).table.meta
     assert out["sigma_source"].startswith("estimated") and "sigma_column" not in out
     view = ['command: "maneuver"', 'view: "measurements"', "sigma: [100.0, 200.0]"]
     runs = [[s, 0, i + 1, *r] for s in (100.0, 200.0) for i, r in enumerate(z[:5])]
@@ -304,7 +305,7 @@ def test_a_record_without_missed_scans_tracks_bit_identically_to_the_monte_carlo
     )
     rec = mr.read_track_record(p)
     cfg = ex.TrackerConfig()
-    out = mr.track_record(rec, ex.METHODS, cfg, sigma=100.0)
+    out = rt.track_record(rec, ex.METHODS, cfg, sigma=100.0)
     cols = out.table.columns
     for m in ex.METHODS:
         ref = ex.track(m, z[None], 1.0, 100.0, cfg)
@@ -323,7 +324,7 @@ def test_the_two_point_initialisation_uses_the_first_two_measured_scans(tmp_path
     pos, _ = _cv(30, T=2.0)
     rows = [[2.0 * i, *(("", "") if i in (0, 2, 3) else pos[i])] for i in range(30)]
     rec = mr.read_track_record(_csv(tmp_path, ["t", "x", "y"], rows, meta=["T: 2.0"]))
-    out = mr.track_record(rec, ("imm", "cv", "glr"), ex.TrackerConfig(), sigma=30.0)
+    out = rt.track_record(rec, ("imm", "cv", "glr"), ex.TrackerConfig(), sigma=30.0)
     t = out.table
     assert t.meta["init"].startswith("two-point differencing on the first two measured scans, 2 and 5")
     cols = t.columns

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from motionsig_cli import ConfigError, TrackerConfig, imm_filter, imm_models, track_positions, two_point_init
-from motionsig_cli.maneuver.record import read_track_record, track_record
+from motionsig_cli.maneuver.record import read_track_record
+from motionsig_cli.maneuver.record_tracking import track_record
 from motionsig_cli.models.motion import H_POS6
 from motionsig_cli.tables import Table
 
@@ -31,7 +32,7 @@ def test_equals_the_command_path_on_the_same_record(method: str) -> None:
     res = track_positions(t, z, 50.0, method=method)
     rows = [(float(tt), *("" if np.isnan(v) else float(v) for v in zz)) for tt, zz in zip(t, z, strict=True)]
     rec = track_record(read_track_record(Table(columns=("time", "x", "y"), rows=rows)), [method],
-                       TrackerConfig(), sigma=50.0)  # fmt: skip
+                       TrackerConfig(), sigma=50.0, consistency=None)  # fmt: skip
     state = np.array([r[4:10] for r in rec.table.rows], float)
     assert np.array_equal(state, res.state)
     assert np.array_equal([r[3] for r in rec.table.rows], res.measured)
