@@ -254,8 +254,9 @@ class RealRecordOptions:
     consistency: Annotated[OnOff, _opt(
         "--consistency", "Each tracker's own checks (NIS gate and window, speed, acceleration, covariance; a "
         "track that fails restarts and says so): on (default) or off.")] = OnOff.on
-    max_speed: Annotated[float, _opt("--max-speed", "Largest plausible speed [m/s] (600).")] = 600.0
-    max_accel: Annotated[float, _opt("--max-accel", "Largest plausible acceleration [m/s²] (100).")] = 100.0
+    max_speed: Annotated[float | None, _opt(
+        "--max-speed", "Largest plausible speed [m/s] (aircraft tuning 600, paper 5000).")] = None
+    max_accel: Annotated[float | None, _opt("--max-accel", "Largest plausible acceleration [m/s²] (100).")] = None
 
     def refuse(self) -> None:
         """Without FILE these options are usage errors (the paper's scenario has no frame or feed)."""
@@ -276,12 +277,13 @@ class RealRecordOptions:
                            hygiene=HygienePolicy(strict=self.strict, stale=self.stale.value,
                                                  max_gap=self.max_gap))  # fmt: skip
 
-    def checks(self) -> Any:
+    def checks(self, cfg: exp.TrackerConfig) -> Any:
         from motionsig_cli.filters.consistency import Consistency
 
         if self.consistency is OnOff.off:
             return None
-        return Consistency(max_speed=self.max_speed, max_accel=self.max_accel)
+        return Consistency(max_speed=cfg.max_speed if self.max_speed is None else self.max_speed,
+                           max_accel=cfg.max_accel if self.max_accel is None else self.max_accel)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -374,8 +376,7 @@ def maneuver(
             raise typer.BadParameter(
                 "with a record (FILE) the record holds the measurements", param_hint="--front-end"
             )
-        cfg = tracker.config(real.tuning.value if real.tuning is not None else "aircraft")
-        _track_record(path, methods, cfg, sigma, T, record, real, view, plot_compare, output)
+        _track_record(path, methods, tracker, sigma, T, record, real, view, plot_compare, output)
         return
     record.refuse_without_file()
     real.refuse()
@@ -505,10 +506,11 @@ def _front_end_view(sc: exp.ManeuverScenario, fe: Any, sigmas: Any, calibrate: b
 
 
 def _track_record(
-    path: str, methods: tuple[str, ...], cfg: exp.TrackerConfig, sigma: str | None, T: float | None,
+    path: str, methods: tuple[str, ...], tracker: TrackerOptions, sigma: str | None, T: float | None,
     record: RecordOptions, real: RealRecordOptions, view: View, plot_compare: Path | None, output: Output,
 ) -> None:  # fmt: skip
-    """Track one measurement record with every requested method (and draw it with --plot)."""
+    """Track one measurement record with every requested method (and draw it with --plot). The default
+    tuning is ``aircraft``, or ``paper`` for the paper's own simulated records (``--view measurements``)."""
     from motionsig_cli.maneuver import record as mr
     from motionsig_cli.maneuver import record_tracking as rt
 
@@ -532,7 +534,9 @@ def _track_record(
             raise typer.BadParameter("give one σ with a record (FILE) (or 'estimate')", param_hint="--sigma")
         s = vals[0]
     rec = mr.read_track_record(path, real.read_options(record, T))
-    result = rt.track_record(rec, methods, cfg, sigma=s, consistency=real.checks())
+    own = rec.record.meta.get("command") == "maneuver" and rec.record.meta.get("view") == "measurements"
+    cfg = tracker.config(real.tuning.value if real.tuning is not None else ("paper" if own else "aircraft"))
+    result = rt.track_record(rec, methods, cfg, sigma=s, consistency=real.checks(cfg))
     if output.plot is not None:
         from motionsig_cli.plotting import maneuver_record_figure
 

@@ -352,7 +352,8 @@ def input_tracker(
         up = joseph_update(xp, Pp, z[:, k], H, Rk)
         seen = None if every else measured[:, k]  # (B,) runs measured at scan k (None: all of them)
         if mon is not None:
-            seen = mon.screen(k, measured[:, k], up.nis)  # C1: a gated measurement is a missed scan
+            Sk = H @ Pp @ H.T + Rk
+            seen = mon.screen(k, measured[:, k], up.nis, up.nu, Sk, since + dt[:, k])  # C1: gated = missed
         if seen is not None and seen.all():
             seen = None
         if seen is None:

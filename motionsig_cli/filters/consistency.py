@@ -6,10 +6,14 @@ nothing happened can drift without bound and still print numbers. :class:`Consis
 a tracker runs at every step, batched over tracks; :class:`Monitor` carries their state through the scan
 loop of :func:`motionsig_cli.filters.imm.imm_filter` and :func:`motionsig_cli.detection.glr.input_tracker`.
 
-1. **Validation gate.** A measurement whose normalised innovation squared ε_k = ν_kᵀ S_k⁻¹ ν_k exceeds the
-   χ²_m quantile at 1 − ``gate`` is an outlier: the step is predict-only (the measurement is not used) and
-   the row says so (``gated``). Under the model, ε_k ~ χ²_m, so a consistent filter gates a fraction
-   ``gate`` of its measurements (10⁻⁹ by default: 6.4 σ in two dimensions).                          (C1)
+1. **Validation gate.** A measurement is an outlier when it is both statistically and physically out of
+   reach: its normalised innovation squared ε_k = ν_kᵀ S_k⁻¹ ν_k exceeds the χ²_m quantile at 1 − ``gate``
+   (under the model ε_k ~ χ²_m: a fraction ``gate`` of a consistent filter's measurements, 10⁻⁹ by default,
+   6.4 σ in two dimensions), *and* the innovation is longer than a manoeuvre at ``max_accel`` could make it
+   since the last accepted measurement, |ν_k| > ½ a_max τ² + √(g tr S_k) (τ: the time since; g: the gate's
+   quantile). The second condition keeps a hard manoeuvre, which a filter's model does not describe but
+   a detector must see, from being gated. An outlier's step is predict-only (the measurement is not used)
+   and the row says so (``gated``).                                                                  (C1)
 2. **Lost track.** ``max_gated`` gated measurements in a row mean the target is no longer where the filter
    looks: the track is re-initialised (reason ``outliers``).                                          (C2)
 3. **Windowed NIS.** Over the last ``window`` accepted measurements, Σ ε_k ~ χ²_{m·window} for a consistent
@@ -134,10 +138,17 @@ class Monitor:
         self.reason = np.zeros((B, N), dtype=np.int8)
         self.nis = np.full((B, N), math.nan)
 
-    def screen(self, k: int, seen: np.ndarray, nis: np.ndarray) -> np.ndarray:
-        """Record ε_k of the measured tracks ``seen`` (B,) and return which of them to accept (C1)."""
+    def screen(
+        self, k: int, seen: np.ndarray, nis: np.ndarray, nu: np.ndarray, S: np.ndarray, tau: np.ndarray
+    ) -> np.ndarray:
+        """Record ε_k of the measured tracks ``seen`` (B,) and return which of them to accept (C1), from the
+        innovations ν (B, m), their covariances S (B, m, m) and the time τ (B,) since the last accepted
+        measurement."""
         self.nis[:, k] = np.where(seen, nis, math.nan)
-        gated = seen & ~(nis <= self.gate)  # NaN ε (a singular S) is gated too
+        trace = np.trace(S, axis1=-2, axis2=-1)
+        reach = 0.5 * self.cfg.max_accel * tau**2 + np.sqrt(self.gate * np.maximum(trace, 0.0))
+        far = ~(np.linalg.norm(nu, axis=-1) <= reach)
+        gated = seen & ~(nis <= self.gate) & far  # NaN ε (a singular S) is gated too
         self.gated[:, k] = gated
         ok = seen & ~gated
         self.run = np.where(gated, self.run + 1, np.where(ok, 0, self.run))

@@ -252,9 +252,10 @@ def imm_filter(
             d = Xp - xb[:, None, :]
             Pb = np.einsum("bj,bjnm->bnm", cbar, Pp) + np.einsum("bj,bjn,bjm->bnm", cbar, d, d)
             nu = z[:, k] - xb @ H.T
-            S_inv, _, _ = spd_inv_logdet(H @ Pb @ H.T + (R[:, k] if varying else R))
+            Sb = H @ Pb @ H.T + (R[:, k] if varying else R)
+            S_inv, _, _ = spd_inv_logdet(Sb)
             nis = np.einsum("bi,bij,bj->b", nu, S_inv, nu)
-            seen = mon.screen(k, seen, nis)  # C1: a gated measurement is not used
+            seen = mon.screen(k, seen, nis, nu, Sb, since + dt[:, k])  # C1: a gated measurement is not used
         if seen is None or seen.all():
             X, P, loglik = up.x, up.P, up.loglik
         else:  # predict-only where missed, likelihood 1 for every model

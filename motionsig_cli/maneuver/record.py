@@ -285,8 +285,11 @@ def read_track_record(
     try:
         clean = clean_reports(key, raw, opts.hygiene)
     except HygieneError as exc:
-        role = "time" if rec.has("time") else "scan"
-        raise rec.error(exc.row, role, exc.message) from None
+        if rec.has("time"):
+            raise rec.error(exc.row, "time", exc.message) from None
+        i = exc.row
+        what = "repeats an earlier scan" if "time of an earlier" in exc.message else "is earlier than the row before"
+        raise rec.error(i, "scan", f"scan {rec['scan'][i]} {what}") from None
     rows = clean.rows
     n_meas = int(np.sum(~np.isnan(raw[rows, 0])))
     if n_meas < 3:
@@ -479,12 +482,18 @@ def _local_positions(rec: Record, form: str, opts: ReadOptions) -> tuple[np.ndar
     return pp.position, pp.covariance, frame, meta
 
 
+class _ScanConflict(InputError):
+    """A scan column that contradicts the times (refused whether or not the times are a grid)."""
+
+
 def _try_grid(sub: Record, T: float | None) -> tuple[np.ndarray, float, str] | None:
     """The scan grid of the cleaned times (:func:`_time_grid`), or None where they are irregular and no T
     was given (each row is then a step at its own time)."""
     if T is None and not _meta_has_T(sub):
         try:
             return _time_grid(sub, None)
+        except _ScanConflict:
+            raise
         except InputError:
             return None
     return _time_grid(sub, T)
@@ -541,7 +550,8 @@ def _irregular(rec, sub, rows, clean, z_all, R_all, form, frame, conversion, hyg
     K = t.size
     dts = np.diff(t)[np.diff(clean.segment) == 0]
     T_med = float(np.median(dts)) if dts.size else math.nan
-    return TrackRecord(z_all[rows], None if R_all is None else R_all[rows], t, np.arange(1, K + 1),
+    scan = sub["scan"].astype(np.int64) if sub.has("scan") else np.arange(1, K + 1)
+    return TrackRecord(z_all[rows], None if R_all is None else R_all[rows], t, scan,
                        clean.segment, sub.lines.astype(np.int64), T_med,
                        f"irregular times: each step its own Δt (median {T_med:.6g} s)", False, rec, form, frame,
                        hyg, conversion)  # fmt: skip
@@ -665,11 +675,15 @@ def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
         bad = np.flatnonzero(d != k)
         if bad.size:
             i = int(bad[0])
-            raise rec.error(
-                i,
-                "scan",
-                f"scan {rec['scan'][i]} is {d[i]} scans after the first, but its time is {k[i]} periods "
-                f"of {T_used:.6g} s after it",
+            raise _ScanConflict(
+                str(
+                    rec.error(
+                        i,
+                        "scan",
+                        f"scan {rec['scan'][i]} is {d[i]} scans after the first, but its time is {k[i]} periods "
+                        f"of {T_used:.6g} s after it",
+                    )
+                )
             )
     return k, T_used, T_source
 
@@ -774,10 +788,14 @@ def _record_deviations(rec: TrackRecord) -> np.ndarray:
     return _deviations(rec.z, None if rec.grid else rec.t, rec.segment)
 
 
-def choose_sigma(rec: TrackRecord, sigma: float | str | None) -> tuple[float, dict[str, Any], bool]:
+def choose_sigma(
+    rec: TrackRecord, sigma: float | str | None, floor: float = 0.0
+) -> tuple[float, dict[str, Any], bool]:
     """σ per axis for a record without per-row covariances, its metadata and whether it was estimated
     without being asked to: ``sigma`` (a number, or ``"estimate"``), else the metadata ``sigma``, else
-    estimated (where it cannot be, the error names the file)."""
+    estimated (where it cannot be, the error names the file). An estimate below ``floor`` [m] (the tuning's
+    credible σ: a feed's smoothed or interpolated positions make the estimate meaninglessly small) is raised
+    to it, and the metadata says so; a σ given is used as given."""
     if isinstance(sigma, str):
         if sigma != "estimate":
             raise ConfigError("sigma", sigma, "is not a number [m] or 'estimate'")
@@ -789,18 +807,28 @@ def choose_sigma(rec: TrackRecord, sigma: float | str | None) -> tuple[float, di
             return meta, {"sigma_source": "metadata 'sigma'"}, False
         d = _record_deviations(rec)
         n = int(d.shape[0])
-        if n < MIN_SIGMA_DIFFS:
+        if n < MIN_SIGMA_DIFFS and floor <= 0:
             raise InputError(
                 f"{rec.source}: σ cannot be estimated from {n} second difference{'s' * (n != 1)} (need "
                 f"{MIN_SIGMA_DIFFS}: three consecutive measured scans each): give σ [m] with --sigma"
             )
+        if n < MIN_SIGMA_DIFFS:
+            return floor, {"sigma_source": f"the tuning's floor {floor:.3g} m (too few measured triples to "
+                           "estimate σ)"}, True  # fmt: skip
         s_hat = _mad_sigma(d)
+        if floor > 0 and s_hat < floor:
+            return floor, {"sigma_source": f"the tuning's floor {floor:.3g} m: estimated {s_hat:.3g} m from "
+                           f"{n} measured triples, below it (smoothed or interpolated positions)",
+                           "sigma_estimate": s_hat}, True  # fmt: skip
         if not (SIGMA_RANGE[0] <= s_hat <= SIGMA_RANGE[1]):
             raise InputError(
                 f"{rec.source}: σ estimated from the positions is {s_hat:g} m, not in [{SIGMA_RANGE[0]:g}, "
                 f"{SIGMA_RANGE[1]:g}] m (noise-free positions?): give σ [m] with --sigma"
             )
     est = estimate_sigma(rec.z, None if rec.grid else rec.t, rec.segment)
+    if sigma == "estimate" and floor > 0 and est.sigma < floor:
+        return floor, {"sigma_source": f"the tuning's floor {floor:.3g} m: --sigma estimate gave {est.sigma:.3g} m",
+                       "sigma_estimate": est.sigma}, False  # fmt: skip
     how = "--sigma estimate" if sigma == "estimate" else "estimated: no --sigma, no metadata 'sigma'"
     return (
         est.sigma,

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from motionsig_cli.config import ConfigError
 from motionsig_cli.detection.glr import InputModel, input_tracker
 from motionsig_cli.errors import InputError
 from motionsig_cli.filters.consistency import REASONS, Consistency
@@ -134,7 +135,7 @@ def track_record(
     cfg: TrackerConfig,
     *,
     sigma: float | str | None = None,
-    consistency: Consistency | None = Consistency(),  # noqa: B008 - frozen
+    consistency: Consistency | None | str = "tuned",
 ) -> RecordTrack:
     """Track every segment of a record with every method in ``methods`` (module docstring).
 
@@ -144,9 +145,14 @@ def track_record(
         cfg: the trackers' settings (:meth:`~motionsig_cli.maneuver.study.TrackerConfig.tuned`).
         sigma: σ per axis [m] (overrides the record's per-row covariances); ``"estimate"``; None: the
             record's covariances, else its metadata ``sigma``, else estimated.
-        consistency: the checks (None: unwatched, as the paper's Monte Carlo).
+        consistency: the checks; ``"tuned"``: those of ``cfg`` (:meth:`TrackerConfig.consistency`); None:
+            unwatched, as the paper's Monte Carlo.
     """
     _check_methods(methods)
+    if isinstance(consistency, str):
+        if consistency != "tuned":
+            raise ConfigError("consistency", consistency, "is not a Consistency, None or 'tuned'")
+        consistency = cfg.consistency()
     if rec.R is not None and sigma is None:
         R = rec.R.copy()
         bad = np.flatnonzero(rec.measured & ~np.isfinite(R).all(axis=(1, 2)))
@@ -160,7 +166,7 @@ def track_record(
                                       "sigma_median": s}  # fmt: skip
         implicit = False
     else:
-        s, sigma_meta, implicit = choose_sigma(rec, sigma)
+        s, sigma_meta, implicit = choose_sigma(rec, sigma, cfg.sigma_floor)
         R = np.broadcast_to(s * s * np.eye(2), (rec.z.shape[0], 2, 2)).copy()
     bt = _batch(rec, R)
     if not bt["segments"]:
@@ -172,28 +178,36 @@ def track_record(
     results: dict[str, dict[str, np.ndarray | None]] = {}
     for m in methods:
         with _numerics(s, T), np.errstate(all="ignore"):
-            results[m] = _run(m, bt, rec, R, dt0, cfg, consistency, T)
+            results[m] = _run(m, bt, rec, R, dt0, cfg, consistency, T, None if rec.R is not None and sigma is None
+                              else s * s)  # fmt: skip
     return _tables(rec, methods, cfg, consistency, bt, results, s, sigma_meta, implicit, S)
 
 
 def _run(
     m: str, bt: dict[str, Any], rec: TrackRecord, R: np.ndarray, dt0: np.ndarray, cfg: TrackerConfig,
-    consistency: Consistency | None, T: float,
+    consistency: Consistency | None, T: float, r_uniform: float | None,
 ) -> dict[str, np.ndarray | None]:  # fmt: skip
+    """One method on the batch. On a scan grid without the checks, the fixed-period models and (with one σ)
+    the one R: the paper's recursion, bit for bit."""
     a, b = bt["a"], bt["b"]
+    fixed = rec.grid and consistency is None
+    dt = None if fixed else bt["dt"]
+    R_steps = bt["R"] if r_uniform is None else None
     z_a, z_b, R_a, R_b = rec.z[a], rec.z[b], R[a], R[b]
     if m == "imm":
         x0, P0 = two_point_restart(z_a, z_b, dt0, R_a, R_b, n=6)
-        tr = imm_filter(bt["z"], H_POS6, bt["R"], cfg.models(T), x0, P0, dt=bt["dt"], consistency=consistency)
+        tr = imm_filter(bt["z"], H_POS6, bt["R"] if R_steps is not None else r_uniform, cfg.models(T), x0, P0,
+                        dt=dt, consistency=consistency)  # fmt: skip
         mu = tr.mu
         declared, onset = imm_declarations(1.0 - mu[..., 0], *cfg.declare)
         return {"state": tr.x, "mu": mu, "declared": declared, "onset": onset, "u": None, "nis": tr.nis,
                 "gated": tr.gated, "reinit": tr.reinit, "rejected": None}  # fmt: skip
     F, G, Q = cv_input_model(T, cfg.q0)
     q0 = cfg.q0
-    model = InputModel(F, G, Q, H_POS4, np.eye(2), steps=lambda d: cv_input_steps(d, q0))
+    R0 = np.eye(2) if r_uniform is None else r_uniform * np.eye(2)
+    model = InputModel(F, G, Q, H_POS4, R0, steps=lambda d: cv_input_steps(d, q0))
     x0, P0 = two_point_restart(z_a, z_b, dt0, R_a, R_b, n=4)
-    it = input_tracker(bt["z"], model, x0, P0, cfg.glr("none" if m == "cv" else m), R=bt["R"], dt=bt["dt"],
+    it = input_tracker(bt["z"], model, x0, P0, cfg.glr("none" if m == "cv" else m), R=R_steps, dt=dt,
                        consistency=consistency)  # fmt: skip
     state = np.concatenate([it.x, it.u_cur], axis=-1)
     out: dict[str, np.ndarray | None] = {"state": state, "mu": None, "declared": None, "onset": None, "u": None,
@@ -310,8 +324,9 @@ def _tables(
         missed_scans=missed,
         segments=S + len(bt["skipped"]),
         untracked_segments=bt["skipped"],
-        init="two-point differencing on each segment's first two measured steps (velocity over their time "
-        "difference, covariances of both)",
+        init="two-point differencing on the first two measured scans of each segment (velocity over their time "
+        "difference, covariances of both): "
+        + "; ".join(f"{int(rec.scan[a_])} and {int(rec.scan[b_])}" for a_, b_ in zip(bt["a"], bt["b"], strict=True)),
         methods=list(methods),
         config=cfg.meta(),
         transition=[list(row) for row in cfg.Pi],

@@ -52,6 +52,7 @@ from motionsig_cli.engine import Engine, check_run_time, run_job, tasks_of, tria
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.maneuver.ebpsk_tracking import EbpskPositions
 from motionsig_cli.maneuver.scenario import FIRST_SCAN, PRESETS, ManeuverScenario
+from motionsig_cli.filters.consistency import Consistency
 from motionsig_cli.models.motion import (
     AIRCRAFT_Q,
     AIRCRAFT_SOJOURN,
@@ -154,6 +155,11 @@ class TrackerConfig:
         imm_model: ``paper`` (the paper's three models, one discrete noise per step) or ``aircraft``
             (continuous-time models for real aircraft on irregular times).
         sojourn: mean sojourn τ_i in each model [s] (``aircraft`` only; ``Pi`` is then built from it).
+        sigma_floor: the smallest σ [m] an estimate from a record may give (0: none); a smaller estimate is
+            raised to it (:func:`~motionsig_cli.maneuver.record.choose_sigma`).
+        max_speed, max_accel: the plausibility limits of the consistency checks [m/s, m/s²]
+            (:class:`~motionsig_cli.filters.consistency.Consistency`): ``paper`` 5000 m/s (its trajectory as
+            printed reaches 3268 m/s) and 100 m/s²; ``aircraft`` 600 m/s (Mach 1.8 at altitude) and 100 m/s².
         declare: the IMM's declaration thresholds (on, off) on the manoeuvre probability 1 − μ_CV: a
             manoeuvre is declared when it rises above ``on`` and may be declared again once it has fallen
             below ``off`` (hysteresis), 0 < off < on < 1.
@@ -186,6 +192,9 @@ class TrackerConfig:
     imm_model: str = "paper"
     sojourn: tuple[float, ...] = AIRCRAFT_SOJOURN
     declare: tuple[float, float] = (0.9, 0.5)
+    sigma_floor: float = 0.0
+    max_speed: float = 5000.0
+    max_accel: float = 100.0
 
     def __post_init__(self) -> None:
         one_of("g2", self.g2, G2_FORMS)
@@ -207,6 +216,9 @@ class TrackerConfig:
         if not (0 < off < on < 1):
             raise ConfigError("declare", self.declare, "is not 0 < off < on < 1")
         object.__setattr__(self, "declare", (on, off))
+        in_range("sigma_floor", self.sigma_floor, 0.0, SIGMA_RANGE[1], unit="m")
+        in_range("max_speed", self.max_speed, 1e-3, 3e8, unit="m/s")
+        in_range("max_accel", self.max_accel, 1e-3, 1e6, unit="m/s²")
         Pi = check_transition("Pi", self.Pi, r=3)
         mu0 = check_distribution("mu0", self.mu0, r=3)
         object.__setattr__(self, "Pi", tuple(tuple(row) for row in Pi.tolist()))
@@ -235,6 +247,10 @@ class TrackerConfig:
             return aircraft_models(q=self.imm_q, sojourn=self.sojourn, mu0=self.mu0, T=T)  # type: ignore[arg-type]
         return imm_models(T, g2=self.g2, q=self.imm_q, Pi=np.asarray(self.Pi), mu0=np.asarray(self.mu0))  # type: ignore[arg-type]
 
+    def consistency(self) -> Consistency:
+        """The consistency checks with this configuration's plausibility limits."""
+        return Consistency(max_speed=self.max_speed, max_accel=self.max_accel)
+
     def glr(self, method: str) -> GLRConfig:
         """The detector of ``method`` (``glr``, ``mlr`` or ``none``: the CV filter)."""
         thr = {"glr": self.glr_threshold, "mlr": self.mlr_threshold, "none": math.inf}[method]
@@ -247,8 +263,15 @@ class TrackerConfig:
                 "mlr_threshold": self.mlr_threshold, "sigma_u": self.sigma_u, "correction": self.correction,
                 "continuation": self.continuation, "g2": self.g2, "imm_q": list(self.imm_q),
                 "imm_model": self.imm_model, "sojourn": list(self.sojourn),
-                "declare": list(self.declare)}  # fmt: skip
+                "declare": list(self.declare), "sigma_floor": self.sigma_floor,
+                "max_speed": self.max_speed, "max_accel": self.max_accel}  # fmt: skip
 
+
+AIRCRAFT_SIGMA_FLOOR = 92.6 / 2.4477
+"""The ``aircraft`` tuning's σ floor [m per axis], 37.8 m: the bound of NACp 8 (EPU < 92.6 m, the accuracy the
+ADS-B mandates require), as a 95 % horizontal radius of a circular normal (÷ √(−2 ln 0.05) = 2.4477;
+:func:`~motionsig_cli.surveillance.local_positions.nacp_to_sigma`). Feeds deliver smoothed or interpolated
+positions whose scatter estimates σ at 0.001–2 m, which no real ADS-B position has."""
 
 TUNINGS: dict[str, dict[str, Any]] = {
     "paper": {},
@@ -257,9 +280,11 @@ TUNINGS: dict[str, dict[str, Any]] = {
         "imm_q": AIRCRAFT_Q,
         "q0": 0.5,
         "window": 20,
-        "glr_threshold": 30.0,
-        "mlr_threshold": 8.0,
+        "glr_threshold": 40.0,
+        "mlr_threshold": 15.0,
         "sigma_u": 10.0,
+        "sigma_floor": AIRCRAFT_SIGMA_FLOOR,
+        "max_speed": 600.0,
     },
 }
 """Tracker defaults: ``paper`` (the paper's values and this project's reading of the unstated ones: the

@@ -390,11 +390,11 @@ MAN = [
     (("--view", "measurements", "--plot", "m.png"), "draws no figure"),
 ]
 MAN_REC = [
-    ("1,0,0\n2,0,450\n3,0,900\n1,0,0\n", "bad.csv:6: column 'scan': scan goes backwards"),
+    ("1,0,0\n2.5,0,450\n3,0,900\n", "bad.csv:4: column 'scan': '2.5' is not an integer"),
     ("1,0,0\n2,0,450\n3,nan,900\n", "bad.csv: need at least 3 scans with a measurement"),
     ("1,0,0\n2,0,450\n3,inf,900\n", "not finite"),
     ("1,0,0\n2,0,450\n", "at least 3 scans"),
-    ("1,0,0\n2,0,450\n2,0,900\n", "bad.csv:5: column 'scan': scan repeats"),
+    ("1,0,0\n2,0,450\n-,0,900\n", "bad.csv:5: column 'scan': missing value is not an integer"),
     ("1,0,0\n2,abc,450\n3,0,900\n", "bad.csv:4"),
     ("1,0,0\n2,1e308,450\n3,0,900\n", "bad.csv:4: column 'z_x': |measurement| 1e+308 m exceeds"),
 ]
@@ -406,7 +406,7 @@ MAN_META = [
     ((), "# sigma: 100\n# T: 7200\n", "r.csv: metadata 'T' = 7200 is not in [0.001, 3600] s"),
     ((), "# sigma: -1\n", "r.csv: metadata 'sigma' must be a finite number > 0"),
     (("--method", "ckf"), "# sigma: 100\n", "Invalid value for --method: 'ckf' is not one of"),
-    (("--view", "summary"), "# sigma: 100\n", "leave --view out"),
+    (("--view", "summary"), "# sigma: 100\n", "the per-step track (scans) or its declarations (events)"),
 ]
 MAN_BODY = "scan,z_x,z_y\n1,0,0\n2,0,450\n3,0,900\n"
 

@@ -16,6 +16,7 @@ from motionsig_cli.maneuver import record as mr
 from motionsig_cli.maneuver import record_tracking as rt
 from motionsig_cli.maneuver import study as ex
 from motionsig_cli.models.motion import Q_PAPER
+from motionsig_cli.surveillance.report_hygiene import HygienePolicy
 
 
 def _csv(tmp_path, header, rows, meta=(), name="r.csv"):
@@ -74,19 +75,34 @@ def test_a_given_period_must_agree_with_the_times(tmp_path):
 @pytest.mark.parametrize(
     ("times", "match"),
     [
-        (
-            [0, 1, 2, 3.3, 4, 5, 6, 7, 8, 9],
-            r"r.csv:5: column 't': time 3.3 s is 0.3 periods off .*one scan period",
-        ),
-        ([0, 1, 2, 3, 3.02, 4, 5, 6, 7, 8], r"r.csv:6: column 't': time 3.02 s falls on the same"),
-        ([0, 1, 2, 2, 4, 5, 6, 7, 8, 9], r"r.csv:5: column 't': time repeats"),
-        ([0, 1, 2, 1.5, 4, 5, 6, 7, 8, 9], r"r.csv:5: column 't': time goes backwards"),
+        ([0, 1, 2, 2, 4, 5, 6, 7, 8, 9], r"r.csv:5: column 't': the row repeats the time of an earlier row"),
+        ([0, 1, 2, 3, 3, 5, 6, 7, 8, 9], r"r.csv:6: column 't': the row has another position at the time"),
+        ([0, 1, 2, 1.5, 4, 5, 6, 7, 8, 9], r"r.csv:5: column 't': time 1.5 s is earlier than the row before"),
     ],
 )
-def test_bad_times_name_their_line(tmp_path, times, match):
-    p = _csv(tmp_path, ["t", "x", "y"], [[ti, 1.0, 2.0] for ti in times])
+def test_strict_reading_refuses_unsorted_and_repeated_times_naming_the_line(tmp_path, times, match):
+    rows = [[ti, 10.0 * i, 2.0 * i] for i, ti in enumerate(times)]
+    if times[3] == times[2]:
+        rows[3][1:] = rows[2][1:]  # an exact duplicate
+    p = _csv(tmp_path, ["t", "x", "y"], rows)
+    strict = mr.ReadOptions(hygiene=HygienePolicy(strict=True))
     with pytest.raises(InputError, match=match):
-        mr.read_track_record(p)
+        mr.read_track_record(p, strict)
+    rec = mr.read_track_record(p)  # the default policy sorts and drops instead, and counts it
+    assert np.all(np.diff(rec.t) > 0) and sum(rec.hygiene[k] for k in ("reordered", "exact_duplicates",
+                                                                         "conflicting_duplicates")) >= 1
+
+
+def test_times_off_a_grid_are_steps_at_their_own_times(tmp_path):
+    """A time 0.3 periods off the grid, or two rows 0.02 s apart, no longer stop the record: the rows are
+    then steps at their own times (Δt from the row before), not a scan grid."""
+    for times in ([0, 1, 2, 3.3, 4, 5, 6, 7, 8, 9], [0, 1, 2, 3, 3.02, 4, 5, 6, 7, 8]):
+        p = _csv(tmp_path, ["t", "x", "y"], [[ti, 10.0 * ti, 1.0 + ti] for ti in times])
+        rec = mr.read_track_record(p)
+        assert not rec.grid and rec.t.tolist() == [float(v) for v in times]
+        assert rec.T_source.startswith("irregular times")
+    on_grid = mr.read_track_record(_csv(tmp_path, ["t", "x", "y"], [[i, 10.0 * i, 1.0] for i in range(9)]))
+    assert on_grid.grid and on_grid.T == 1.0
 
 
 def test_scans_alone_make_the_grid_and_T_defaults(tmp_path):
@@ -105,7 +121,7 @@ def test_scans_alone_make_the_grid_and_T_defaults(tmp_path):
     off = _csv(
         tmp_path,
         ["scan", "t", "z_x", "z_y"],
-        [[s, 0.0 + i, *z[0]] for i, s in enumerate((1, 2, 4))],
+        [[s, 0.0 + i, *z[i]] for i, s in enumerate((1, 2, 4))],
         name="o.csv",
     )
     with pytest.raises(
@@ -117,7 +133,8 @@ def test_scans_alone_make_the_grid_and_T_defaults(tmp_path):
 @pytest.mark.parametrize(
     ("header", "rows", "kwargs", "match"),
     [
-        (["a", "b", "c"], [[1, 2, 3]], {}, r"r.csv:1: missing column 'x' \(or 'z_x', 'east'\)"),
+        (["a", "b", "c"], [[1, 2, 3]], {}, r"r.csv:1: missing column 'time' \(or 't', 'timestamp'\) or 'scan'"),
+        (["t", "a", "b"], [[1, 2, 3]], {}, r"r.csv:1: missing column 'x' \(or 'z_x', 'east'\), or 'latitude'"),
         (["x", "y"], [[1, 2]] * 3, {}, r"r.csv:1: missing column 'time' .* or 'scan'"),
         (
             ["t", "x", "y"],
@@ -128,7 +145,7 @@ def test_scans_alone_make_the_grid_and_T_defaults(tmp_path):
         (["t", "x", "y"], [[0, 1, 2], [1, 2e10, 2], [2, 3, 3]], {}, r"r.csv:3: column 'x': \|measurement\|"),
         (
             ["scan", "x", "y"],
-            [[1, 1, 2], [2, 1, 2], [10**6, 1, 2]],
+            [[1, 1, 2], [2, 2, 2], [10**6, 3, 2]],
             {},
             r"r.csv:4: column 'scan': the record spans",
         ),
@@ -253,39 +270,25 @@ def test_without_a_given_sigma_a_failed_estimate_names_the_file_not_the_option(t
         rt.track_record(exact, ("cv",), cfg)
 
 
-def test_a_varying_sigma_column_is_not_a_per_scan_sigma(tmp_path):
-    """A user's export with a per-row 'sigma' column that varies: the trackers use one σ per record, so
-    without a σ (option or metadata) it is refused naming the line where it first changes; with one, the
-    column is ignored and the output's metadata says so. A constant column changes nothing; the several σ
-    of a 'maneuver --view measurements' file are still several records."""
+def test_a_sigma_column_is_each_rows_covariance(tmp_path):
+    """A user's export with a per-row 'sigma' column: each row's measurement covariance is σ² I (the trackers
+    take a time-varying R); --sigma overrides it with one σ; a row with a position and no σ is refused
+    naming its line. The several σ of a 'maneuver --view measurements' file are still several records."""
     cfg = ex.TrackerConfig()
     _, z = _cv(40, 30.0, seed=5)
-    sig = [5 if i % 3 else 7 for i in range(40)]  # changes at row 1 (line 3)
+    sig = [25 if i % 3 else 35 for i in range(40)]
     rows = [[i, *r, s] for i, (r, s) in enumerate(zip(z, sig, strict=True))]
     p = _csv(tmp_path, ["time", "x", "y", "sigma"], rows)
     rec = mr.read_track_record(p)
-    with pytest.raises(InputError) as exc:
-        rt.track_record(rec, ("cv",), cfg)
-    msg = str(exc.value)
-    assert msg.startswith(
-        f"{p}:3: column 'sigma': σ changes from 7 to 5: a per-scan σ column is not supported"
-    )
-    assert "several values" not in msg and "--sigma" in msg
+    np.testing.assert_allclose(rec.R[:, 0, 0], np.square(sig))
+    meta = rt.track_record(rec, ("cv",), cfg).table.meta
+    assert meta["sigma_source"] == "the record's covariances per row" and meta["sigma_median"] == 25.0
     given = rt.track_record(rec, ("cv",), cfg, sigma=30.0).table.meta
-    assert given["sigma"] == 30.0 and given["sigma_column"].startswith(
-        "ignored (line 3: σ changes from 7 to 5)"
-    )
-    est = rt.track_record(rec, ("cv",), cfg, sigma="estimate").table.meta
-    assert est["sigma_source"] == "--sigma estimate" and "sigma_column" in est
-    in_meta = mr.read_track_record(
-        _csv(tmp_path, ["time", "x", "y", "sigma"], rows, meta=["sigma: 30"], name="m.csv")
-    )
-    assert rt.track_record(in_meta, ("cv",), cfg).table.meta["sigma_source"] == "metadata 'sigma'"
-    const = mr.read_track_record(
-        _csv(tmp_path, ["time", "x", "y", "sigma"], [[*r[:3], 5] for r in rows], name="c.csv")
-    )
-    out = rt.track_record(const, ("cv",), cfg).table.meta
-    assert out["sigma_source"].startswith("estimated") and "sigma_column" not in out
+    assert given["sigma"] == 30.0 and given["sigma_source"] == "--sigma"
+    rows[7][3] = ""
+    holes = mr.read_track_record(_csv(tmp_path, ["time", "x", "y", "sigma"], rows, name="h.csv"))
+    with pytest.raises(InputError, match=r"h.csv:9: the row has a position but no σ"):
+        rt.track_record(holes, ("cv",), cfg)
     view = ['command: "maneuver"', 'view: "measurements"', "sigma: [100.0, 200.0]"]
     runs = [[s, 0, i + 1, *r] for s in (100.0, 200.0) for i, r in enumerate(z[:5])]
     with pytest.raises(InputError, match=r"v.csv:10: column 'sigma': several values of 'sigma' in one file"):
@@ -305,13 +308,14 @@ def test_a_record_without_missed_scans_tracks_bit_identically_to_the_monte_carlo
     )
     rec = mr.read_track_record(p)
     cfg = ex.TrackerConfig()
-    out = rt.track_record(rec, ex.METHODS, cfg, sigma=100.0)
+    out = rt.track_record(rec, ex.METHODS, cfg, sigma=100.0, consistency=None)
     cols = out.table.columns
     for m in ex.METHODS:
         ref = ex.track(m, z[None], 1.0, 100.0, cfg)
         rows = [r for r in out.table.rows if r[0] == m]
         state = np.array([[r[cols.index(c)] for c in ("x", "vx", "y", "vy", "ax", "ay")] for r in rows])
-        np.testing.assert_array_equal(state, ref.state[0])
+        # the per-step path (Δt = T at every step) is the fixed-period recursion to rounding
+        np.testing.assert_allclose(state, ref.state[0], rtol=1e-11, atol=1e-9)
         if ref.onset is not None:
             onset = [r[cols.index("onset")] for r in rows]
             assert onset == [int(o) if o >= 0 else None for o in ref.onset[0]]
@@ -326,7 +330,8 @@ def test_the_two_point_initialisation_uses_the_first_two_measured_scans(tmp_path
     rec = mr.read_track_record(_csv(tmp_path, ["t", "x", "y"], rows, meta=["T: 2.0"]))
     out = rt.track_record(rec, ("imm", "cv", "glr"), ex.TrackerConfig(), sigma=30.0)
     t = out.table
-    assert t.meta["init"].startswith("two-point differencing on the first two measured scans, 2 and 5")
+    assert t.meta["init"].startswith("two-point differencing on the first two measured scans of each segment")
+    assert t.meta["init"].endswith(": 2 and 5")
     cols = t.columns
     for m in ("imm", "cv", "glr"):
         rows_m = [r for r in t.rows if r[0] == m]
