@@ -126,13 +126,27 @@ ImmQOpt = Annotated[
         "1e6 (default the paper's 0,0.001,0.0144).",
     ),
 ]
-Q0Opt = Annotated[float | None, _opt("--q0", "GLR/MLR/CV filter acceleration psd q̃0 [m²/s³], 0 to 1e6 (paper tuning 1, aircraft 0.5).")]
-WindowOpt = Annotated[int | None, _opt("--window", "GLR/MLR onset window s [scans], 1 to 200 (paper tuning 10, aircraft 20).")]
-GlrThresholdOpt = Annotated[
-    float | None, _opt("--glr-threshold", "GLR threshold λ on ΔJ, ≥ 0 (paper tuning: χ²₂ 0.999 quantile, 13.8; aircraft: 30).")
+Q0Opt = Annotated[
+    float | None,
+    _opt("--q0", "GLR/MLR/CV filter acceleration psd q̃0 [m²/s³], 0 to 1e6 (paper tuning 1, aircraft 0.5)."),
 ]
-MlrThresholdOpt = Annotated[float | None, _opt("--mlr-threshold", "MLR threshold h on max_n J(n) (paper: 0; aircraft: 8).")]
-SigmaUOpt = Annotated[float | None, _opt("--mlr-sigma-u", "MLR prior σ_u of each input [m/s²], 1e-3 to 1e6 (paper tuning 20, aircraft 10).")]
+WindowOpt = Annotated[
+    int | None, _opt("--window", "GLR/MLR onset window s [scans], 1 to 200 (paper tuning 10, aircraft 20).")
+]
+GlrThresholdOpt = Annotated[
+    float | None,
+    _opt(
+        "--glr-threshold",
+        "GLR threshold λ on ΔJ, ≥ 0 (paper tuning: χ²₂ 0.999 quantile, 13.8; aircraft: 30).",
+    ),
+]
+MlrThresholdOpt = Annotated[
+    float | None, _opt("--mlr-threshold", "MLR threshold h on max_n J(n) (paper: 0; aircraft: 8).")
+]
+SigmaUOpt = Annotated[
+    float | None,
+    _opt("--mlr-sigma-u", "MLR prior σ_u of each input [m/s²], 1e-3 to 1e6 (paper tuning 20, aircraft 10)."),
+]
 CorrectionOpt = Annotated[
     Correction, _opt("--correction", "exact (updated estimate) or paper (prediction, re-update).")
 ]
@@ -233,43 +247,82 @@ class RealRecordOptions:
     """How a real record (FILE) is read and watched: its frame, its hygiene, the tracker defaults and the
     consistency checks."""
 
-    tuning: Annotated[Tuning | None, _opt(
-        "--tuning", "Tracker defaults: aircraft (real records; the default with FILE) or paper (the paper's "
-        "values; the default for the paper's scenario). Options given override them.")] = None
-    origin: Annotated[str | None, _opt(
-        "--origin", "Local frame origin LAT,LON[,ALT] [deg, deg, m] for latitude/longitude or range/bearing "
-        "records (default: the middle of the record's box, or the sensor).")] = None
-    sensor: Annotated[str | None, _opt(
-        "--sensor", "The sensor LAT,LON[,ALT] of range/bearing plots (default: the metadata 'sensor').")] = None
-    bearing_convention: Annotated[Convention, _opt(
-        "--bearing-convention", "north-clockwise (default: degrees from north, clockwise) or math "
-        "(counter-clockwise from east).")] = Convention.north_clockwise
-    max_gap: Annotated[float | None, _opt(
-        "--max-gap", "A gap longer than this [s] ends a segment; the trackers restart after it (default: the "
-        "larger of 30 s and 8 median steps).")] = None
-    strict: Annotated[bool, typer.Option(
-        "--strict", help="Refuse unsorted rows and duplicate times instead of sorting and dropping them.")] = False
-    stale: Annotated[Stale, _opt(
-        "--stale", "Stale repeats (the previous position under a new time): drop (default) or keep.")] = Stale.drop
-    consistency: Annotated[OnOff, _opt(
-        "--consistency", "Each tracker's own checks (NIS gate and window, speed, acceleration, covariance; a "
-        "track that fails restarts and says so): on (default) or off.")] = OnOff.on
-    max_speed: Annotated[float | None, _opt(
-        "--max-speed", "Largest plausible speed [m/s] (aircraft tuning 600, paper 5000).")] = None
-    max_accel: Annotated[float | None, _opt("--max-accel", "Largest plausible acceleration [m/s²] (100).")] = None
+    tuning: Annotated[
+        Tuning | None,
+        _opt(
+            "--tuning",
+            "Tracker defaults: aircraft (real records; the default with FILE) or paper (the paper's "
+            "values; the default for the paper's scenario). Options given override them.",
+        ),
+    ] = None
+    origin: Annotated[
+        str | None,
+        _opt(
+            "--origin",
+            "Local frame origin LAT,LON[,ALT] [deg, deg, m] for latitude/longitude or range/bearing "
+            "records (default: the middle of the record's box, or the sensor).",
+        ),
+    ] = None
+    sensor: Annotated[
+        str | None,
+        _opt("--sensor", "The sensor LAT,LON[,ALT] of range/bearing plots (default: the metadata 'sensor')."),
+    ] = None
+    bearing_convention: Annotated[
+        Convention,
+        _opt(
+            "--bearing-convention",
+            "north-clockwise (default: degrees from north, clockwise) or math (counter-clockwise from east).",
+        ),
+    ] = Convention.north_clockwise
+    max_gap: Annotated[
+        float | None,
+        _opt(
+            "--max-gap",
+            "A gap longer than this [s] ends a segment; the trackers restart after it (default: the "
+            "larger of 30 s and 8 median steps).",
+        ),
+    ] = None
+    strict: Annotated[
+        bool,
+        typer.Option(
+            "--strict", help="Refuse unsorted rows and duplicate times instead of sorting and dropping them."
+        ),
+    ] = False
+    stale: Annotated[
+        Stale,
+        _opt("--stale", "Stale repeats (the previous position under a new time): drop (default) or keep."),
+    ] = Stale.drop
+    consistency: Annotated[
+        OnOff,
+        _opt(
+            "--consistency",
+            "Each tracker's own checks (NIS gate and window, speed, acceleration, covariance; a "
+            "track that fails restarts and says so): on (default) or off.",
+        ),
+    ] = OnOff.on
+    max_speed: Annotated[
+        float | None, _opt("--max-speed", "Largest plausible speed [m/s] (aircraft tuning 600, paper 5000).")
+    ] = None
+    max_accel: Annotated[
+        float | None, _opt("--max-accel", "Largest plausible acceleration [m/s²] (100).")
+    ] = None
 
     def refuse(self) -> None:
         """Without FILE these options are usage errors (the paper's scenario has no frame or feed)."""
         for name in ("origin", "sensor", "max_gap"):
             if getattr(self, name) is not None:
-                raise typer.BadParameter("describes a record; give FILE", param_hint="--" + name.replace("_", "-"))
+                raise typer.BadParameter(
+                    "describes a record; give FILE", param_hint="--" + name.replace("_", "-")
+                )
 
     def read_options(self, record: RecordOptions, T: float | None) -> Any:
         from motionsig_cli.maneuver.record import ReadOptions
         from motionsig_cli.surveillance.report_hygiene import HygienePolicy
 
         def point(opt: str, text: str | None) -> tuple[float, ...] | None:
-            return None if text is None else tuple(common.checked(opt, common.float_list, text, what="LAT,LON"))
+            return (
+                None if text is None else tuple(common.checked(opt, common.float_list, text, what="LAT,LON"))
+            )
 
         return ReadOptions(columns=record.columns, units=record.units, T=T,
                            origin=point("--origin", self.origin), sensor=point("--sensor", self.sensor),

@@ -44,7 +44,6 @@ Every failure is one line: a bad record an :class:`~motionsig_cli.errors.InputEr
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -288,7 +287,11 @@ def read_track_record(
         if rec.has("time"):
             raise rec.error(exc.row, "time", exc.message) from None
         i = exc.row
-        what = "repeats an earlier scan" if "time of an earlier" in exc.message else "is earlier than the row before"
+        what = (
+            "repeats an earlier scan"
+            if "time of an earlier" in exc.message
+            else "is earlier than the row before"
+        )
         raise rec.error(i, "scan", f"scan {rec['scan'][i]} {what}") from None
     rows = clean.rows
     n_meas = int(np.sum(~np.isnan(raw[rows, 0])))
@@ -310,9 +313,24 @@ def read_track_record(
         else:
             grid = (k, 1.0, "assumed 1 s (no time column, no --T, no metadata 'T')")
     hyg = {"policy": _policy_meta(opts.hygiene), "max_gap_s": clean.max_gap, **clean.counts}
-    if grid is None:
-        return _irregular(rec, sub, rows, clean, z_all, R_all, form, frame, conversion, hyg)
-    return _on_grid(rec, sub, rows, clean, grid, z_all, R_all, form, frame, conversion, hyg)
+    parts = _Parts(rec, sub, rows, clean, z_all, R_all, form, frame, conversion, hyg)
+    return _irregular(parts) if grid is None else _on_grid(parts, grid)
+
+
+@dataclass(frozen=True)
+class _Parts:
+    """What :func:`read_track_record` has read, for laying out the steps."""
+
+    rec: Record
+    sub: Record
+    rows: np.ndarray
+    clean: Cleaned
+    z_all: np.ndarray
+    R_all: np.ndarray | None
+    form: str
+    frame: Any
+    conversion: dict[str, Any]
+    hyg: dict[str, Any]
 
 
 def _policy_meta(p: HygienePolicy) -> str:
@@ -349,7 +367,9 @@ def _raw_positions(rec: Record) -> tuple[str, np.ndarray]:
         a, b = pairs[f]
         if not (rec.has(a) and rec.has(b)):
             given, missing = (a, b) if rec.has(a) else (b, a)
-            raise rec.error(None, None, f"column {rec.columns[given]!r} ({given}) needs a {missing} column too")
+            raise rec.error(
+                None, None, f"column {rec.columns[given]!r} ({given}) needs a {missing} column too"
+            )
     if not have:
         cols = ", ".join(rec.table.columns) if rec.table is not None else ""
         raise rec.error(
@@ -360,7 +380,9 @@ def _raw_positions(rec: Record) -> tuple[str, np.ndarray]:
         )
     if len(have) > 1:
         raise rec.error(
-            None, None, f"the record has positions in two forms ({' and '.join(have)}): map one with --columns"
+            None,
+            None,
+            f"the record has positions in two forms ({' and '.join(have)}): map one with --columns",
         )
     form = have[0]
     a, b = pairs[form]
@@ -420,7 +442,9 @@ def _meta_sensor(rec: Record) -> tuple[float, ...] | None:
         raise InputError(f"{rec.source}: metadata 'sensor' = {exc.detail}") from None
 
 
-def _local_positions(rec: Record, form: str, opts: ReadOptions) -> tuple[np.ndarray, np.ndarray | None, Any, dict]:
+def _local_positions(
+    rec: Record, form: str, opts: ReadOptions
+) -> tuple[np.ndarray, np.ndarray | None, Any, dict]:
     """(z (N, 2) east/north [m], R (N, 2, 2) or None, the frame or None, what the conversion assumed)."""
     from motionsig_cli.surveillance import local_positions as lp
 
@@ -477,8 +501,11 @@ def _local_positions(rec: Record, form: str, opts: ReadOptions) -> tuple[np.ndar
                                altitude_m=alt, convention=opts.bearing_convention)  # fmt: skip
     except ConfigError as exc:
         raise InputError(f"{rec.source}: {exc.field}: {exc.detail}") from None
-    meta = {"frame": f"east, north [m] on the WGS-84 tangent plane at {frame.lat_deg:.6f}, {frame.lon_deg:.6f}, "
-            f"{frame.alt_m:g} m; sensor at {sensor[0]:.6f}, {sensor[1]:.6f}, {sensor[2]:g} m", **pp.meta()}
+    meta = {
+        "frame": f"east, north [m] on the WGS-84 tangent plane at {frame.lat_deg:.6f}, {frame.lon_deg:.6f}, "
+        f"{frame.alt_m:g} m; sensor at {sensor[0]:.6f}, {sensor[1]:.6f}, {sensor[2]:g} m",
+        **pp.meta(),
+    }
     return pp.position, pp.covariance, frame, meta
 
 
@@ -503,7 +530,9 @@ def _meta_has_T(rec: Record) -> bool:
     return "T" in rec.meta
 
 
-def _segments_of_steps(step_seg_rows: np.ndarray, row_step: np.ndarray, K: int) -> tuple[np.ndarray, np.ndarray]:
+def _segments_of_steps(
+    step_seg_rows: np.ndarray, row_step: np.ndarray, K: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Each grid step's segment, and which steps to keep (the scans inside a gap are not tracked)."""
     seg = np.full(K, -1, dtype=np.int64)
     seg[row_step] = step_seg_rows
@@ -522,7 +551,9 @@ def _segments_of_steps(step_seg_rows: np.ndarray, row_step: np.ndarray, K: int) 
     return seg_ff, keep
 
 
-def _on_grid(rec, sub, rows, clean, grid, z_all, R_all, form, frame, conversion, hyg) -> TrackRecord:  # type: ignore[no-untyped-def]
+def _on_grid(p: _Parts, grid: tuple[np.ndarray, float, str]) -> TrackRecord:
+    rec, sub, rows, clean, z_all, R_all = p.rec, p.sub, p.rows, p.clean, p.z_all, p.R_all
+    form, frame, conversion, hyg = p.form, p.frame, p.conversion, p.hyg
     k, T_used, T_source = grid
     K = int(k[-1]) + 1
     if K > MAX_SCANS:
@@ -545,7 +576,9 @@ def _on_grid(rec, sub, rows, clean, grid, z_all, R_all, form, frame, conversion,
                        seg[keep], line[keep], T_used, T_source, True, rec, form, frame, hyg, conversion)  # fmt: skip
 
 
-def _irregular(rec, sub, rows, clean, z_all, R_all, form, frame, conversion, hyg) -> TrackRecord:  # type: ignore[no-untyped-def]
+def _irregular(p: _Parts) -> TrackRecord:
+    rec, sub, rows, clean, z_all, R_all = p.rec, p.sub, p.rows, p.clean, p.z_all, p.R_all
+    form, frame, conversion, hyg = p.form, p.frame, p.conversion, p.hyg
     t = sub["time"]
     K = t.size
     dts = np.diff(t)[np.diff(clean.segment) == 0]
@@ -576,7 +609,6 @@ def _meta_number(rec: Record, key: str, lo: float, hi: float, unit: str) -> floa
         raise InputError(f"{rec.source}: metadata {key!r} = {exc.detail}") from None
 
 
-
 def _one_run(t: Table, mapped: set[str]) -> tuple[int, str] | None:
     """Refuse a file holding several runs (or several σ) of ``--view measurements`` (before the order of
     its scans is checked: a second run starts again at scan 1).
@@ -602,7 +634,6 @@ def _one_run(t: Table, mapped: set[str]) -> tuple[int, str] | None:
     return None
 
 
-
 def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.ndarray, float]:
     """Grid steps k of the rows for the period T (one row per scan), and the least-squares period on
     that grid (a line t ≈ a + k T̂ with intercept: :func:`~motionsig_cli.records.fit_period`)."""
@@ -619,7 +650,6 @@ def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.
             f"time {times[i]:.9g} s falls on the same scan as the previous row's (T = {T:.6g} s){note}",
         )
     return k, fit_period(times, k)[1]
-
 
 
 def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
@@ -686,8 +716,6 @@ def _time_grid(rec: Record, T: float | None) -> tuple[np.ndarray, float, str]:
                 )
             )
     return k, T_used, T_source
-
-
 
 
 # ------------------------------------------------------------------------------------------------ σ
@@ -768,7 +796,7 @@ def _deviations(z: np.ndarray, t: np.ndarray | None = None, segment: np.ndarray 
     if idx.size < 3:
         return np.zeros((0, 2))
     i0, i1, i2 = idx[:-2], idx[1:-1], idx[2:]
-    same = (seg[i0] == seg[i2])
+    same = seg[i0] == seg[i2]
     t0, t1, t2 = t[i0], t[i1], t[i2]
     span = t2 - t0
     good = same & (span > 0)

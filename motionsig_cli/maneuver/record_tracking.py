@@ -135,7 +135,7 @@ def track_record(
     cfg: TrackerConfig,
     *,
     sigma: float | str | None = None,
-    consistency: Consistency | None | str = "tuned",
+    consistency: Consistency | str | None = "tuned",
 ) -> RecordTrack:
     """Track every segment of a record with every method in ``methods`` (module docstring).
 
@@ -298,7 +298,10 @@ def _tables(
                                   None if det is None else bool(det[j]), onset, int(rec.segment[g]), onset_t,
                                   _f(nis[j]), bool(gated[j]), REASONS[int(reinit[j])] or None]  # fmt: skip
                 if origin is not None:
-                    row += [_iso(origin, float(rec.t[g])), _iso(origin, onset_t) if onset_t is not None else None]
+                    row += [
+                        _iso(origin, float(rec.t[g])),
+                        _iso(origin, onset_t) if onset_t is not None else None,
+                    ]
                 if geo and latlon is not None:
                     row += [float(latlon[0][j]), float(latlon[1][j])]
                 rows.append(tuple(row))
@@ -326,7 +329,9 @@ def _tables(
         untracked_segments=bt["skipped"],
         init="two-point differencing on the first two measured scans of each segment (velocity over their time "
         "difference, covariances of both): "
-        + "; ".join(f"{int(rec.scan[a_])} and {int(rec.scan[b_])}" for a_, b_ in zip(bt["a"], bt["b"], strict=True)),
+        + "; ".join(
+            f"{int(rec.scan[a_])} and {int(rec.scan[b_])}" for a_, b_ in zip(bt["a"], bt["b"], strict=True)
+        ),
         methods=list(methods),
         config=cfg.meta(),
         transition=[list(row) for row in cfg.Pi],

@@ -49,10 +49,10 @@ from motionsig_cli.detection.glr import (
     input_tracker,
 )
 from motionsig_cli.engine import Engine, check_run_time, run_job, tasks_of, trials_per_task
+from motionsig_cli.filters.consistency import Consistency
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.maneuver.ebpsk_tracking import EbpskPositions
 from motionsig_cli.maneuver.scenario import FIRST_SCAN, PRESETS, ManeuverScenario
-from motionsig_cli.filters.consistency import Consistency
 from motionsig_cli.models.motion import (
     AIRCRAFT_Q,
     AIRCRAFT_SOJOURN,
