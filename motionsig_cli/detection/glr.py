@@ -436,7 +436,8 @@ def input_tracker(
             Pd = np.diagonal(P, axis1=-2, axis2=-1)[:, pos]
             bad = mon.verdict(k, np.linalg.norm(x[:, pos + 1], axis=-1), np.linalg.norm(x[:, n:], axis=-1),
                               Pd.max(axis=-1), np.isfinite(P).all(axis=(1, 2)))  # fmt: skip
-            restart = bad & measured[:, k]
+            # restart from the current measurement where it was accepted, or where outliers ran out (C2)
+            restart = bad & ((measured[:, k] if seen is None else seen) | (mon.reason[:, k] == 1))
             if restart.any():  # a two-point restart; the onset buffer is emptied
                 b = np.flatnonzero(restart)
                 Rb = R[b, k] if varying else np.broadcast_to(R, (b.size, m, m))
@@ -450,6 +451,18 @@ def input_tracker(
                     onset_of[b] = -1
                     M[b], info[b], e[b], fed[b] = 0.0, 0.0, 0.0, False
                 mon.reset(restart)
+            coast = bad & ~restart
+            if coast.any():  # no measurement to restart from: keep the position, forget the motion and input
+                b = np.flatnonzero(coast)
+                x_new, P_new = mon.cfg.coast(x[b, :n], P[b, :n, :n])
+                x[b] = 0.0
+                x[b, :n] = x_new
+                P[b] = 0.0
+                P[b, :n, :n] = P_new
+                if detecting:
+                    onset_of[b] = -1
+                    M[b], info[b], e[b], fed[b] = 0.0, 0.0, 0.0, False
+                mon.reset(coast)
             took = (measured[:, k] if seen is None else seen) | restart
             z_last[took] = z[took, k]
             if varying:

@@ -29,7 +29,8 @@ loop of :func:`motionsig_cli.filters.imm.imm_filter` and :func:`motionsig_cli.de
 A re-initialisation is the two-point start of the trackers (§IV of Yao, Teng & Wu) on the last accepted
 measurement and the current one, with their covariances (:meth:`Consistency.restart`; where that
 difference is itself faster than ``max_speed``, the track starts at rest with a velocity standard
-deviation of ``max_speed``); the row carries the reason, and the command's
+deviation of ``max_speed``; at a step without a measurement, the track keeps its position and forgets its
+velocity: :meth:`Consistency.coast`); the row carries the reason, and the command's
 summary counts them. With ``consistency=None`` the trackers run unwatched (the paper's Monte Carlo, whose
 numbers stay bit for bit those of the paper's recursion).
 """
@@ -110,6 +111,19 @@ class Consistency:
             Pw[:, :, vel] = 0.0
             Pw[:, 1, 1] = Pw[:, 3, 3] = self.max_speed**2
             P[wild] = Pw
+        return x, P
+
+    def coast(self, x: np.ndarray, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A track that fails a check at a step without a measurement (nothing to restart from): its position
+        and position covariance are kept, its velocity (and acceleration) set to 0 with a velocity variance
+        of max_speed² per axis — the target is where it was, its motion unknown (x (B, n), P (B, n, n),
+        state [x, ẋ, y, ẏ, …])."""
+        x, P = x.copy(), P.copy()
+        rest = [i for i in range(x.shape[-1]) if i not in (0, 2)]
+        x[:, rest] = 0.0
+        P[:, rest, :] = 0.0
+        P[:, :, rest] = 0.0
+        P[:, 1, 1] = P[:, 3, 3] = self.max_speed**2
         return x, P
 
     def meta(self) -> dict[str, float | int]:

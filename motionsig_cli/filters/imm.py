@@ -277,7 +277,8 @@ def imm_filter(
             since = since + dt[:, k]
             bad = mon.verdict(k, np.hypot(xc[:, 1], xc[:, 3]), np.hypot(xc[:, 4], xc[:, 5]),
                               np.maximum(Pc[:, 0, 0], Pc[:, 2, 2]), np.isfinite(Pc).all(axis=(1, 2)))  # fmt: skip
-            restart = bad & measured[:, k]
+            # restart from the current measurement where it was accepted, or where outliers ran out (C2)
+            restart = bad & (seen | (mon.reason[:, k] == 1))
             if restart.any():  # a two-point restart on the last accepted and the current measurement
                 b = np.flatnonzero(restart)
                 Rb = R[b, k] if varying else np.broadcast_to(R, (b.size, m, m))
@@ -288,6 +289,15 @@ def imm_filter(
                 log_mu[b] = log_mu0
                 xc[b], Pc[b] = x_new, P_new
                 mon.reset(restart)
+            coast = bad & ~restart
+            if coast.any():  # no measurement to restart from: keep the position, forget the motion
+                b = np.flatnonzero(coast)
+                x_new, P_new = mon.cfg.coast(xc[b], Pc[b])
+                X[b] = x_new[:, None, :]
+                P[b] = P_new[:, None]
+                log_mu[b] = log_mu0
+                xc[b], Pc[b] = x_new, P_new
+                mon.reset(coast)
             took = seen | restart
             z_last[took] = z[took, k]
             if varying:
