@@ -2,11 +2,14 @@
 *Maneuvering Target Tracking Based on EBPSK Modulated JRC System*: the IMM of three Kalman filters (eqs
 (7)–(13)), the GLR and MLR input-estimation trackers (eqs (1)–(6)) and the constant-velocity Kalman filter.
 
-This is the Python entry point of what ``motionsig maneuver --input`` does to a file
-(:mod:`motionsig_cli.maneuver.record`): the times are placed on a uniform scan grid (a gap is a run of
-missed scans, a NaN position a missed scan: predict-only steps), the trackers are initialised by two-point
-differencing on the first two measured scans and run from the scan after, through
-:func:`motionsig_cli.maneuver.study.track_from` — the same code, so the numbers are those of the command.
+This is the Python entry point of what ``motionsig maneuver FILE`` does to a file
+(:mod:`motionsig_cli.maneuver.record`): times that lie on a uniform scan grid are placed on it (a gap is a
+run of missed scans, a NaN position a missed scan: predict-only steps) and tracked with the fixed-period
+models of :func:`motionsig_cli.maneuver.study.track_from` — the same code, so the numbers are those of the
+command; times that do not (real sensors' irregular reports) are steps at their own times, each with its
+own Δt (:func:`~motionsig_cli.filters.imm.imm_filter` and :func:`~motionsig_cli.detection.glr.input_tracker`
+with ``dt``). The trackers are initialised by two-point differencing on the first two measured rows and
+run from the row after.
 """
 
 from __future__ import annotations
@@ -18,7 +21,11 @@ import numpy as np
 from motionsig_cli.config import ConfigError, in_range, one_of
 from motionsig_cli.maneuver.record import JITTER_TOL
 from motionsig_cli.maneuver.scenario import T_RANGE
-from motionsig_cli.maneuver.study import METHODS, SIGMA_RANGE, TrackerConfig, _numerics, track_from
+from motionsig_cli.detection.glr import InputModel, input_tracker
+from motionsig_cli.errors import InputError
+from motionsig_cli.filters.imm import imm_filter
+from motionsig_cli.maneuver.study import METHODS, SIGMA_RANGE, TrackerConfig, Tracks, _numerics, track_from
+from motionsig_cli.models.motion import H_POS4, H_POS6, cv_input_model, cv_input_steps, two_point_restart
 from motionsig_cli.records import grid_period
 
 __all__ = ["TrackResult", "track_positions"]
@@ -80,8 +87,9 @@ class TrackResult:
         return self.state[..., [1, 3]]
 
 
-def _grid(times: np.ndarray, T: float | None) -> tuple[np.ndarray, float]:
-    """Grid steps k (from 0) of increasing ``times`` and the period (given, or :func:`grid_period`)."""
+def _grid(times: np.ndarray, T: float | None) -> tuple[np.ndarray, float | None]:
+    """Grid steps k (from 0) of increasing ``times`` and the period (given, or :func:`grid_period`); without a
+    given T, times off every grid are irregular: (0..N−1, None)."""
     if times.ndim != 1 or times.size < 3:
         raise ConfigError("times", f"shape {times.shape}", "is not at least 3 times (N,) [s]")
     if not np.all(np.isfinite(times)):
@@ -92,13 +100,19 @@ def _grid(times: np.ndarray, T: float | None) -> tuple[np.ndarray, float]:
         raise ConfigError(
             "times", float(times[i]), f"(row {i}) is not after the row before: times must increase"
         )
+    given = T is not None
     if T is None:
-        T = grid_period(times, JITTER_TOL)
+        try:
+            T = grid_period(times, JITTER_TOL)
+        except InputError:
+            return np.arange(times.size, dtype=np.int64), None
     in_range("T", T, *T_RANGE, unit="s")
     dt = times - times[0]
     k = np.rint(dt / T)
     off = np.abs(dt - k * T)
     bad = np.flatnonzero(off > JITTER_TOL * T)
+    if bad.size and not given:
+        return np.arange(times.size, dtype=np.int64), None
     if bad.size:
         i = int(bad[0])
         raise ConfigError(
@@ -106,6 +120,8 @@ def _grid(times: np.ndarray, T: float | None) -> tuple[np.ndarray, float]:
             f"(tolerance {JITTER_TOL:g}): the trackers need uniform scans (gaps allowed)",
         )  # fmt: skip
     same = np.flatnonzero(np.diff(k) == 0)
+    if same.size and not given:
+        return np.arange(times.size, dtype=np.int64), None
     if same.size:
         i = int(same[0]) + 1
         raise ConfigError(
@@ -209,7 +225,9 @@ def track_positions(
         )
     if np.any(np.isinf(z)):
         raise ConfigError("positions", "inf", "must be finite [m] (NaN: a missed scan)")
-    k, T_used = _grid(times, T)
+    k, T_grid = _grid(times, T)
+    irregular = T_grid is None
+    T_used = float(np.median(np.diff(times))) if T_grid is None else T_grid
     B, N = z.shape[:2]
     s, R_rows = _covariances(sigma, cov, B, N)
     K = int(k[-1]) + 1
@@ -241,13 +259,16 @@ def track_positions(
         raise ConfigError("positions", "too few", "no scan after the two that initialise the trackers")
     extra = {} if Rg is None else {"R": Rg[:, b + 1 :], "init_R": (Rg[:, a], Rg[:, b])}
     with _numerics(s, T_used), np.errstate(all="ignore"):
-        tr = track_from(method, zg[:, a], zg[:, b], zg[:, b + 1 :], T_used, s, cfg, init_gap=b - a, first_scan=0,
-                        **extra)  # fmt: skip
+        if irregular:
+            tr = _irregular(method, zg, Rg, s, times, a, b, cfg)
+        else:
+            tr = track_from(method, zg[:, a], zg[:, b], zg[:, b + 1 :], T_used, s, cfg, init_gap=b - a,
+                            first_scan=0, **extra)  # fmt: skip
     pick = (lambda a_: None if a_ is None else a_[0]) if single else (lambda a_: a_)
-    grid_t = times[0] + np.arange(K) * T_used
+    grid_t = times if irregular else times[0] + np.arange(K) * T_used
     return TrackResult(
         method=method,
-        T=T_used,
+        T=T_used,  # the period, or the median step of irregular times
         t=grid_t[b + 1 :],
         row=row[b + 1 :],
         measured=pick(measured[:, b + 1 :]),
@@ -258,3 +279,31 @@ def track_positions(
         u_jump=pick(tr.u_jump),
         stat=pick(tr.stat),
     )
+
+
+def _irregular(
+    method: str, z: np.ndarray, R: np.ndarray | None, sigma: float, times: np.ndarray, a: int, b: int,
+    cfg: TrackerConfig,
+) -> Tracks:  # fmt: skip
+    """The trackers on irregular times: two-point start on rows a < b, then every row after b with its own
+    Δt (the per-step models of the IMM and input model, eqs M1–M3 of :mod:`motionsig_cli.models.motion`)."""
+    B = z.shape[0]
+    Rr = np.broadcast_to(sigma * sigma * np.eye(2), (B, z.shape[1], 2, 2)) if R is None else R
+    dt = np.broadcast_to(np.diff(times)[b:], (B, z.shape[1] - b - 1))
+    dt0 = np.full(B, times[b] - times[a])
+    zs = z[:, b + 1 :]
+    Rs = None if R is None else R[:, b + 1 :]
+    if method == "imm":
+        x0, P0 = two_point_restart(z[:, a], z[:, b], dt0, Rr[:, a], Rr[:, b], n=6)
+        imm = imm_filter(zs, H_POS6, Rs if Rs is not None else sigma * sigma, cfg.models(float(np.median(dt))), x0,
+                         P0, dt=dt)  # fmt: skip
+        return Tracks(imm.x, mu=imm.mu)
+    F, G, Q = cv_input_model(1.0, cfg.q0)
+    q0 = cfg.q0
+    model = InputModel(F, G, Q, H_POS4, sigma * sigma * np.eye(2), steps=lambda d: cv_input_steps(d, q0))
+    x0, P0 = two_point_restart(z[:, a], z[:, b], dt0, Rr[:, a], Rr[:, b], n=4)
+    it = input_tracker(zs, model, x0, P0, cfg.glr("none" if method == "cv" else method), R=Rs, dt=dt)
+    state = np.concatenate([it.x, it.u_cur], axis=-1)
+    if method == "cv":
+        return Tracks(state)
+    return Tracks(state, detected=it.detected, onset=it.onset, u_jump=it.u_jump, stat=it.stat)

@@ -12,7 +12,9 @@ returns the rows to track, in time order, with their segments:
    received twice, by two receivers of one network) — are dropped.
 3. **Conflicting duplicates** — the same time, another position — keep the first row of that time and drop
    the others (``conflicting="first"``), or are refused (``"refuse"``). Two positions for one instant cannot
-   both be measurements of one aircraft.
+   both be measurements of one aircraft. A row without a position at the time of one with a position (a
+   velocity or identity message received in the same millisecond) adds nothing and is dropped
+   (``empty_duplicates``).
 4. **Stale repeats** — a position identical, to every digit, to the previous kept row's, under a new time:
    ADS-B decoders and some exports repeat the last position when a report carries only velocity or
    identity. A real position measured afresh never repeats a previous one to every recorded digit while
@@ -122,8 +124,8 @@ def clean_reports(t: np.ndarray, pos: np.ndarray, policy: HygienePolicy | None =
     t = np.asarray(t, float)
     pos = np.asarray(pos, float).reshape(t.shape[0], -1)
     n = t.shape[0]
-    counts = {"reordered": 0, "exact_duplicates": 0, "conflicting_duplicates": 0, "stale_repeats": 0,
-              "gaps": 0}  # fmt: skip
+    counts = {"reordered": 0, "exact_duplicates": 0, "conflicting_duplicates": 0, "empty_duplicates": 0,
+              "stale_repeats": 0, "gaps": 0}  # fmt: skip
     if n == 0:
         return Cleaned(np.zeros(0, np.int64), np.zeros(0, np.int64), pol.max_gap or MIN_GAP_S, counts)
     back = np.flatnonzero(np.diff(t) < 0)
@@ -134,28 +136,29 @@ def clean_reports(t: np.ndarray, pos: np.ndarray, policy: HygienePolicy | None =
     counts["reordered"] = int(np.sum(order != np.arange(n)))
     ts, ps = t[order], pos[order]
     keep = np.ones(n, dtype=bool)
-    same_t = np.flatnonzero(np.diff(ts) == 0) + 1  # rows with the time of the row before
     has = ~np.isnan(ps).any(axis=1)
-    for i in same_t:  # few in any feed: a loop over the duplicates only
-        j = i - 1
-        while j > 0 and not keep[j] and ts[j - 1] == ts[i]:
-            j -= 1  # the first kept row of this time
-        exact = np.array_equal(ps[i], ps[j], equal_nan=True)
-        if pol.strict:
-            what = "repeats" if exact else "has another position at"
-            raise HygieneError(int(order[i]), f"the row {what} the time of an earlier row ({ts[i]:.9g} s)")
-        if exact:
-            counts["exact_duplicates"] += 1
-        else:
-            if pol.conflicting == "refuse" and has[i] and has[j]:
-                raise HygieneError(
-                    int(order[i]), f"another position at the time of an earlier row ({ts[i]:.9g} s)"
-                )
-            counts["conflicting_duplicates"] += 1
-            if not has[j] and has[i]:  # a position beats no position at the same time
-                keep[j] = False
+    starts = np.flatnonzero(np.concatenate([[True], np.diff(ts) != 0]))
+    sizes = np.diff(np.concatenate([starts, [n]]))
+    for g0, size in zip(starts[sizes > 1], sizes[sizes > 1], strict=True):  # only the repeated times
+        rows = np.arange(g0, g0 + size)
+        with_pos = rows[has[rows]]
+        first = int(with_pos[0]) if with_pos.size else int(rows[0])
+        for i in rows:
+            if i == first:
                 continue
-        keep[i] = False
+            keep[i] = False
+            if not has[i] and with_pos.size:
+                counts["empty_duplicates"] += 1  # a row without a position at a measured time
+            elif np.array_equal(ps[i], ps[first], equal_nan=True):
+                if pol.strict:
+                    raise HygieneError(int(order[i]), f"the row repeats the time of an earlier row ({ts[i]:.9g} s)")
+                counts["exact_duplicates"] += 1
+            else:
+                if pol.strict or pol.conflicting == "refuse":
+                    raise HygieneError(
+                        int(order[i]), f"the row has another position at the time of an earlier row ({ts[i]:.9g} s)"
+                    )
+                counts["conflicting_duplicates"] += 1
     idx = np.flatnonzero(keep)
     # stale repeats: the same position values as the previous kept row with a position
     hk = has[idx]

@@ -15,8 +15,8 @@ def test_a_real_feed_is_sorted_deduplicated_and_cut_at_gaps():
     # time order: rows 1 (t 0), 2 (t 1), 3 exact duplicate, 4 conflicting, 0 (t 2), 5 stale repeat of row 0;
     # the first five rows of the file moved in the sort
     assert c.rows.tolist() == [1, 2, 0, 6, 7, 8, 9]
-    assert c.counts == {"reordered": 5, "exact_duplicates": 1, "conflicting_duplicates": 1, "stale_repeats": 1,
-                        "gaps": 1}  # fmt: skip
+    assert c.counts == {"reordered": 5, "exact_duplicates": 1, "conflicting_duplicates": 1,
+                        "empty_duplicates": 0, "stale_repeats": 1, "gaps": 1}  # fmt: skip
     assert c.segment.tolist() == [0, 0, 0, 0, 1, 1, 1] and c.max_gap == 30.0
 
 
