@@ -16,7 +16,10 @@ metadata):
     ``sensor`` (latitude, longitude[, altitude]: the option, else the metadata ``sensor``), bearing clockwise
     from north (``bearing_convention="math"``: counter-clockwise from east); the range is the slant range
     (with ``elevation`` or ``altitude``, else taken as the ground range: the metadata says which);
-* the noise, optionally: ``sigma`` (per-axis σ of a Cartesian or geodetic position, per row), ``sigma_range``
+* the noise, optionally: ``sigma`` (per-axis σ of a Cartesian or geodetic position, per row), ``nacp`` (an
+  ADS-B position's accuracy category: σ = its EPU bound / 2.4477,
+  :func:`~motionsig_cli.surveillance.local_positions.nacp_to_sigma`; NACp 0, unknown, is a row without σ),
+  ``sigma_range``
   and ``sigma_bearing`` (polar σ per row, or the metadata ``sigma_range``/``sigma_bearing`` with a unit
   suffix such as ``sigma_range_nm``). A polar plot's covariance is converted per row (not one σ for both
   axes).
@@ -125,6 +128,8 @@ SPEC = RecordSpec(
              help="elevation from the sensor"),
         Role("sigma", ("sd", "std"), quantity="length", required=False, missing=True,
              help="per-axis σ of the position, per row"),
+        Role("nacp", ("nac_p", "nacp_code"), required=False, missing=True,
+             help="ADS-B navigation accuracy category for position (per-row σ from its EPU bound)"),
         Role("sigma_range", ("sigma_r",), quantity="length", required=False, missing=True,
              help="σ of the range, per row"),
         Role("sigma_bearing", ("sigma_phi", "sigma_theta"), quantity="angle", unit="deg", required=False,
@@ -456,6 +461,18 @@ def _local_positions(
         if bad.size:
             i = int(bad[0])
             raise rec.error(i, "sigma", f"σ {s[i]:g} m is not in [{SIGMA_RANGE[0]:g}, {SIGMA_RANGE[1]:g}] m")
+        R = (s**2)[:, None, None] * np.eye(2)
+    elif rec.has("nacp"):
+        from motionsig_cli.surveillance.local_positions import nacp_to_sigma
+
+        codes = rec["nacp"]
+        bad = np.flatnonzero(~np.isnan(codes) & ~((codes == np.round(codes)) & (codes >= 0) & (codes <= 11)))
+        if bad.size:
+            i = int(bad[0])
+            raise rec.error(i, "nacp", f"{codes[i]:g} is not a NACp category (an integer 0 to 11)")
+        s = np.full(codes.shape, np.nan)
+        ok = ~np.isnan(codes) & (codes >= 1)
+        s[ok] = nacp_to_sigma(codes[ok].astype(int))
         R = (s**2)[:, None, None] * np.eye(2)
     if form == "cartesian":
         if opts.origin is not None or opts.sensor is not None:

@@ -19,11 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from motionsig_cli.config import ConfigError, in_range, one_of
-from motionsig_cli.maneuver.record import JITTER_TOL
-from motionsig_cli.maneuver.scenario import T_RANGE
 from motionsig_cli.detection.glr import InputModel, input_tracker
 from motionsig_cli.errors import InputError
 from motionsig_cli.filters.imm import imm_filter
+from motionsig_cli.maneuver.record import JITTER_TOL
+from motionsig_cli.maneuver.scenario import T_RANGE
 from motionsig_cli.maneuver.study import METHODS, SIGMA_RANGE, TrackerConfig, Tracks, _numerics, track_from
 from motionsig_cli.models.motion import H_POS4, H_POS6, cv_input_model, cv_input_steps, two_point_restart
 from motionsig_cli.records import grid_period

@@ -151,12 +151,15 @@ def clean_reports(t: np.ndarray, pos: np.ndarray, policy: HygienePolicy | None =
                 counts["empty_duplicates"] += 1  # a row without a position at a measured time
             elif np.array_equal(ps[i], ps[first], equal_nan=True):
                 if pol.strict:
-                    raise HygieneError(int(order[i]), f"the row repeats the time of an earlier row ({ts[i]:.9g} s)")
+                    raise HygieneError(
+                        int(order[i]), f"the row repeats the time of an earlier row ({ts[i]:.9g} s)"
+                    )
                 counts["exact_duplicates"] += 1
             else:
                 if pol.strict or pol.conflicting == "refuse":
                     raise HygieneError(
-                        int(order[i]), f"the row has another position at the time of an earlier row ({ts[i]:.9g} s)"
+                        int(order[i]),
+                        f"the row has another position at the time of an earlier row ({ts[i]:.9g} s)",
                     )
                 counts["conflicting_duplicates"] += 1
     idx = np.flatnonzero(keep)

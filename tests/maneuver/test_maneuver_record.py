@@ -89,8 +89,10 @@ def test_strict_reading_refuses_unsorted_and_repeated_times_naming_the_line(tmp_
     with pytest.raises(InputError, match=match):
         mr.read_track_record(p, strict)
     rec = mr.read_track_record(p)  # the default policy sorts and drops instead, and counts it
-    assert np.all(np.diff(rec.t) > 0) and sum(rec.hygiene[k] for k in ("reordered", "exact_duplicates",
-                                                                         "conflicting_duplicates")) >= 1
+    assert (
+        np.all(np.diff(rec.t) > 0)
+        and sum(rec.hygiene[k] for k in ("reordered", "exact_duplicates", "conflicting_duplicates")) >= 1
+    )
 
 
 def test_times_off_a_grid_are_steps_at_their_own_times(tmp_path):
@@ -133,8 +135,18 @@ def test_scans_alone_make_the_grid_and_T_defaults(tmp_path):
 @pytest.mark.parametrize(
     ("header", "rows", "kwargs", "match"),
     [
-        (["a", "b", "c"], [[1, 2, 3]], {}, r"r.csv:1: missing column 'time' \(or 't', 'timestamp'\) or 'scan'"),
-        (["t", "a", "b"], [[1, 2, 3]], {}, r"r.csv:1: missing column 'x' \(or 'z_x', 'east'\), or 'latitude'"),
+        (
+            ["a", "b", "c"],
+            [[1, 2, 3]],
+            {},
+            r"r.csv:1: missing column 'time' \(or 't', 'timestamp'\) or 'scan'",
+        ),
+        (
+            ["t", "a", "b"],
+            [[1, 2, 3]],
+            {},
+            r"r.csv:1: missing column 'x' \(or 'z_x', 'east'\), or 'latitude'",
+        ),
         (["x", "y"], [[1, 2]] * 3, {}, r"r.csv:1: missing column 'time' .* or 'scan'"),
         (
             ["t", "x", "y"],
@@ -359,3 +371,99 @@ def test_imm_noises_are_a_checked_option_used_everywhere():
     mc = ex.monte_carlo(sc, 100.0, 2, 1, ("imm",), cfg, chunk=2)["imm"]
     ref = ex.track("imm", ex.measurements(sc, 100.0, [0, 1], 1), 1.0, 100.0, cfg)
     np.testing.assert_allclose(mc.track0, ref.pos[0], rtol=1e-12)
+
+
+# ------------------------------------------------------------------------------------- real records
+def _geo_rows(n=80, seed=3):
+    """A straight, level flight at 48° N, east at 200 m/s, reported every ~0.5 s (irregular), ISO times."""
+    import pymap3d
+
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.4, 0.6, n))
+    lat, lon, _ = pymap3d.enu2geodetic(200.0 * t, 30.0 * t, 0.0, 48.0, 11.0, 0.0)
+    stamps = [f"2026-03-01T10:00:{s:06.3f}Z" for s in t]
+    return t, lat, lon, stamps
+
+
+def test_a_geodetic_record_is_projected_on_its_tangent_plane_and_given_back_in_latitude_longitude(tmp_path):
+    """latitude/longitude (degrees) with ISO times and --origin: the positions are pymap3d's geodetic2enu
+    (1e-6 m); the output carries ISO times, the tracked latitude/longitude (noise-free: within 1e-6° of the
+    input) and the frame in the metadata."""
+    import pymap3d
+
+    _, lat, lon, stamps = _geo_rows()
+    p = _csv(tmp_path, ["timestamp", "latitude", "longitude"], [[s, repr(float(a)), repr(float(b))]
+             for s, a, b in zip(stamps, lat, lon, strict=True)])  # fmt: skip
+    rec = mr.read_track_record(p, mr.ReadOptions(origin=(48.0, 11.0, 0.0)))
+    e, n, _ = pymap3d.geodetic2enu(lat, lon, 0.0, 48.0, 11.0, 0.0)
+    np.testing.assert_allclose(rec.z, np.stack([e, n], axis=1), atol=1e-6)
+    assert (
+        rec.form == "geodetic"
+        and not rec.grid
+        and "tangent plane at 48.000000, 11.000000" in rec.conversion["frame"]
+    )
+    out = rt.track_record(rec, ("cv",), ex.TrackerConfig.tuned("aircraft"), sigma=5.0)
+    c = out.table.columns
+    last = out.table.rows[-1]
+    assert last[c.index("time")] == stamps[-1][:-1] + "Z" or last[c.index("time")].startswith(stamps[-1][:19])
+    assert (
+        abs(last[c.index("latitude")] - lat[-1]) < 1e-6 and abs(last[c.index("longitude")] - lon[-1]) < 1e-6
+    )
+
+
+def test_nacp_gives_each_row_its_sigma(tmp_path):
+    """A nacp column: σ per row = the DO-260B EPU bound / 2.4477 (NACp 9: 30 m → 12.26 m; 8: 92.6 m →
+    37.83 m); NACp 0 (unknown) leaves the row without σ; a category beyond 11 is refused naming its line."""
+    _, lat, lon, stamps = _geo_rows(20)
+    rows = [[s, a, b, 9 if i % 2 else 8] for i, (s, a, b) in enumerate(zip(stamps, lat, lon, strict=True))]
+    rec = mr.read_track_record(_csv(tmp_path, ["timestamp", "lat", "lon", "nacp"], rows))
+    np.testing.assert_allclose(np.sqrt(rec.R[:4, 0, 0]), [92.6 / 2.4477, 30 / 2.4477] * 2, rtol=1e-4)
+    rows[3][3] = 12
+    with pytest.raises(InputError, match=r"r2.csv:5: column 'nacp': 12 is not a NACp category"):
+        mr.read_track_record(_csv(tmp_path, ["timestamp", "lat", "lon", "nacp"], rows, name="r2.csv"))
+
+
+def test_a_polar_record_needs_its_sensor_and_sigmas_and_matches_the_conversion(tmp_path):
+    """range_nm / bearing_deg plots: refused without a sensor (naming the way to give it) and without σ's;
+    with the sensor in the metadata, the positions and covariances are those of
+    surveillance.local_positions.polar_to_local on the same values (ground range, no elevation: said so)."""
+    from motionsig_cli.surveillance.local_positions import LocalFrame, polar_to_local
+
+    rng = np.random.default_rng(4)
+    r_nm = 20 + 0.01 * np.arange(30) + 0.001 * rng.standard_normal(30)
+    b_deg = 45 + 0.05 * np.arange(30)
+    rows = [
+        [4.0 * i, repr(float(a)), repr(float(b))] for i, (a, b) in enumerate(zip(r_nm, b_deg, strict=True))
+    ]
+    bare = _csv(tmp_path, ["t", "range_nm", "bearing_deg"], rows, name="bare.csv")
+    with pytest.raises(InputError, match="need the sensor's position"):
+        mr.read_track_record(bare)
+    with pytest.raises(InputError, match="need their σ"):
+        mr.read_track_record(bare, mr.ReadOptions(sensor=(51.0, -2.0, 50.0)))
+    meta = ['sensor: {"latitude": 51.0, "longitude": -2.0, "altitude_m": 50.0}', "sigma_range_nm: 0.03",
+            "sigma_bearing_deg: 0.08"]  # fmt: skip
+    rec = mr.read_track_record(_csv(tmp_path, ["t", "range_nm", "bearing_deg"], rows, meta=meta))
+    sensor = LocalFrame(51.0, -2.0, 50.0)
+    ref = polar_to_local(r_nm * 1852.0, np.radians(b_deg), sensor, sensor, sigma_range_m=0.03 * 1852.0,
+                         sigma_bearing_rad=np.radians(0.08))  # fmt: skip
+    np.testing.assert_allclose(rec.z, ref.position, atol=1e-9)
+    np.testing.assert_allclose(rec.R, ref.covariance, rtol=1e-12)
+    assert (
+        rec.conversion["range_kind"] == ref.range_kind
+        and rec.conversion["bearing_convention"] == "north-clockwise"
+    )
+
+
+def test_a_long_gap_ends_a_segment_and_each_segment_starts_afresh(tmp_path):
+    """A 120 s coverage gap in a 1 s record (the default limit: max(30 s, 8 median steps)) is never
+    bridged: two segments, each initialised on its own first two measurements (the output's first rows of
+    segment 1 are its third measurement on), the metadata counts the gap."""
+    _, z = _cv(100, 20.0, seed=9)
+    t = np.concatenate([np.arange(50.0), 170.0 + np.arange(50.0)])
+    rec = mr.read_track_record(_csv(tmp_path, ["t", "x", "y"], [[a, *b] for a, b in zip(t, z, strict=True)]))
+    assert rec.hygiene["gaps"] == 1 and rec.segment.tolist() == [0] * 50 + [1] * 50
+    out = rt.track_record(rec, ("glr",), ex.TrackerConfig(), sigma=20.0)
+    c = out.table.columns
+    seg1 = [r for r in out.table.rows if r[c.index("segment")] == 1]
+    assert len(seg1) == 48 and seg1[0][c.index("t")] == 172.0
+    assert out.table.meta["segments"] == 2 and out.table.meta["init"].endswith("1 and 2; 171 and 172")

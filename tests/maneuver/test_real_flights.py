@@ -41,7 +41,7 @@ def test_every_method_runs_on_every_flight_and_nothing_implausible_reaches_the_o
     tuning's limits), finite; rows carry ISO times and latitude/longitude (the input was geodetic, timestamped);
     the hygiene found what the recordings hold (README: 396 duplicates and 131 stale positions in the raw
     stream, 167 stale repeats in the noisy landing, 16 gaps over 30 s in the gaps flight)."""
-    for f, (rec, res) in tracked.items():
+    for f, (_rec, res) in tracked.items():
         t = res.table
         c = t.columns
         st = np.array([[r[c.index(k)] for k in ("vx", "vy", "ax", "ay")] for r in t.rows], float)
