@@ -493,6 +493,7 @@ def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[st
             for c in t.columns
             if c not in taken
             and (base[c] in role.names or (base[c] not in role_names and _suffix_unit(c, role) is not None))
+            and not (role.kind == "label" and _HEADER_UNIT.match(c))  # a label has no unit: `track [deg]`
         ]
         if len(hits) > 1:
             raise InputError(

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import csv
 import errno
+import gzip
 import io
 import json
 import math
@@ -27,6 +28,7 @@ import os
 import re
 import stat
 import sys
+import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -357,7 +359,9 @@ def read_table(
 ) -> Table:
     """Read a table written by :func:`format_csv` or :func:`format_json` (or any CSV with a header row).
 
-    The format is recognised from the content: a document whose first non-blank character is ``{`` is
+    A gzip-compressed file (``.csv.gz``, recognised by its magic bytes, not its name) is read through its
+    decompression, with the same limits on the decompressed bytes. The format is recognised from the
+    content: a document whose first non-blank character is ``{`` is
     the JSON the commands write (``{"meta": {...}, "columns": [...], "data": [{...}, ...]}``), anything
     else CSV with optional leading ``# key: value`` metadata lines (values JSON; other text is kept as
     a string). CSV is read line by line, and reading stops with an error at row ``max_rows + 1``, at byte
@@ -387,17 +391,30 @@ def read_table(
             raw = getattr(sys.stdin, "buffer", None)
             if raw is None:  # a text stream (tests): its text, as UTF-8 bytes
                 raw = io.BytesIO(sys.stdin.read(max_bytes + 1).encode("utf-8"))
-            stream = io.BufferedReader(_Limited(raw, name, max_bytes), buffer_size=1 << 16)
+            stream = _gunzipped(io.BufferedReader(_Limited(raw, name, max_bytes), buffer_size=1 << 16), name,
+                                max_bytes)  # fmt: skip
             table = _read_stream(stream, name, max_rows)
         else:
             with open_regular(source) as fh:
-                stream = io.BufferedReader(_Limited(fh, name, max_bytes), buffer_size=1 << 16)
+                stream = _gunzipped(io.BufferedReader(_Limited(fh, name, max_bytes), buffer_size=1 << 16), name,
+                                    max_bytes)  # fmt: skip
                 table = _read_stream(stream, name, max_rows)
+    except (gzip.BadGzipFile, EOFError, zlib.error) as exc:
+        raise InputError(f"{name}: not a readable gzip file ({exc or 'truncated'})") from None
     except OSError as exc:
         raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
     for col in required:
         table.column(col)
     return table
+
+
+def _gunzipped(stream: io.BufferedReader, name: str, max_bytes: int) -> io.BufferedReader:
+    """The stream itself, or, where it starts with gzip's magic bytes, its decompressed content — limited to
+    ``max_bytes`` too (a small file that inflates beyond the limit is refused while it is read)."""
+    if stream.peek(2)[:2] != b"\x1f\x8b":
+        return stream
+    return io.BufferedReader(_Limited(gzip.GzipFile(fileobj=stream, mode="rb"), name, max_bytes),
+                             buffer_size=1 << 16)  # fmt: skip
 
 
 def _read_stream(stream: io.BufferedReader, name: str, max_rows: int) -> Table:

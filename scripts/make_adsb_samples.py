@@ -21,6 +21,7 @@ import argparse
 import csv
 import datetime as dt
 import gzip
+import io
 import json
 import sys
 from pathlib import Path
@@ -151,6 +152,25 @@ def write_flight(rows: list[dict], path: Path) -> None:
         w.writerow(COLUMNS)
         for r in rows:
             w.writerow([_iso(r["timestamp"])] + [_fmt(r.get(k)) for k in SOURCE_KEYS])
+
+
+COLLECTION = "collections/quickstart.json.gz"
+"""A collection of many flights: traffic's quickstart sample (OpenSky state vectors around Paris, 3 h,
+213 aircraft, rows interleaved in time)."""
+
+
+def write_collection(samples: Path, path: Path) -> tuple[int, int]:
+    """The collection as recorded, gzip-compressed CSV (deterministic: no name or time in the gzip header),
+    rows in the sample's order; returns (rows, aircraft)."""
+    rows = _records(samples / COLLECTION)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(COLUMNS)
+    for r in rows:
+        w.writerow([_iso(r["timestamp"])] + [_fmt(r.get(k)) for k in SOURCE_KEYS])
+    with path.open("wb") as raw, gzip.GzipFile(filename="", mode="wb", fileobj=raw, mtime=0, compresslevel=9) as gz:
+        gz.write(buf.getvalue().encode())
+    return len(rows), len({r["icao24"] for r in rows})
 
 
 def stats(rows: list[dict]) -> dict:
@@ -298,6 +318,8 @@ def main(argv: list[str] | None = None) -> int:
         if name == RADAR_FLIGHT:
             n = write_radar(rows, args.out / "radar_polar.csv")
             print(f"radar_polar.csv: {n} scans", file=sys.stderr)
+    n_rows, n_aircraft = write_collection(samples, args.out / "collection_quickstart.csv.gz")
+    print(f"collection_quickstart.csv.gz: {n_rows} rows, {n_aircraft} aircraft", file=sys.stderr)
     return 0
 
 

@@ -586,10 +586,13 @@ def _track_record(
         if len(vals) != 1:
             raise typer.BadParameter("give one σ with a record (FILE) (or 'estimate')", param_hint="--sigma")
         s = vals[0]
-    rec = mr.read_track_record(path, real.read_options(record, T))
-    own = rec.record.meta.get("command") == "maneuver" and rec.record.meta.get("view") == "measurements"
+    tracks = mr.read_track_records(path, real.read_options(record, T))
+    meta = tracks.record.meta
+    own = meta.get("command") == "maneuver" and meta.get("view") == "measurements"
     cfg = tracker.config(real.tuning.value if real.tuning is not None else ("paper" if own else "aircraft"))
-    result = rt.track_record(rec, methods, cfg, sigma=s, consistency=real.checks(cfg))
+    if output.plot is not None and len(tracks.tracks) > 1:
+        raise typer.BadParameter(f"draws one track; the record holds {len(tracks.tracks)}", param_hint="--plot")
+    result = rt.track_records(tracks, methods, cfg, sigma=s, consistency=real.checks(cfg))
     if output.plot is not None:
         from motionsig_cli.plotting import maneuver_record_figure
 

@@ -47,7 +47,7 @@ Every failure is one line: a bad record an :class:`~motionsig_cli.errors.InputEr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -75,6 +75,7 @@ __all__ = [
     "JITTER_TOL",
     "MAD_TO_SD",
     "MAX_COORD",
+    "MAX_ROWS",
     "MAX_SCANS",
     "MIN_SIGMA_DIFFS",
     "SPEC",
@@ -82,12 +83,17 @@ __all__ = [
     "ReadOptions",
     "SigmaEstimate",
     "TrackRecord",
+    "TrackSet",
     "estimate_sigma",
     "read_track_record",
+    "read_track_records",
 ]
 
 MAX_SCANS = SCANS_RANGE[1]
 """Most steps of a record (rows, and grid scans including the missed ones): the trackers' scan limit."""
+MAX_ROWS = 2_000_000
+"""Most rows of a record (all its tracks; each track at most :data:`MAX_SCANS` steps). A record is held in
+memory while it is read (about 0.5 kB per row of an ADS-B export: 1 GB at the limit)."""
 MAX_COORD = 1e9
 """Largest |measurement| accepted from a record [m] (a million km; squares stay far from overflow)."""
 JITTER_TOL = 0.05
@@ -110,6 +116,8 @@ SPEC = RecordSpec(
              help="measurement time: seconds or ISO 8601"),
         Role("scan", (), kind="integer", required=False,
              help="scan number (without a time column: the grid; a missing number is a missed scan)"),
+        Role("track", ("icao24", "track_id", "target", "target_id", "id"), kind="label", required=False,
+             help="the track (aircraft) a row belongs to: one record may hold many, interleaved"),
         Role("x", ("z_x", "east"), quantity="length", required=False, missing=True,
              help="measured x (east) position"),
         Role("y", ("z_y", "north"), quantity="length", required=False, missing=True,
@@ -135,7 +143,7 @@ SPEC = RecordSpec(
         Role("sigma_bearing", ("sigma_phi", "sigma_theta"), quantity="angle", unit="deg", required=False,
              missing=True, help="σ of the bearing, per row"),
     ),
-    max_rows=MAX_SCANS,
+    max_rows=MAX_ROWS,
     what="track record",
     hint="a track record has a time and/or a scan column and the positions x, y (or latitude, longitude, "
     "or range, bearing)",
@@ -208,6 +216,7 @@ class TrackRecord:
             geodetic or polar record, else None.
         hygiene: the cleaning's counts and policy (for the metadata).
         conversion: what the position conversion assumed (for the metadata).
+        label: the track's label (its ``track`` column's value; empty for a record of one track).
     """
 
     z: np.ndarray
@@ -224,6 +233,7 @@ class TrackRecord:
     frame: Any = None
     hygiene: dict[str, Any] = field(default_factory=dict)
     conversion: dict[str, Any] = field(default_factory=dict)
+    label: str = ""
 
     @property
     def measured(self) -> np.ndarray:
@@ -263,6 +273,56 @@ def read_track_record(
             times).
         InputError: a bad record (``file:line: column 'name': …``).
     """
+    tracks = read_track_records(source, options, columns=columns, units=units, T=T)
+    if len(tracks.tracks) + len(tracks.untracked) > 1:
+        n = len(tracks.tracks) + len(tracks.untracked)
+        raise InputError(
+            f"{tracks.source}: column {tracks.record.columns['track']!r}: the record holds {n} tracks; track them "
+            "all at once (read_track_records, or the command)"
+        )
+    if tracks.untracked:
+        raise InputError(tracks.untracked[0][1])
+    return tracks.tracks[0]
+
+
+@dataclass(frozen=True)
+class TrackSet:
+    """The tracks of one record (one, or one per value of its ``track`` column).
+
+    Attributes:
+        tracks: each track's :class:`TrackRecord` (its ``label``), in the order of first appearance.
+        untracked: (label, reason) of each track that cannot be tracked (too few measurements, …): listed,
+            not an error for the whole file.
+        record: the record read (all rows).
+    """
+
+    tracks: tuple[TrackRecord, ...]
+    untracked: tuple[tuple[str, str], ...]
+    record: Record
+
+    @property
+    def source(self) -> str:
+        return self.record.source
+
+
+def read_track_records(
+    source: str | Path | Table,
+    options: ReadOptions | None = None,
+    *,
+    columns: str | dict[str, str] | None = None,
+    units: str | dict[str, str] | None = None,
+    T: float | None = None,
+) -> TrackSet:
+    """Read a record of one or many tracks (a ``track`` column: ``icao24``, ``track_id``, ``target``, ``id``,
+    or ``--columns track=NAME``), interleaved in any order: the positions are converted once, in one frame
+    for all tracks, then each track is cleaned, laid out and cut into segments on its own (module
+    docstring). A track that cannot be tracked is listed in :attr:`TrackSet.untracked`; a record with one
+    track and an error raises it.
+
+    Raises:
+        ConfigError: a bad option (naming it).
+        InputError: a bad record (``file:line: column 'name': …``), or no track that can be tracked.
+    """
     opts = options if options is not None else ReadOptions(columns=columns, units=units, T=T)
     colmap = parse_columns(opts.columns, SPEC)
     table = source if isinstance(source, Table) else read_table(source, max_rows=SPEC.max_rows)
@@ -277,6 +337,38 @@ def read_track_record(
             "--columns time=NAME or --columns scan=NAME",
         )
     form, raw = _raw_positions(rec)
+    z_all, R_all, frame, conversion = _local_positions(rec, form, opts)
+    if rec.has("track"):
+        labels, first, inverse = np.unique(rec["track"].astype(str), return_index=True, return_inverse=True)
+        order = np.argsort(first, kind="stable")  # tracks in the order they first appear
+        groups = [(str(labels[g]), np.flatnonzero(inverse == g)) for g in order]
+    else:
+        groups = [("", np.arange(len(rec)))]
+    tracks: list[TrackRecord] = []
+    untracked: list[tuple[str, str]] = []
+    for label, idx in groups:
+        sub = _subset(rec, idx)
+        try:
+            tracks.append(_layout(sub, raw[idx], z_all[idx], None if R_all is None else R_all[idx], form, frame,
+                                  conversion, opts, label))  # fmt: skip
+        except InputError as exc:
+            if len(groups) == 1:
+                raise
+            untracked.append((label, str(exc)))
+    if not tracks:
+        raise InputError(
+            f"{rec.source}: none of its {len(groups)} tracks can be tracked (e.g. {untracked[0][0]}: "
+            f"{untracked[0][1]})"
+        )
+    return TrackSet(tuple(tracks), tuple(untracked), rec)
+
+
+def _layout(
+    rec: Record, raw: np.ndarray, z_all: np.ndarray, R_all: np.ndarray | None, form: str, frame: Any,
+    conversion: dict[str, Any], opts: ReadOptions, label: str,
+) -> TrackRecord:  # fmt: skip
+    """One track's rows (``rec``, with its position values and converted positions): cleaned, on a grid or
+    at their own times, cut into segments."""
     T_scan: float | None = None
     if rec.has("time"):
         key = rec["time"]
@@ -303,9 +395,8 @@ def read_track_record(
     if n_meas < 3:
         raise InputError(
             f"{rec.source}: need at least 3 scans with a measurement (two initialise the trackers), "
-            f"found {n_meas}"
+            f"found {n_meas}" + (f" (track {label})" if label else "")
         )
-    z_all, R_all, frame, conversion = _local_positions(rec, form, opts)
     sub = _subset(rec, rows)
     if rec.has("time"):
         grid = _try_grid(sub, opts.T)
@@ -319,7 +410,8 @@ def read_track_record(
             grid = (k, 1.0, "assumed 1 s (no time column, no --T, no metadata 'T')")
     hyg = {"policy": _policy_meta(opts.hygiene), "max_gap_s": clean.max_gap, **clean.counts}
     parts = _Parts(rec, sub, rows, clean, z_all, R_all, form, frame, conversion, hyg)
-    return _irregular(parts) if grid is None else _on_grid(parts, grid)
+    out = _irregular(parts) if grid is None else _on_grid(parts, grid)
+    return replace(out, label=label) if label else out
 
 
 @dataclass(frozen=True)
@@ -358,8 +450,6 @@ def _same_order(rec: Record) -> None:
 
 def _subset(rec: Record, rows: np.ndarray) -> Record:
     """The record restricted to ``rows`` (messages still name the file's lines)."""
-    from dataclasses import replace
-
     return replace(rec, values={k: v[rows] for k, v in rec.values.items()}, lines=rec.lines[rows])
 
 

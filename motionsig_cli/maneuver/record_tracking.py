@@ -33,17 +33,17 @@ from typing import Any
 
 import numpy as np
 
-from motionsig_cli.config import ConfigError
+from motionsig_cli.config import ConfigError, integer
 from motionsig_cli.detection.glr import InputModel, input_tracker
 from motionsig_cli.errors import InputError
 from motionsig_cli.filters.consistency import REASONS, Consistency
 from motionsig_cli.filters.imm import imm_filter
-from motionsig_cli.maneuver.record import TrackRecord, choose_sigma
+from motionsig_cli.maneuver.record import TrackRecord, TrackSet, choose_sigma
 from motionsig_cli.maneuver.study import TrackerConfig, _check_methods, _numerics
 from motionsig_cli.models.motion import H_POS4, H_POS6, cv_input_model, cv_input_steps, two_point_restart
 from motionsig_cli.tables import Table, make_meta
 
-__all__ = ["RecordTrack", "imm_declarations", "track_record"]
+__all__ = ["RecordTrack", "imm_declarations", "track_record", "track_records"]
 
 
 @dataclass(frozen=True)
@@ -83,39 +83,6 @@ def imm_declarations(p_man: np.ndarray, on: float, off: float) -> tuple[np.ndarr
     return declared, onset
 
 
-def _batch(rec: TrackRecord, R: np.ndarray) -> dict[str, Any]:
-    """The segments as a padded batch (module docstring)."""
-    measured = rec.measured
-    segs, starts, tracked, skipped = [], [], [], []
-    for s in np.unique(rec.segment):
-        steps = np.flatnonzero(rec.segment == s)
-        meas = steps[measured[steps]]
-        if meas.size < 3:
-            skipped.append(int(s))
-            continue
-        a, b = int(meas[0]), int(meas[1])
-        segs.append(int(s))
-        starts.append((a, b))
-        tracked.append(steps[steps > b])
-    S = len(segs)
-    L = max((t.size for t in tracked), default=0)
-    z = np.full((S, L, 2), np.nan)
-    Rb = np.broadcast_to(np.eye(2), (S, L, 2, 2)).copy()
-    dt = np.ones((S, L))
-    for i, steps in enumerate(tracked):
-        n = steps.size
-        z[i, :n] = rec.z[steps]
-        Rb[i, :n] = R[steps]
-        prev = np.concatenate([[starts[i][1]], steps[:-1]])
-        if rec.grid:  # whole scans of T (exactly: the paper's case)
-            dt[i, :n] = (rec.scan[steps] - rec.scan[prev]) * rec.T
-        else:
-            dt[i, :n] = rec.t[steps] - rec.t[prev]
-    a = np.array([s[0] for s in starts], dtype=np.int64)
-    b = np.array([s[1] for s in starts], dtype=np.int64)
-    return {"segments": segs, "skipped": skipped, "steps": tracked, "z": z, "R": Rb, "dt": dt, "a": a, "b": b}
-
-
 def _iso(origin: str | None, t: float) -> str | None:
     """ISO 8601 of t seconds after the record's first timestamp (None without one)."""
     if origin is None or not math.isfinite(t):
@@ -129,30 +96,42 @@ def _iso(origin: str | None, t: float) -> str | None:
     return out.replace("+00:00", "Z")
 
 
-def track_record(
-    rec: TrackRecord,
-    methods: Sequence[str],
-    cfg: TrackerConfig,
-    *,
-    sigma: float | str | None = None,
-    consistency: Consistency | str | None = "tuned",
-) -> RecordTrack:
-    """Track every segment of a record with every method in ``methods`` (module docstring).
+def _iso_many(origin: str, t: np.ndarray) -> list[str | None]:
+    """:func:`_iso` of many times at once (numpy datetimes; the offset of the first timestamp kept)."""
+    try:
+        base = datetime.fromisoformat(origin.replace("Z", "+00:00"))
+    except ValueError:
+        return [None] * len(t)
+    off = base.utcoffset()
+    suffix = "" if off is None else ("Z" if off == timedelta(0) else base.isoformat()[-6:])
+    t = np.asarray(t, float)
+    ok = np.isfinite(t)
+    stamp = np.datetime64(base.replace(tzinfo=None), "us") + np.round(np.where(ok, t, 0.0) * 1e6).astype(
+        "timedelta64[us]"
+    )
+    text = np.datetime_as_string(stamp, unit="ms")
+    return [f"{x}{suffix}" if k else None for x, k in zip(text.tolist(), ok.tolist(), strict=True)]
 
-    Args:
-        rec: the record (:func:`~motionsig_cli.maneuver.record.read_track_record`).
-        methods: among :data:`~motionsig_cli.maneuver.study.METHODS`.
-        cfg: the trackers' settings (:meth:`~motionsig_cli.maneuver.study.TrackerConfig.tuned`).
-        sigma: σ per axis [m] (overrides the record's per-row covariances); ``"estimate"``; None: the
-            record's covariances, else its metadata ``sigma``, else estimated.
-        consistency: the checks; ``"tuned"``: those of ``cfg`` (:meth:`TrackerConfig.consistency`); None:
-            unwatched, as the paper's Monte Carlo.
-    """
-    _check_methods(methods)
-    if isinstance(consistency, str):
-        if consistency != "tuned":
-            raise ConfigError("consistency", consistency, "is not a Consistency, None or 'tuned'")
-        consistency = cfg.consistency()
+
+def _nullable(a: np.ndarray) -> list[float | None]:
+    """Floats, NaN as None (an empty cell)."""
+    return [None if v != v else v for v in a.tolist()]
+
+
+@dataclass(frozen=True)
+class _Segment:
+    """One segment of one track: its first two measured steps a < b and the steps tracked after b."""
+
+    track: int
+    segment: int
+    a: int
+    b: int
+    steps: np.ndarray
+
+
+def _noise(rec: TrackRecord, sigma: float | str | None, cfg: TrackerConfig) -> tuple[np.ndarray, float, dict[str, Any], bool, bool]:
+    """A track's measurement covariances (K, 2, 2), its σ (or median σ), the σ metadata, whether σ was
+    estimated without being asked, and whether one σ serves every step."""
     if rec.R is not None and sigma is None:
         R = rec.R.copy()
         bad = np.flatnonzero(rec.measured & ~np.isfinite(R).all(axis=(1, 2)))
@@ -162,40 +141,149 @@ def track_record(
         R[~rec.measured] = np.eye(2)
         sd = np.sqrt(np.diagonal(R[rec.measured], axis1=1, axis2=2))
         s = float(np.median(sd))
-        sigma_meta: dict[str, Any] = {"sigma_source": "the record's covariances per row",
-                                      "sigma_median": s}  # fmt: skip
-        implicit = False
-    else:
-        s, sigma_meta, implicit = choose_sigma(rec, sigma, cfg.sigma_floor)
-        R = np.broadcast_to(s * s * np.eye(2), (rec.z.shape[0], 2, 2)).copy()
-    bt = _batch(rec, R)
-    if not bt["segments"]:
-        raise InputError(f"{rec.source}: no segment has 3 measured steps (two initialise the trackers)")
-    S = len(bt["segments"])
-    a, b = bt["a"], bt["b"]
-    dt0 = (rec.scan[b] - rec.scan[a]) * rec.T if rec.grid else rec.t[b] - rec.t[a]
-    T = rec.T if math.isfinite(rec.T) else float(np.median(bt["dt"]))
-    results: dict[str, dict[str, np.ndarray | None]] = {}
-    for m in methods:
-        with _numerics(s, T), np.errstate(all="ignore"):
-            results[m] = _run(m, bt, rec, R, dt0, cfg, consistency, T, None if rec.R is not None and sigma is None
-                              else s * s)  # fmt: skip
-    return _tables(rec, methods, cfg, consistency, bt, results, s, sigma_meta, implicit, S)
+        return R, s, {"sigma_source": "the record's covariances per row", "sigma_median": s}, False, False
+    s, meta, implicit = choose_sigma(rec, sigma, cfg.sigma_floor)
+    return np.broadcast_to(s * s * np.eye(2), (rec.z.shape[0], 2, 2)).copy(), s, meta, implicit, True
+
+
+def _segments(recs: Sequence[TrackRecord]) -> tuple[list[_Segment], list[tuple[str, int]]]:
+    """Every segment of every track with three measured steps, and (label, segment) of the others."""
+    segs, skipped = [], []
+    for ti, rec in enumerate(recs):
+        measured = rec.measured
+        for sg in np.unique(rec.segment):
+            steps = np.flatnonzero(rec.segment == sg)
+            meas = steps[measured[steps]]
+            if meas.size < 3:
+                skipped.append((rec.label, int(sg)))
+                continue
+            a, b = int(meas[0]), int(meas[1])
+            segs.append(_Segment(ti, int(sg), a, b, steps[steps > b]))
+    return segs, skipped
+
+
+def track_records(
+    tracks: TrackSet | Sequence[TrackRecord],
+    methods: Sequence[str],
+    cfg: TrackerConfig,
+    *,
+    sigma: float | str | None = None,
+    consistency: Consistency | str | None = "tuned",
+    bucket: int = 256,
+) -> RecordTrack:
+    """Track every segment of every track with every method in ``methods`` (module docstring): the segments
+    of all tracks run through each tracker together, sorted by length and batched ``bucket`` at a time (the
+    padding of a batch is then small), each with its own Δt, noise and checks.
+
+    Args:
+        tracks: the tracks (:func:`~motionsig_cli.maneuver.record.read_track_records`) or a sequence of
+            :class:`~motionsig_cli.maneuver.record.TrackRecord`.
+        methods: among :data:`~motionsig_cli.maneuver.study.METHODS`.
+        cfg: the trackers' settings (:meth:`~motionsig_cli.maneuver.study.TrackerConfig.tuned`).
+        sigma: σ per axis [m] (overrides the records' per-row covariances); ``"estimate"``; None: each track's
+            covariances, else the metadata ``sigma``, else estimated per track.
+        consistency: the checks; ``"tuned"``: those of ``cfg`` (:meth:`TrackerConfig.consistency`); None:
+            unwatched, as the paper's Monte Carlo.
+        bucket: most segments per batch.
+    """
+    _check_methods(methods)
+    integer("bucket", bucket, 1)
+    if isinstance(consistency, str):
+        if consistency != "tuned":
+            raise ConfigError("consistency", consistency, "is not a Consistency, None or 'tuned'")
+        consistency = cfg.consistency()
+    tset = tracks if isinstance(tracks, TrackSet) else None
+    recs = list(tset.tracks if tset is not None else tracks)
+    untracked = list(tset.untracked) if tset is not None else []
+    kept, noise = [], []
+    for rec in recs:
+        try:
+            noise.append(_noise(rec, sigma, cfg))
+            kept.append(rec)
+        except InputError as exc:
+            if len(recs) == 1:
+                raise
+            untracked.append((rec.label, str(exc)))
+    segs, skipped = _segments(kept)
+    if not segs:
+        raise InputError(f"{recs[0].source}: no segment has 3 measured steps (two initialise the trackers)")
+    Ts = {rec.T for rec in kept}
+    fixed_T = next(iter(Ts)) if (len(Ts) == 1 and all(r.grid for r in kept) and consistency is None) else None
+    one_r = {n[1] for n in noise} if all(n[4] for n in noise) else set()
+    r_uniform = next(iter(one_r)) ** 2 if len(one_r) == 1 else None
+    T = fixed_T if fixed_T is not None else float(np.median([r.T for r in kept if math.isfinite(r.T)] or [1.0]))
+    order = sorted(range(len(segs)), key=lambda i: -segs[i].steps.size)
+    results: dict[str, list[dict[str, np.ndarray | None]]] = {m: [{} for _ in segs] for m in methods}
+    s_med = float(np.median([n[1] for n in noise]))
+    for idx in _buckets(order, [segs[i].steps.size for i in order], bucket):
+        chunk = [segs[i] for i in idx]
+        bt = _batch(chunk, kept, [n[0] for n in noise], fixed_T)
+        for m in methods:
+            with _numerics(s_med, T), np.errstate(all="ignore"):
+                out = _run(m, bt, cfg, consistency, T, fixed_T is not None, r_uniform)
+            for j, i in enumerate(idx):
+                n = segs[i].steps.size
+                results[m][i] = {k: (None if v is None else v[j, :n]) for k, v in out.items()}
+    return _tables(kept, methods, cfg, consistency, segs, results, noise, untracked, skipped)
+
+
+def _buckets(order: list[int], lengths: list[int], size: int) -> list[list[int]]:
+    """Segments sorted longest first, cut into batches of at most ``size`` whose shortest is at least half
+    their longest (the padding, predict-only steps whose output is dropped, is then at most half a batch)."""
+    out: list[list[int]] = []
+    for i, n in zip(order, lengths, strict=True):
+        if not out or len(out[-1]) >= size or 2 * n < lengths[order.index(out[-1][0])]:
+            out.append([i])
+        else:
+            out[-1].append(i)
+    return out
+
+
+def track_record(
+    rec: TrackRecord,
+    methods: Sequence[str],
+    cfg: TrackerConfig,
+    *,
+    sigma: float | str | None = None,
+    consistency: Consistency | str | None = "tuned",
+) -> RecordTrack:
+    """Track every segment of one record (:func:`track_records` of one track)."""
+    return track_records([rec], methods, cfg, sigma=sigma, consistency=consistency)
+
+
+def _batch(chunk: list[_Segment], recs: list[TrackRecord], Rs: list[np.ndarray], fixed_T: float | None) -> dict[str, Any]:
+    """The segments of a chunk as one padded batch (padding: predict-only steps of 1 s, dropped)."""
+    S, L = len(chunk), max(sg.steps.size for sg in chunk)
+    z = np.full((S, L, 2), np.nan)
+    R = np.broadcast_to(np.eye(2), (S, L, 2, 2)).copy()
+    dt = np.ones((S, L))
+    za, zb, Ra, Rb, dt0 = (np.empty((S, 2)), np.empty((S, 2)), np.empty((S, 2, 2)), np.empty((S, 2, 2)),
+                           np.empty(S))  # fmt: skip
+    for i, sg in enumerate(chunk):
+        rec, Rr, n = recs[sg.track], Rs[sg.track], sg.steps.size
+        z[i, :n] = rec.z[sg.steps]
+        R[i, :n] = Rr[sg.steps]
+        prev = np.concatenate([[sg.b], sg.steps[:-1]])
+        if rec.grid:  # whole scans of T (exactly: the paper's case)
+            dt[i, :n] = (rec.scan[sg.steps] - rec.scan[prev]) * rec.T
+            dt0[i] = (rec.scan[sg.b] - rec.scan[sg.a]) * rec.T
+        else:
+            dt[i, :n] = rec.t[sg.steps] - rec.t[prev]
+            dt0[i] = rec.t[sg.b] - rec.t[sg.a]
+        za[i], zb[i], Ra[i], Rb[i] = rec.z[sg.a], rec.z[sg.b], Rr[sg.a], Rr[sg.b]
+    return {"z": z, "R": R, "dt": dt, "za": za, "zb": zb, "Ra": Ra, "Rb": Rb, "dt0": dt0}
 
 
 def _run(
-    m: str, bt: dict[str, Any], rec: TrackRecord, R: np.ndarray, dt0: np.ndarray, cfg: TrackerConfig,
-    consistency: Consistency | None, T: float, r_uniform: float | None,
+    m: str, bt: dict[str, Any], cfg: TrackerConfig, consistency: Consistency | None, T: float, fixed: bool,
+    r_uniform: float | None,
 ) -> dict[str, np.ndarray | None]:  # fmt: skip
-    """One method on the batch. On a scan grid without the checks, the fixed-period models and (with one σ)
+    """One method on a batch. On one scan grid without the checks, the fixed-period models and (with one σ)
     the one R: the paper's recursion, bit for bit."""
-    a, b = bt["a"], bt["b"]
-    fixed = rec.grid and consistency is None
     dt = None if fixed else bt["dt"]
     R_steps = bt["R"] if r_uniform is None else None
-    z_a, z_b, R_a, R_b = rec.z[a], rec.z[b], R[a], R[b]
     if m == "imm":
-        x0, P0 = two_point_restart(z_a, z_b, dt0, R_a, R_b, n=6)
+        x0, P0 = two_point_restart(bt["za"], bt["zb"], bt["dt0"], bt["Ra"], bt["Rb"], n=6)
         tr = imm_filter(bt["z"], H_POS6, bt["R"] if R_steps is not None else r_uniform, cfg.models(T), x0, P0,
                         dt=dt, consistency=consistency)  # fmt: skip
         mu = tr.mu
@@ -206,7 +294,7 @@ def _run(
     q0 = cfg.q0
     R0 = np.eye(2) if r_uniform is None else r_uniform * np.eye(2)
     model = InputModel(F, G, Q, H_POS4, R0, steps=lambda d: cv_input_steps(d, q0))
-    x0, P0 = two_point_restart(z_a, z_b, dt0, R_a, R_b, n=4)
+    x0, P0 = two_point_restart(bt["za"], bt["zb"], bt["dt0"], bt["Ra"], bt["Rb"], n=4)
     it = input_tracker(bt["z"], model, x0, P0, cfg.glr("none" if m == "cv" else m), R=R_steps, dt=dt,
                        consistency=consistency)  # fmt: skip
     state = np.concatenate([it.x, it.u_cur], axis=-1)
@@ -219,119 +307,152 @@ def _run(
 
 
 def _tables(
-    rec: TrackRecord, methods: Sequence[str], cfg: TrackerConfig, consistency: Consistency | None,
-    bt: dict[str, Any], results: dict[str, dict[str, np.ndarray | None]], s: float, sigma_meta: dict[str, Any],
-    implicit: bool, S: int,
+    recs: list[TrackRecord], methods: Sequence[str], cfg: TrackerConfig, consistency: Consistency | None,
+    segs: list[_Segment], results: dict[str, list[dict[str, np.ndarray | None]]],
+    noise: list[tuple[np.ndarray, float, dict[str, Any], bool, bool]], untracked: list[tuple[str, str]],
+    skipped: list[tuple[str, int]],
 ) -> RecordTrack:  # fmt: skip
-    origin = rec.record.time_origin
-    geo = rec.frame is not None
-    K = rec.z.shape[0]
-    cols = ["method", "scan", "t", "measured", "x", "vx", "y", "vy", "ax", "ay", "mu_1", "mu_2", "mu_3",
+    rec0 = recs[0]
+    origin = rec0.record.time_origin
+    geo = rec0.frame is not None
+    labelled = any(r.label for r in recs)
+    many = len(recs) + len(untracked) > 1
+    lead = ["track"] if labelled else []
+    cols = [*lead, "method", "scan", "t", "measured", "x", "vx", "y", "vy", "ax", "ay", "mu_1", "mu_2", "mu_3",
             "declared", "onset", "segment", "onset_t", "nis", "gated", "reinit"]  # fmt: skip
+    ecols = [*lead, "method", "segment", "scan", "t", "onset_scan", "onset_t", "u_x", "u_y", "x", "y"]
     if origin is not None:
         cols += ["time", "onset_time"]
-    if geo:
-        cols += ["latitude", "longitude"]
-    ecols = ["method", "segment", "scan", "t", "onset_scan", "onset_t", "u_x", "u_y", "x", "y"]
-    if origin is not None:
         ecols += ["time", "onset_time"]
     if geo:
+        cols += ["latitude", "longitude"]
         ecols += ["latitude", "longitude"]
     rows: list[tuple[Any, ...]] = []
     erows: list[tuple[Any, ...]] = []
     summary: dict[str, dict[str, int]] = {}
+    by_track: dict[int, list[int]] = {}
+    for i, sg in enumerate(segs):
+        by_track.setdefault(sg.track, []).append(i)
+    fig = recs[0] if len(recs) == 1 else None
     figure_tracks, figure_speeds, figure_decl = {}, {}, {}
     mu_full = None
-    measured = rec.measured
     for m in methods:
-        r = results[m]
-        state = r["state"]
-        assert state is not None
-        pos_full = np.full((K, 2), np.nan)
-        spd_full = np.full(K, np.nan)
-        decl: list[tuple[int, int]] = []
         counts = {name: 0 for name in REASONS[1:]}
         n_gated = n_decl = n_rej = 0
-        if r["mu"] is not None:
-            mu_full = np.full((K, 3), np.nan)
-        latlon = None
-        for i, steps in enumerate(bt["steps"]):
-            n = steps.size
-            st = state[i, :n]
-            pos_full[steps] = st[:, [0, 2]]
-            spd_full[steps] = np.hypot(st[:, 1], st[:, 3])
-            if geo:
-                latlon = rec.frame.to_geodetic(st[:, 0], st[:, 2])
-            mu = r["mu"][i, :n] if r["mu"] is not None else None
-            if mu is not None and mu_full is not None:
-                mu_full[steps] = mu
-            det = r["declared"][i, :n] if r["declared"] is not None else None
-            ons = r["onset"][i, :n] if r["onset"] is not None else None
-            nis = r["nis"][i, :n] if r["nis"] is not None else np.full(n, np.nan)
-            gated = r["gated"][i, :n] if r["gated"] is not None else np.zeros(n, bool)
-            reinit = r["reinit"][i, :n] if r["reinit"] is not None else np.zeros(n, np.int8)
-            n_gated += int(gated.sum())
-            if r["rejected"] is not None:
-                n_rej += int(r["rejected"][i, :n].sum())
-            for code in reinit[reinit > 0]:
-                counts[REASONS[int(code)]] += 1
-            for j in range(n):
-                g = int(steps[j])
-                onset = None
-                onset_t = None
-                if det is not None and ons is not None and det[j] and ons[j] >= 0:
-                    og = int(steps[int(ons[j])]) if ons[j] < n else g
-                    onset, onset_t = int(rec.scan[og]), float(rec.t[og])
-                    decl.append((g, og))
-                    n_decl += 1
-                    u = r["u"][i, j] if r["u"] is not None else (math.nan, math.nan)
-                    ev: list[Any] = [m, int(rec.segment[g]), int(rec.scan[g]), float(rec.t[g]), onset, onset_t,
-                                     _f(u[0]), _f(u[1]), float(st[j, 0]), float(st[j, 2])]  # fmt: skip
-                    if origin is not None:
-                        ev += [_iso(origin, float(rec.t[g])), _iso(origin, onset_t)]
-                    if geo and latlon is not None:
-                        ev += [float(latlon[0][j]), float(latlon[1][j])]
-                    erows.append(tuple(ev))
-                row: list[Any] = [m, int(rec.scan[g]), float(rec.t[g]), bool(measured[g]),
-                                  *(float(v) for v in st[j]),
-                                  *((None, None, None) if mu is None else (float(v) for v in mu[j])),
-                                  None if det is None else bool(det[j]), onset, int(rec.segment[g]), onset_t,
-                                  _f(nis[j]), bool(gated[j]), REASONS[int(reinit[j])] or None]  # fmt: skip
+        if fig is not None:
+            K = fig.z.shape[0]
+            pos_full, spd_full = np.full((K, 2), np.nan), np.full(K, np.nan)
+            decl: list[tuple[int, int]] = []
+            if m == "imm":
+                mu_full = np.full((K, 3), np.nan)
+        for ti, rec in enumerate(recs):
+            label = [rec.label] if labelled else []
+            for i in by_track.get(ti, []):
+                sg, r = segs[i], results[m][i]
+                steps, n = sg.steps, sg.steps.size
+                st = r["state"]
+                assert st is not None
+                if fig is not None:
+                    pos_full[steps] = st[:, [0, 2]]
+                    spd_full[steps] = np.hypot(st[:, 1], st[:, 3])
+                    if r["mu"] is not None and mu_full is not None:
+                        mu_full[steps] = r["mu"]
+                latlon = rec.frame.to_geodetic(st[:, 0], st[:, 2]) if geo else None
+                mu, det, ons = r["mu"], r["declared"], r["onset"]
+                nis = r["nis"] if r["nis"] is not None else np.full(n, np.nan)
+                gated = r["gated"] if r["gated"] is not None else np.zeros(n, bool)
+                reinit = r["reinit"] if r["reinit"] is not None else np.zeros(n, np.int8)
+                n_gated += int(gated.sum())
+                if r["rejected"] is not None:
+                    n_rej += int(r["rejected"].sum())
+                for code in reinit[reinit > 0]:
+                    counts[REASONS[int(code)]] += 1
+                g = steps
+                onset_scan: list[Any] = [None] * n
+                onset_t: list[Any] = [None] * n
+                onset_iso: list[Any] = [None] * n
+                if det is not None and ons is not None:
+                    hit = np.flatnonzero(det & (ons >= 0))
+                    og = np.where(ons[hit] < n, steps[np.minimum(ons[hit], n - 1)], steps[hit])
+                    o_scan, o_t = rec.scan[og].tolist(), rec.t[og].tolist()
+                    o_iso = _iso_many(origin, rec.t[og]) if origin is not None else [None] * hit.size
+                    u = r["u"][hit] if r["u"] is not None else np.full((hit.size, 2), np.nan)
+                    t_iso = _iso_many(origin, rec.t[steps[hit]]) if origin is not None else []
+                    for q, j in enumerate(hit.tolist()):
+                        onset_scan[j], onset_t[j], onset_iso[j] = o_scan[q], o_t[q], o_iso[q]
+                        if fig is not None:
+                            decl.append((int(steps[j]), int(og[q])))
+                        ev: list[Any] = [*label, m, sg.segment, int(rec.scan[steps[j]]), float(rec.t[steps[j]]),
+                                         o_scan[q], o_t[q], _f(u[q, 0]), _f(u[q, 1]), float(st[j, 0]),
+                                         float(st[j, 2])]  # fmt: skip
+                        if origin is not None:
+                            ev += [t_iso[q], o_iso[q]]
+                        if latlon is not None:
+                            ev += [float(latlon[0][j]), float(latlon[1][j])]
+                        erows.append(tuple(ev))
+                    n_decl += hit.size
+                columns: list[list[Any]] = [
+                    *([[rec.label] * n] if labelled else []),
+                    [m] * n,
+                    rec.scan[g].tolist(),
+                    rec.t[g].tolist(),
+                    rec.measured[g].tolist(),
+                    *(st[:, c].tolist() for c in range(st.shape[1])),
+                    *(([None] * n,) * 3 if mu is None else (mu[:, c].tolist() for c in range(3))),
+                    [None] * n if det is None else det.tolist(),
+                    onset_scan,
+                    [sg.segment] * n,
+                    onset_t,
+                    _nullable(nis),
+                    gated.tolist(),
+                    [REASONS[c] or None for c in reinit.tolist()],
+                ]
                 if origin is not None:
-                    row += [
-                        _iso(origin, float(rec.t[g])),
-                        _iso(origin, onset_t) if onset_t is not None else None,
-                    ]
-                if geo and latlon is not None:
-                    row += [float(latlon[0][j]), float(latlon[1][j])]
-                rows.append(tuple(row))
-        figure_tracks[m.upper()] = pos_full
-        figure_speeds[m.upper()] = spd_full
-        figure_decl[m.upper()] = decl
+                    columns += [_iso_many(origin, rec.t[g]), onset_iso]
+                if latlon is not None:
+                    columns += [latlon[0].tolist(), latlon[1].tolist()]
+                rows.extend(zip(*columns, strict=True))
+        if fig is not None:
+            figure_tracks[m.upper()] = pos_full
+            figure_speeds[m.upper()] = spd_full
+            figure_decl[m.upper()] = decl
         summary[m] = {"declarations": n_decl, "gated": n_gated, "rejected_declarations": n_rej,
                       "restarts": sum(counts.values()), **{f"restarts_{k}": v for k, v in counts.items()}}  # fmt: skip
-    missed = int(K - measured.sum())
+    steps_all = sum(r.z.shape[0] for r in recs)
+    missed = sum(int((~r.measured).sum()) for r in recs)
+    S = len(segs)
+    if many:
+        sig_meta: dict[str, Any] = {
+            "sigma": float(np.median([nz[1] for nz in noise])),
+            "sigma_source": "per track (see sigma_by_track)",
+            "sigma_by_track": {r.label: nz[1] for r, nz in zip(recs, noise, strict=True)},
+        }
+        hygiene: dict[str, Any] = {"policy": rec0.hygiene.get("policy"), "max_gap_s": "per track"}
+        for key in ("reordered", "exact_duplicates", "conflicting_duplicates", "empty_duplicates",
+                    "stale_repeats", "gaps"):  # fmt: skip
+            hygiene[key] = sum(int(r.hygiene.get(key, 0)) for r in recs)
+        T_meta: dict[str, Any] = {"T": float(np.median([r.T for r in recs])), "T_source": "per track (median)"}
+    else:
+        sig_meta = {"sigma": noise[0][1], **noise[0][2]}
+        hygiene = rec0.hygiene
+        T_meta = {"T": rec0.T, "T_source": rec0.T_source}
     meta = make_meta(
         "maneuver",
-        **rec.record.provenance(),
-        T=rec.T,
-        T_source=rec.T_source,
-        grid=rec.grid,
-        position_form=rec.form,
-        conversion=rec.conversion,
-        hygiene=rec.hygiene,
-        sigma=s,
-        **sigma_meta,
-        steps=K,
-        measured_steps=int(measured.sum()),
+        **rec0.record.provenance(),
+        **T_meta,
+        grid=all(r.grid for r in recs),
+        position_form=rec0.form,
+        conversion=rec0.conversion,
+        hygiene=hygiene,
+        **sig_meta,
+        steps=steps_all,
+        measured_steps=steps_all - missed,
         missed_scans=missed,
-        segments=S + len(bt["skipped"]),
-        untracked_segments=bt["skipped"],
+        segments=S + len(skipped),
+        untracked_segments=[seg for _lab, seg in skipped] if not many else [list(x) for x in skipped],
         init="two-point differencing on the first two measured scans of each segment (velocity over their time "
         "difference, covariances of both): "
-        + "; ".join(
-            f"{int(rec.scan[a_])} and {int(rec.scan[b_])}" for a_, b_ in zip(bt["a"], bt["b"], strict=True)
-        ),
+        + "; ".join(f"{int(recs[sg.track].scan[sg.a])} and {int(recs[sg.track].scan[sg.b])}" for sg in segs[:20]),
         methods=list(methods),
         config=cfg.meta(),
         transition=[list(row) for row in cfg.Pi],
@@ -340,29 +461,29 @@ def _tables(
         summary=summary,
         imm_declaration=f"1 - mu_CV above {cfg.declare[0]:g}, again only after falling below "
         f"{cfg.declare[1]:g}; onset: the last step below {cfg.declare[1]:g}",
+        **({"tracks": len(recs), "untracked_tracks": [list(x) for x in untracked]} if many else {}),
     )
     table = Table(columns=tuple(cols), rows=rows, meta=meta)
     events = Table(columns=tuple(ecols), rows=erows, meta={**meta, "view": "events"})
-    figure = {
-        "z": rec.z,
-        "scan": rec.scan,
-        "first": 0,
-        "tracks": figure_tracks,
-        "speeds": figure_speeds,
-        "declarations": figure_decl,
-        "mu": mu_full,
-        "model_names": cfg.models(rec.T if math.isfinite(rec.T) else 1.0).names,
-        "title": f"{rec.source}: σ = {s:.4g} m, {K} steps, {missed} missed, {S} segment{'s' * (S != 1)}",
-    }
+    s0 = sig_meta["sigma"]
+    if fig is not None:
+        figure = {"z": fig.z, "scan": fig.scan, "first": 0, "tracks": figure_tracks, "speeds": figure_speeds,
+                  "declarations": figure_decl, "mu": mu_full,
+                  "model_names": cfg.models(fig.T if math.isfinite(fig.T) else 1.0).names,
+                  "title": f"{fig.source}: σ = {s0:.4g} m, {steps_all} steps, {missed} missed, {S} segment"
+                  f"{'s' * (S != 1)}"}  # fmt: skip
+    else:
+        figure = {}
     parts = [f"{m} {v['declarations']} declaration{'s' * (v['declarations'] != 1)}"
              + (f", {v['restarts']} restart{'s' * (v['restarts'] != 1)}" if v["restarts"] else "")
              for m, v in summary.items()]  # fmt: skip
-    how = sigma_meta["sigma_source"].split(":")[0]
+    how = str(sig_meta["sigma_source"]).split(":")[0]
+    what = f"{len(recs)} tracks ({len(untracked)} untracked)" if many else f"track {rec0.label}" if labelled else "1 track"
     note = (
-        f"tracked {K} steps of {rec.source} in {S} segment{'s' * (S != 1)} ({missed} without a position) with "
-        f"{', '.join(methods)}; σ = {s:.4g} m ({how}); " + "; ".join(parts)
+        f"tracked {steps_all} steps of {rec0.source} ({what}) in {S} segment{'s' * (S != 1)} ({missed} without a "
+        f"position) with {', '.join(methods)}; σ = {s0:.4g} m ({how}); " + "; ".join(parts)
     )
-    return RecordTrack(table, events, note, figure, implicit)
+    return RecordTrack(table, events, note, figure, any(nz[3] for nz in noise))
 
 
 def _f(v: Any) -> float | None:

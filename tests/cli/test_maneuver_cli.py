@@ -459,9 +459,9 @@ def test_bad_records_are_one_line_naming_file_line_and_column(capsys, tmp_path):
     long = tmp_path / "long.csv"
     with long.open("w") as f:
         f.write("scan,x,y\n")
-        f.writelines(f"{i},0,0\n" for i in range(1, 100_002))
+        f.writelines(f"{i},{i},0\n" for i in range(1, 100_002))
     err = one_line_error(capsys, "maneuver", "--input", str(long), "-o", str(out_file))
-    assert "long.csv:100002: more than 100000 data rows" in err and not out_file.exists()
+    assert "long.csv:100002: column 'scan': the record spans 100001 scans" in err and not out_file.exists()
     for args, needle in ((("--columns", "x=east"), "--columns"), (("--sigma", "estimate"), "--sigma")):
         err = one_line_error(capsys, "maneuver", "--runs", "2", "--scans", "20", *args, "-o", str(out_file))
         assert needle in err and "FILE" in err  # says that a record is needed

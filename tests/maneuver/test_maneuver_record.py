@@ -181,12 +181,19 @@ def test_bad_records(tmp_path, header, rows, kwargs, match):
             mr.read_track_record(p, **kwargs)
 
 
-def test_the_row_limit_is_the_trackers_scan_limit(tmp_path):
+def test_a_track_is_limited_to_the_trackers_scans_and_a_record_to_its_rows(tmp_path, monkeypatch):
+    """One track of MAX_SCANS + 1 scans is refused naming its last line; a record of more rows than the
+    reader's limit (all tracks together; patched small here) is refused while it is read."""
     p = tmp_path / "long.csv"
     with p.open("w") as f:
         f.write("scan,x,y\n")
-        f.writelines(f"{i},0,0\n" for i in range(1, mr.MAX_SCANS + 2))
-    with pytest.raises(InputError, match=rf"long.csv:{mr.MAX_SCANS + 2}: more than {mr.MAX_SCANS} data rows"):
+        f.writelines(f"{i},{i},0\n" for i in range(1, mr.MAX_SCANS + 2))
+    with pytest.raises(InputError, match=rf"long.csv:{mr.MAX_SCANS + 2}: column 'scan': the record spans"):
+        mr.read_track_record(p)
+    import dataclasses
+
+    monkeypatch.setattr(mr, "SPEC", dataclasses.replace(mr.SPEC, max_rows=1000))
+    with pytest.raises(InputError, match=r"long.csv:1002: more than 1000 data rows"):
         mr.read_track_record(p)
 
 

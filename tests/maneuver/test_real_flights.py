@@ -49,7 +49,7 @@ def test_every_method_runs_on_every_flight_and_nothing_implausible_reaches_the_o
         assert np.hypot(st[:, 0], st[:, 1]).max() <= 600.0, f
         assert np.hypot(st[:, 2], st[:, 3]).max() <= 100.0 + 1e-9, f
         assert {"time", "latitude", "longitude"} <= set(c) and t.rows[0][c.index("time")].endswith("Z")
-        assert {r[0] for r in t.rows} == set(METHODS) and t.meta["position_form"] == "geodetic"
+        assert {r[c.index("method")] for r in t.rows} == set(METHODS) and t.meta["position_form"] == "geodetic"
     fl = load_flight("raw_rs1090_cdg")  # every row that shares a time with an earlier one is dropped, counted
     h = tracked["raw_rs1090_cdg"][0].hygiene
     shared = fl["t_s"].size - np.unique(fl["t_s"]).size
@@ -72,7 +72,7 @@ def test_the_turns_of_real_flights_are_found_at_a_low_false_alarm_rate(tracked):
         ev = res.events
         c = ev.columns
         for m in totals:
-            sc = score_declarations([r[c.index("onset_t")] for r in ev.rows if r[0] == m], truth)
+            sc = score_declarations([r[c.index("onset_t")] for r in ev.rows if r[c.index("method")] == m], truth)
             totals[m][0] += sc.hits
             totals[m][1] += len(truth.turns)
             totals[m][2] += sc.false_alarms
@@ -134,7 +134,7 @@ def test_the_command_takes_a_raw_feed_as_recorded(capsys, tmp_path):
     assert rc == 0, err
     lines = [ln for ln in out.splitlines() if not ln.startswith("#")]
     header = lines[0].split(",")
-    assert header[:4] == ["method", "segment", "scan", "t"] and {"onset_time", "latitude"} <= set(header)
+    assert header[:5] == ["track", "method", "segment", "scan", "t"] and {"onset_time", "latitude"} <= set(header)
     rows = [dict(zip(header, ln.split(","), strict=True)) for ln in lines[1:]]
     assert rows and all(r["onset_time"].startswith("2024-07-06T") for r in rows)
     assert all(abs(float(r["latitude"]) - 49.0) < 1.0 for r in rows)
