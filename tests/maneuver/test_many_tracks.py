@@ -39,7 +39,7 @@ def _interleaved(n_tracks=6, seed=1):
 def test_many_tracks_in_one_call_equal_each_track_alone(method):
     """Each track's rows of the batched call equal that track tracked alone (to rounding: the batch runs
     every segment with its own Δt); the track too short to initialise is listed, not an error."""
-    table, truth = _interleaved()
+    table, _ = _interleaved()
     cfg = TrackerConfig.tuned("aircraft")
     ts = mr.read_track_records(table)
     assert [r.label for r in ts.tracks] == [f"ac{k}" for k in range(5)]
