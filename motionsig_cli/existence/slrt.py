@@ -357,8 +357,8 @@ class SlrtScenario:
 @dataclass(frozen=True)
 class Generated:
     """Truth, initial track means and the measurements of every scan for a batch of runs (:func:`generate`:
-    each scan and sensor's (R, M, 2) array is a view of one zero-padded block; per run, the target's
-    measurement, if any, comes first, then the false alarms)."""
+    each scan and sensor's (R, M, 2) array is a contiguous view of one zero-padded buffer; per run, the
+    target's measurement, if any, comes first, then the false alarms)."""
 
     truth: np.ndarray  # (R, K, 4)
     m0: np.ndarray  # (R, 4)
@@ -402,25 +402,29 @@ def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
     n_t = seen.astype(np.int64)  # the target's measurement (0 or 1), first in its sensor's list
     total = n_t + n_fa  # (R, K, S) measurements per run, scan and sensor
     M = total.max(axis=0, initial=0)  # (K, S): the batch's padded width per scan and sensor
-    width = int(M.max(initial=0))
-    # one zero-padded (K, S, R, width, 2) block; a scan and sensor's (R, M_ks, 2) array is a view of it
-    Z = np.zeros((K, S, R, width, 2))
-    rows = Z.reshape(K * S * R, width, 2)  # row (k S + s) R + r: run r's list of sensor s in scan k
-    if width:
-        rows[:, 0] = np.where(seen[..., None], zt, 0.0).transpose(1, 2, 0, 3).reshape(K * S * R, 2)
+    # one zero-padded buffer of measurement entries: scan k and sensor s own R M_ks consecutive entries, run r's
+    # list starting at base_ks + r M_ks, so their (R, M_ks, 2) array is a contiguous view of it
+    size = R * M
+    base = np.cumsum(size.ravel()).reshape(K, S) - size
+    Z = np.zeros((int(size.sum()), 2))
+    valid = np.zeros(len(Z), dtype=bool)
+    Z1, zt1 = Z.view(np.complex128).ravel(), zt.view(np.complex128).ravel()  # an entry's 2 floats as one
+    head = (base + np.arange(R)[:, None, None] * M).ravel()  # run-major cells (r, k, s): a list's first entry
+    hit = np.flatnonzero(seen)  # the target's measurements: first in their lists
+    Z1[head[hit]], valid[head[hit]] = zt1[hit], True
     n_c = int(n_fa.sum())
     if n_c:
-        counts = n_fa.ravel()  # run-major cells (r, k, s): the order of the draws
-        cell = np.repeat(np.arange(R * K * S), counts)  # each false alarm's cell
-        first = np.cumsum(counts) - counts  # index of a cell's first false alarm
-        slot = n_t.ravel()[cell] + np.arange(n_c) - first[cell]  # after the target's measurement, if any
-        row = (cell % (K * S)) * R + cell // (K * S)
-        rows[row, slot] = meas.place_uniform(clutter_u.reshape(n_c, 2), sensors[cell % S])
-    valid = np.arange(width) < total.transpose(1, 2, 0)[..., None]  # (K, S, R, width)
+        counts = n_fa.ravel()  # per run-major cell: the order of the draws
+        first = np.cumsum(counts) - counts  # index of a cell's first false alarm among all
+        # false alarm i of cell c goes to entry head_c + n_t,c + (i − first_c): after the target's, if any
+        entry = np.repeat(head + n_t.ravel() - first, counts) + np.arange(n_c)
+        sensor = np.repeat(np.tile(np.arange(S), R * K), counts)
+        Z1[entry] = meas.place_uniform(clutter_u.reshape(n_c, 2), sensors[sensor]).view(np.complex128).ravel()
+        valid[entry] = True
     scans = [
         ScanData(
-            tuple(Z[k, s, :, : M[k, s]] for s in range(S)),
-            tuple(valid[k, s, :, : M[k, s]] for s in range(S)),
+            tuple(Z[base[k, s] : base[k, s] + size[k, s]].reshape(R, M[k, s], 2) for s in range(S)),
+            tuple(valid[base[k, s] : base[k, s] + size[k, s]].reshape(R, M[k, s]) for s in range(S)),
         )
         for k in range(K)
     ]
