@@ -68,6 +68,11 @@ MAX_SECONDS = 240.0
 """Largest estimated run time :class:`SlrtStudy` accepts (:func:`cost`)."""
 MAX_BYTES = 2 * 1024**3
 """Largest estimated memory for the generated measurements."""
+DRAWS = "blocks"
+"""How :func:`generate` orders a run's draws, in a checkpoint's manifest: ``blocks`` (the initial track and
+per-scan noise normals, the detection uniforms, the false-alarm counts, their positions). The order of the
+scan-by-scan loop before it gave other numbers from the same streams; a checkpoint written with it (no
+``draws`` in its manifest) is refused instead of mixing its runs with these."""
 MAX_PD_CASES = 10
 """Most target cases (distinct p_D values) of one study."""
 MEAS_MODELS = ("range_bearing", "cartesian")
@@ -264,29 +269,26 @@ class SlrtScenario:
         return kind, value
 
     def step(self, x: np.ndarray, k: int, kind: np.ndarray, value: np.ndarray) -> np.ndarray:
-        """The deterministic transition of the truth into scan k (0-based) from the state x: constant
+        """The deterministic transition of the truth into scan k (0-based) from the states x (..., 4): constant
         velocity, a coordinated turn (exact, at the window's rate ω: the velocity rotates by ωT, the position
         follows the arc) or a longitudinal acceleration a along the velocity (speed + aT, heading kept,
-        the position advanced by (|v|T + aT²/2) along the heading)."""
+        the position advanced by (|v|T + aT²/2) along the heading). Elementwise over the leading axes (runs),
+        so a state's successor depends on that state only."""
         T = self.T
+        px, vx, py, vy = x[..., 0], x[..., 1], x[..., 2], x[..., 3]
         if kind[k] == 1:
-            w = value[k]
+            w = float(value[k])
             s, c = math.sin(w * T), math.cos(w * T)
             a, b = (s / w, (1.0 - c) / w) if w != 0.0 else (T, 0.0)  # ω → 0: straight flight
-            return np.array([x[0] + a * x[1] - b * x[3], c * x[1] - s * x[3],
-                             x[2] + b * x[1] + a * x[3], s * x[1] + c * x[3]])  # fmt: skip
+            return np.stack([px + a * vx - b * vy, c * vx - s * vy,
+                             py + b * vx + a * vy, s * vx + c * vy], axis=-1)  # fmt: skip
         if kind[k] == 2:
-            acc = value[k]
-            speed = math.hypot(x[1], x[3])
-            u = np.array([x[1], x[3]]) / speed
-            dpos, dvel = (speed * T + 0.5 * acc * T * T) * u, acc * T * u
-            return np.array([x[0] + dpos[0], x[1] + dvel[0], x[2] + dpos[1], x[3] + dvel[1]])
-        return self._F @ x
-
-    @cached_property
-    def _F(self) -> np.ndarray:
-        """The constant-velocity transition (the straight scans of :meth:`step`)."""
-        return cv_model(self.T, 0.0)[0]
+            acc = float(value[k])
+            speed = np.hypot(vx, vy)
+            ux, uy = vx / speed, vy / speed  # the heading, kept
+            d, dv = speed * T + 0.5 * acc * T * T, acc * T  # (|v|T + aT²/2) along it; the speed + aT
+            return np.stack([px + d * ux, vx + dv * ux, py + d * uy, vy + dv * uy], axis=-1)
+        return np.stack([px + T * vx, vx, py + T * vy, vy], axis=-1)  # F x of the constant-velocity model
 
     def nominal(self) -> np.ndarray:
         """The noise-free truth (K, 4) at scans 1..K from ``x0``."""
@@ -354,7 +356,9 @@ class SlrtScenario:
 
 @dataclass(frozen=True)
 class Generated:
-    """Truth, initial track means and the measurements of every scan for a batch of runs."""
+    """Truth, initial track means and the measurements of every scan for a batch of runs (:func:`generate`:
+    each scan and sensor's (R, M, 2) array is a contiguous view of one zero-padded buffer; per run, the
+    target's measurement, if any, comes first, then the false alarms)."""
 
     truth: np.ndarray  # (R, K, 4)
     m0: np.ndarray  # (R, 4)
@@ -363,63 +367,126 @@ class Generated:
 
 
 def generate(sc: SlrtScenario, runs: Sequence[int], seed: int) -> Generated:
-    """Draw the scenario for the given run indices (the truth's motion with the truth's ``q``)."""
-    F, Q = cv_model(sc.T, sc.q)
+    """Draw the scenario for the given run indices (the truth's motion with the truth's ``q``).
+
+    Run r draws only from ``trial_rng(seed, r)``, in blocks (:func:`_draws`): the standard normals of the
+    initial track (4), then per scan the process noise (4) and each sensor's measurement noise (2); the
+    detection uniforms (scan × sensor); the false-alarm counts (scan × sensor, Poisson with mean
+    ``clutter_rate``); the false alarms' uniforms (2 each, in scan, sensor order). Every run draws all of
+    them, with or without a target, whatever its motion, and whether or not it is detected. Everything
+    after the draws is elementwise over runs, scans and sensors, so a run's data are the same, to the bit,
+    alone or in any batch (only the padding of the measurement arrays, to the batch's most measurements of
+    a sensor in a scan, depends on the batch).
+    """
+    runs = list(runs)
+    R, K, S = len(runs), sc.scans, sc.n_sensors
     kind, value = sc.schedule()
-    agile = bool(kind.any())
     meas = sc.measurement()
     sensors = sc.sensors
-    LQ = np.linalg.cholesky(Q + 1e-12 * np.eye(4))
-    LR = np.linalg.cholesky(meas.R)
+    _, Q = cv_model(sc.T, sc.q)
+    LQ = np.linalg.cholesky(Q + 1e-12 * np.eye(4))  # process noise w = L_Q n, n ~ N(0, I)
+    LR = np.linalg.cholesky(meas.R)  # measurement noise v = L_R n
+    normals, detect_u, n_fa, clutter_u = _draws(sc, runs, seed)
+    x0 = np.asarray(sc.x0, dtype=float)
     p, v = sc.p0_sd
-    L0 = np.diag([p, v, p, v])
-    S, K = sc.n_sensors, sc.scans
-    truth = np.empty((len(runs), K, 4))
-    m0 = np.empty((len(runs), 4))
-    per_run: list[list[list[np.ndarray]]] = []
-    counts = np.zeros((len(runs), K, S), dtype=int)
+    m0 = x0 + np.array([p, v, p, v]) * normals[:, :4]  # m0 = x0 + L0 n, L0 = diag(p, v, p, v)
+    per_scan = normals[:, 4:].reshape(R, K, 4 + 2 * S)
+    w = _lower_times(LQ, per_scan[..., :4])  # (R, K, 4)
+    truth = _truth(sc, x0, w, kind, value)  # (R, K, 4): scan k at t = (k + 1) T
+    noise = _lower_times(LR, per_scan[..., 4:].reshape(R, K, S, 2))  # (R, K, S, 2)
+    zt = meas.h(truth[:, :, None, :], sensors) + noise  # z = h(x, sensor) + v
+    if meas.angular is not None:
+        zt[..., 1] = wrap_angle(zt[..., 1])
+    seen = (detect_u < sc.pd_true) & meas.in_fov(zt, sensors)  # detected (u < p_D) and inside the FoV
+    seen &= bool(sc.target)
+    n_t = seen.astype(np.int64)  # the target's measurement (0 or 1), first in its sensor's list
+    total = n_t + n_fa  # (R, K, S) measurements per run, scan and sensor
+    M = total.max(axis=0, initial=0)  # (K, S): the batch's padded width per scan and sensor
+    # one zero-padded buffer of measurement entries: scan k and sensor s own R M_ks consecutive entries, run r's
+    # list starting at base_ks + r M_ks, so their (R, M_ks, 2) array is a contiguous view of it
+    size = R * M
+    base = np.cumsum(size.ravel()).reshape(K, S) - size
+    Z = np.zeros((int(size.sum()), 2))
+    valid = np.zeros(len(Z), dtype=bool)
+    Z1, zt1 = Z.view(np.complex128).ravel(), zt.view(np.complex128).ravel()  # an entry's 2 floats as one
+    head = (base + np.arange(R)[:, None, None] * M).ravel()  # run-major cells (r, k, s): a list's first entry
+    hit = np.flatnonzero(seen)  # the target's measurements: first in their lists
+    Z1[head[hit]], valid[head[hit]] = zt1[hit], True
+    n_c = int(n_fa.sum())
+    if n_c:
+        counts = n_fa.ravel()  # per run-major cell: the order of the draws
+        first = np.cumsum(counts) - counts  # index of a cell's first false alarm among all
+        # false alarm i of cell c goes to entry head_c + n_t,c + (i − first_c): after the target's, if any
+        entry = np.repeat(head + n_t.ravel() - first, counts) + np.arange(n_c)
+        sensor = np.repeat(np.tile(np.arange(S), R * K), counts)
+        Z1[entry] = meas.place_uniform(clutter_u.reshape(n_c, 2), sensors[sensor]).view(np.complex128).ravel()
+        valid[entry] = True
+    scans = [
+        ScanData(
+            tuple(Z[base[k, s] : base[k, s] + size[k, s]].reshape(R, M[k, s], 2) for s in range(S)),
+            tuple(valid[base[k, s] : base[k, s] + size[k, s]].reshape(R, M[k, s]) for s in range(S)),
+        )
+        for k in range(K)
+    ]
+    return Generated(truth, m0, scans, n_fa)
+
+
+def _draws(
+    sc: SlrtScenario, runs: Sequence[int], seed: int
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Every random number of the runs, each run from its own ``trial_rng(seed, r)`` in four block draws:
+    (normals (R, 4 + K(4 + 2S)): the initial track's 4, then per scan 4 of process noise and 2 per sensor
+    of measurement noise; detection uniforms (R, K, S); false-alarm counts (R, K, S), Poisson with mean
+    ``clutter_rate``; the false alarms' uniforms, 2 each, run after run in scan, sensor order (flat)).
+
+    The loop over runs is the seeding, which a run's own stream needs: a generator per run and its four
+    draws, a fixed number of calls whatever the scans, sensors and clutter."""
+    R, K, S = len(runs), sc.scans, sc.n_sensors
+    normals = np.empty((R, 4 + K * (4 + 2 * S)))
+    detect_u = np.empty((R, K, S))
+    n_fa = np.empty((R, K, S), dtype=np.int64)
+    clutter_u: list[np.ndarray] = []
     for i, r in enumerate(runs):
         g = trial_rng(seed, r)
-        x = np.asarray(sc.x0, dtype=float)
-        m0[i] = x + L0 @ g.standard_normal(4)  # the same draw around x0 with or without a target
-        zs: list[list[np.ndarray]] = []
-        for k in range(K):
-            if agile:  # the same draws as cv: only the deterministic part of the transition differs
-                x = sc.step(x, k, kind, value) + LQ @ g.standard_normal(4)
-            else:
-                x = F @ x + LQ @ g.standard_normal(4)  # first scan at t = T
-            truth[i, k] = x
-            row = []
-            for s in range(S):
-                n_fa = g.poisson(sc.clutter_rate)
-                counts[i, k, s] = n_fa
-                z = meas.clutter(g, n_fa, sensors[s])
-                detect = g.random() < sc.pd_true
-                noise = LR @ g.standard_normal(2)
-                if sc.target and detect:
-                    zt = meas.h(x, sensors[s]) + noise
-                    if meas.angular is not None:
-                        zt[1] = wrap_angle(zt[1])
-                    if meas.in_fov(zt, sensors[s]):
-                        z = np.vstack([zt[None, :], z])
-                row.append(z)
-            zs.append(row)
-        per_run.append(zs)
-    scans = []
+        g.standard_normal(out=normals[i])
+        g.random(out=detect_u[i])
+        n_fa[i] = g.poisson(sc.clutter_rate, (K, S))
+        clutter_u.append(g.random(2 * int(n_fa[i].sum())))
+    return normals, detect_u, n_fa, np.concatenate(clutter_u) if clutter_u else np.empty(0)
+
+
+def _lower_times(L: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """L n over the last axis of n (..., d) for a (d, d) matrix L: the sum over j of L[:, j] n_j, in the
+    order j = 0..d−1, elementwise (no BLAS: a vector's product does not depend on the batch around it)."""
+    out = n[..., 0:1] * L[:, 0]
+    for j in range(1, L.shape[1]):
+        out = out + n[..., j : j + 1] * L[:, j]
+    return out
+
+
+def _truth(
+    sc: SlrtScenario, x0: np.ndarray, w: np.ndarray, kind: np.ndarray, value: np.ndarray
+) -> np.ndarray:
+    """The truth (R, K, 4) at scans 1..K: x_k = f_k(x_{k−1}) + w_k from x0, with the process noise w (R, K, 4).
+
+    Constant velocity throughout (no manoeuvre in the schedule): the closed form of x_k = F x_{k−1} + w_k per
+    axis, v_k = v_0 + Σ_{j≤k} w^v_j and p_k = p_0 + T Σ_{j<k} v_j + Σ_{j≤k} w^p_j (cumulative sums over the
+    scans). With manoeuvres, the recursion of :meth:`SlrtScenario.step`, one step per scan for all runs at
+    once."""
+    R, K = w.shape[:2]
+    if not kind.any():
+        pos, vel = x0[[0, 2]], x0[[1, 3]]
+        wp, wv = w[..., [0, 2]], w[..., [1, 3]]  # (R, K, 2): x and y axes
+        v = vel + np.cumsum(wv, axis=1)  # v_k, k = 1..K
+        v_prev = np.concatenate([np.broadcast_to(vel, (R, 1, 2)), v[:, :-1]], axis=1)  # v_{k-1}
+        p = pos + sc.T * np.cumsum(v_prev, axis=1) + np.cumsum(wp, axis=1)
+        return np.stack([p[..., 0], v[..., 0], p[..., 1], v[..., 1]], axis=-1)
+    truth = np.empty((R, K, 4))
+    x = np.broadcast_to(x0, (R, 4))
     for k in range(K):
-        Zs, Vs = [], []
-        for s in range(S):
-            M = max(len(per_run[i][k][s]) for i in range(len(runs)))
-            Z = np.zeros((len(runs), M, 2))
-            V = np.zeros((len(runs), M), dtype=bool)
-            for i in range(len(runs)):
-                z = per_run[i][k][s]
-                Z[i, : len(z)] = z
-                V[i, : len(z)] = True
-            Zs.append(Z)
-            Vs.append(V)
-        scans.append(ScanData(tuple(Zs), tuple(Vs)))
-    return Generated(truth, m0, scans, counts)
+        x = sc.step(x, k, kind, value) + w[:, k]
+        truth[:, k] = x
+    return truth
 
 
 def run(
@@ -525,6 +592,7 @@ class SlrtJob:
             "methods": list(self.methods),
             "options": asdict(self.options),
             "runs_per_task": self.runs_per_task(),
+            "draws": DRAWS,
         }
 
 

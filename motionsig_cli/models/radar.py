@@ -115,7 +115,13 @@ class MeasurementModel:
 
     def clutter(self, rng: np.random.Generator, n: int, sensor: np.ndarray) -> np.ndarray:
         """n false alarms uniform over the field of view (in measurement space)."""
-        u = rng.random((n, 2))
+        return self.place_uniform(rng.random((n, 2)), sensor)
+
+    def place_uniform(self, u: np.ndarray, sensor: np.ndarray) -> np.ndarray:
+        """Points uniform over the field of view from uniforms u (..., 2) in [0, 1): range u₀·fov_range and
+        bearing (2u₁ − 1)π for range–bearing, the sensor's position plus (2u − 1)·fov_range for Cartesian
+        (``sensor`` (..., 2) broadcasts against u). Elementwise, so a point depends on its own u only."""
+        u = np.asarray(u, dtype=float)
         if self.kind == "range_bearing":
-            return np.stack([u[:, 0] * self.fov_range, (2.0 * u[:, 1] - 1.0) * math.pi], axis=-1)
+            return np.stack([u[..., 0] * self.fov_range, (2.0 * u[..., 1] - 1.0) * math.pi], axis=-1)
         return sensor + (2.0 * u - 1.0) * self.fov_range
