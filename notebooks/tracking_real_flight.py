@@ -28,6 +28,7 @@ import numpy as np
 from IPython.display import Markdown
 from matplotlib.figure import Figure
 from scipy import linalg, stats
+from scipy.integrate import solve_ivp
 
 import motionsig_cli
 from motionsig_cli.detection.glr import InputModel, input_tracker
@@ -37,7 +38,15 @@ from motionsig_cli.maneuver.record import ReadOptions, estimate_sigma, read_trac
 from motionsig_cli.maneuver.record_tracking import track_record
 from motionsig_cli.maneuver.study import AIRCRAFT_SIGMA_FLOOR, TUNINGS, TrackerConfig
 from motionsig_cli.maneuver.turn_truth import score_declarations, turn_intervals
-from motionsig_cli.models.motion import H_POS4, H_POS6, aircraft_models, cv_input_steps, two_point_restart
+from motionsig_cli.models.motion import (
+    AIRCRAFT_Q,
+    H_POS4,
+    H_POS6,
+    aircraft_models,
+    coordinated_turn_models,
+    cv_input_steps,
+    two_point_restart,
+)
 from motionsig_cli.surveillance.report_hygiene import HygienePolicy
 from motionsig_cli.tables import read_table
 
@@ -224,8 +233,8 @@ print(f"Cardiff: {np.mean(DATA[CARD]['track'] >= 256):.0%} of the rows have a tr
 # The known input of the GLR/MLR model, an acceleration $u$ held over the step, enters through
 # $G(\Delta t) = [\Delta t^2/2,\ \Delta t]^\top$.
 #
-# **Wiener-process acceleration (eq M2).** The two manoeuvring models of the IMM carry the acceleration in
-# the state, $[p, v, a]$, and let it wander: $\dot a = w(t)$ of density $\tilde q$. With $e^{As}$ the
+# **Wiener-process acceleration (eq M2).** The manoeuvring models of the Wiener-acceleration IMM
+# (`aircraft_models`, `imm_model="aircraft"`) carry the acceleration in the state, $[p, v, a]$, and let it wander: $\dot a = w(t)$ of density $\tilde q$. With $e^{As}$ the
 # constant-acceleration transition,
 #
 # $$ Q(\Delta t) = \tilde q\begin{bmatrix}\Delta t^5/20 & \Delta t^4/8 & \Delta t^3/6\\
@@ -394,6 +403,36 @@ else:
     assert dx <= 1e-10 * max(1.0, np.abs(cv.x).max()) and dP <= 1e-10 * np.abs(cv.P).max()
 
 # %% [markdown]
+# **Coordinated turns (eq CT).** An aircraft turns at a nearly constant rate, the standard rate 3°/s, not
+# with a random acceleration. With the turn rate ω known, the motion is linear: $\dot{\mathbf v} = \omega J
+# \mathbf v$ with $J = \begin{bmatrix}0 & -1\\ 1 & 0\end{bmatrix}$, so $\mathbf v(t) = e^{\omega J t}\mathbf v_0$
+# (a rotation) and $\mathbf p(\Delta t) = \mathbf p_0 + \int_0^{\Delta t} e^{\omega J s}ds\,\mathbf v_0$:
+#
+# $$ \begin{bmatrix}x\\ \dot x\\ y\\ \dot y\end{bmatrix}^{+} =
+#    \begin{bmatrix}1 & \frac{\sin\omega\Delta t}{\omega} & 0 & -\frac{1-\cos\omega\Delta t}{\omega}\\
+#    0 & \cos\omega\Delta t & 0 & -\sin\omega\Delta t\\
+#    0 & \frac{1-\cos\omega\Delta t}{\omega} & 1 & \frac{\sin\omega\Delta t}{\omega}\\
+#    0 & \sin\omega\Delta t & 0 & \cos\omega\Delta t\end{bmatrix}
+#    \begin{bmatrix}x\\ \dot x\\ y\\ \dot y\end{bmatrix}, \tag{CT}$$
+#
+# exact for any Δt. The `aircraft` tuning's IMM is CV with a left and a right turn at ±3°/s
+# (`coordinated_turn_models`), each with the white-noise acceleration of eq M1 and the switching of eq M3.
+# Check: eq CT against a numerical integration of the turning motion.
+
+# %%
+ct_set = coordinated_turn_models()
+w_ct = np.radians(3.0)
+err_ct = 0.0
+for d in (0.5, 4.0, 37.0):
+    Phi_ct = ct_set.steps(np.array([d]))[0][0, 1]  # the left turn (+ω)
+    x0_ct = np.array([100.0, 230.0, -50.0, 40.0])
+    sol = solve_ivp(lambda _t, s_: [s_[1], -w_ct * s_[3], s_[3], w_ct * s_[1]], (0.0, d), x0_ct, rtol=1e-12,
+                    atol=1e-9)  # fmt: skip
+    err_ct = max(err_ct, np.abs(Phi_ct[np.ix_([0, 1, 2, 3], [0, 1, 2, 3])] @ x0_ct - sol.y[:, -1]).max())
+print(f"eq CT against the integrated turn (Δt up to 37 s, 230 m/s): {err_ct:.1e} m")
+assert err_ct < 1e-5
+
+# %% [markdown]
 # ## 3. Hygiene and σ
 #
 # A record without a stated σ gets one estimated from its own positions. For three measured positions at
@@ -507,7 +546,7 @@ print(f"tracked five flights with {len(METHODS)} methods in {time.perf_counter()
 def cols(out, m):
     """The rows of method m of a tracker's output table as arrays, by column name."""
     c = out.table.columns
-    rs = [r for r in out.table.rows if r[0] == m]
+    rs = [r for r in out.table.rows if r[c.index("method")] == m]
     return {k: np.array([r[c.index(k)] for r in rs], dtype=object) for k in c}
 
 
@@ -654,7 +693,7 @@ assert all(x.duration_s >= 10 for f in FLIGHTS for x in TRUTH[f].turns)
 def onsets(out, m):
     """The declared onsets [s of the record] of method m."""
     c = out.events.columns
-    return np.array([r[c.index("onset_t")] for r in out.events.rows if r[0] == m], float)
+    return np.array([r[c.index("onset_t")] for r in out.events.rows if r[c.index("method")] == m], float)
 
 
 d, tr, rec = DATA[CARD], TRUTH[CARD], REC[CARD]
@@ -766,6 +805,25 @@ for m in METHODS:
                  f"{np.sqrt(sh.mean()):.2f} ({np.median(np.sqrt(sh)):.2f})", t_["rs"]))  # fmt: skip
 md_table(["method", "hits / turns", "false alarms", "RMS (median) speed error [m/s]",
           "RMS (median) heading error [deg]", "restarts"], rows)  # fmt: skip
+
+# %% [markdown]
+# **Which IMM.** The default IMM has coordinated turns; the Wiener-acceleration IMM
+# (`imm_model="aircraft"`, two constant-acceleration models whose acceleration wanders) is the other
+# choice. The same five flights through both, each at its own declaration thresholds (the turns IMM
+# declares at 1 − μ_CV > 0.8, the Wiener one at 0.9):
+
+# %%
+alt = TrackerConfig.tuned("aircraft", imm_model="aircraft", imm_q=AIRCRAFT_Q, declare=(0.9, 0.5))
+rows = []
+for name, cfg_ in (("CV + coordinated turns (default)", CFG), ("CV + Wiener acceleration", alt)):
+    h = n = fa = 0
+    hours = 0.0
+    for f in FLIGHTS:
+        out_ = OUT[f] if cfg_ is CFG else track_record(REC[f], ("imm",), cfg_)
+        sc = score_declarations(onsets(out_, "imm"), TRUTH[f])
+        h, n, fa, hours = h + sc.hits, n + len(TRUTH[f].turns), fa + sc.false_alarms, hours + sc.straight_hours
+    rows.append((name, f"{h}/{n} ({h / n:.0%})", f"{fa / hours:.1f}"))
+md_table(["IMM", "hits / turns", "false alarms per hour"], rows)
 
 # %% [markdown]
 # What the tables say. Where the positions are clean and the sampling dense (the raw Paris stream, the

@@ -53,6 +53,7 @@ __all__ = [
     "aircraft_models",
     "check_distribution",
     "check_transition",
+    "coordinated_turn_models",
     "cv_input_model",
     "cv_input_steps",
     "imm_models",
@@ -396,6 +397,60 @@ def aircraft_models(
     Phi, Qd, Pi = steps(np.float64(T))
     return ModelSet(Phi, Qd, Pi, np.asarray(mu0, float),
                     names=("CV", f"CA q={q[1]:g}", f"CA q={q[2]:g}"), steps=steps)  # fmt: skip
+
+
+CT_RATE_DEG_S = 3.0
+"""The turn rate of :func:`coordinated_turn_models` [°/s]: the standard rate turn of civil aviation."""
+
+
+def coordinated_turn_models(
+    q: tuple[float, float, float] = (0.5, 2.0, 2.0),
+    rate_deg_s: float = CT_RATE_DEG_S,
+    sojourn: tuple[float, float, float] = AIRCRAFT_SOJOURN,
+    mu0: np.ndarray | tuple[float, ...] = (0.8, 0.1, 0.1),
+    T: float = 1.0,
+) -> ModelSet:
+    """An IMM model set with coordinated turns of a known rate (Bar-Shalom, Li & Kirubarajan 2001, §11.7.1):
+    CV, a left and a right turn at ±ω, each with white-noise acceleration of psd q̃_j [m²/s³] (eq M1) and the
+    switching of eq M3, on the IMM's 6-D state (acceleration rows zero). Per step Δt the turn is exact:
+
+        [x, ẋ]' = [x + (sin ωΔt/ω) ẋ − ((1 − cos ωΔt)/ω) ẏ,  cos ωΔt ẋ − sin ωΔt ẏ],
+        [y, ẏ]' = [y + ((1 − cos ωΔt)/ω) ẋ + (sin ωΔt/ω) ẏ,  sin ωΔt ẋ + cos ωΔt ẏ]          (CT)
+
+    (ω > 0 counter-clockwise in the east/north plane). Offered beside :func:`aircraft_models` and measured on
+    real flights (the notebook *Tracking a real flight*).
+    """
+    _check_T(T)
+    if len(q) != 3 or not all(math.isfinite(v) and v > 0 for v in q):
+        raise ConfigError("q", tuple(q), "is not three finite psds > 0")
+    in_range("rate_deg_s", rate_deg_s, 1e-3, 90.0, unit="°/s")
+    if len(sojourn) != 3 or not all(math.isfinite(v) and v > 0 for v in sojourn):
+        raise ConfigError("sojourn", tuple(sojourn), "is not three finite mean sojourn times > 0 [s]")
+    w = math.radians(rate_deg_s)
+    tau = np.asarray(sojourn, float)
+
+    def ct(dt: np.ndarray, omega: float) -> np.ndarray:
+        P = _phi_cv6(dt)
+        s, c = np.sin(omega * dt), np.cos(omega * dt)
+        P[..., 0, 1], P[..., 0, 3] = s / omega, -(1 - c) / omega
+        P[..., 1, 1], P[..., 1, 3] = c, -s
+        P[..., 2, 1], P[..., 2, 3] = (1 - c) / omega, s / omega
+        P[..., 3, 1], P[..., 3, 3] = s, c
+        return P
+
+    def steps(dt: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        dt = np.asarray(dt, float)
+        Phi = np.stack([_phi_cv6(dt), ct(dt, w), ct(dt, -w)], axis=-3)
+        Qd = np.stack([_q_cv6(dt, q[0]), _q_cv6(dt, q[1]), _q_cv6(dt, q[2])], axis=-3)
+        stay = np.exp(-dt[..., None] / tau)  # eq M3
+        Pi = np.broadcast_to(((1.0 - stay) / 2)[..., :, None], (*dt.shape, 3, 3)).copy()
+        idx = np.arange(3)
+        Pi[..., idx, idx] = stay
+        return Phi, Qd, Pi
+
+    Phi, Qd, Pi = steps(np.float64(T))
+    return ModelSet(Phi, Qd, Pi, np.asarray(mu0, float),
+                    names=("CV", f"CT +{rate_deg_s:g}°/s", f"CT −{rate_deg_s:g}°/s"), steps=steps)  # fmt: skip
 
 
 def two_point_init(

@@ -63,7 +63,7 @@ def test_the_turns_of_real_flights_are_found_at_a_low_false_alarm_rate(tracked):
     """Turns |rate| > 1°/s for ≥ 10 s from each recording's own track angle; a hit is a declared onset in
     [start − 5 s, start + 15 s]; false alarms are counted in straight flight (|rate| < 0.3°/s). The best
     method finds ≥ 80 % of the 113 turns at ≤ 30 false alarms per hour (measured: MLR 98/113 = 87 % at
-    14.4/h, GLR 93/113 = 82 % at 20.8/h, IMM 81/113 = 72 % at 14.4/h; in-sample, see the module doc; the
+    14.4/h, GLR 93/113 = 82 % at 20.8/h, IMM (coordinated turns) 87/113 = 77 % at 5.7/h; in-sample, see the module doc; the
     Cardiff track angle repaired, tests/adsb.py)."""
     totals = {m: [0, 0, 0, 0.0] for m in ("imm", "glr", "mlr")}
     for f, (_rec, res) in tracked.items():
