@@ -11,7 +11,7 @@ longest (padding is a predict-only step whose output is dropped).
 
 **Declarations.** GLR and MLR declare as in §III (the onset n̂ of eq 3). The IMM declares too, so every
 method can be compared on one record: a manoeuvre is declared when the probability of the manoeuvring
-models, 1 − μ_CV, rises above ``declare[0]`` (0.9), with hysteresis: the next declaration needs it to have
+models, 1 − μ_CV, rises above ``declare[0]`` (0.8 in the aircraft tuning, 0.9 in the paper's), with hysteresis: the next declaration needs it to have
 fallen below ``declare[1]`` (0.5) first; the onset is the last step before the declaration at which it was
 below ``declare[1]`` (where the rise began).
 
