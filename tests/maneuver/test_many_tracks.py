@@ -103,3 +103,33 @@ def test_a_real_collection_of_hundreds_of_aircraft_in_one_call(capsys, tmp_path)
     assert len(tracked) + len(t.meta["untracked_tracks"]) == 213 and len(tracked) >= 200
     v = np.array([[float(r[c.index("vx")]), float(r[c.index("vy")])] for r in t.rows])
     assert np.hypot(v[:, 0], v[:, 1]).max() <= 600.0
+
+
+def test_parquet_records_read_as_their_csv_twins(tmp_path):
+    """A Parquet export (timestamps as UTC timestamps, nulls) gives the same tracks as the same rows in CSV;
+    a damaged Parquet file and one with too many rows are one error naming the file."""
+    pa = pytest.importorskip("pyarrow")
+    pq = pytest.importorskip("pyarrow.parquet")
+    table, _ = _interleaved(4, seed=3)
+    rows = table.rows
+    t0 = np.datetime64("2026-03-01T10:00:00.000")
+    stamps = [t0 + np.timedelta64(int(round(r[1] * 1000)), "ms") for r in rows]
+    xs = [None if i == 7 else r[2] for i, r in enumerate(rows)]
+    pq.write_table(
+        pa.table({"timestamp": pa.array(np.array(stamps).astype("int64"), pa.int64()).cast(pa.timestamp("ms", tz="UTC")), "icao24": [r[0] for r in rows],
+                  "x": xs, "y": [r[3] for r in rows]}),
+        tmp_path / "r.parquet",
+    )  # fmt: skip
+    csv_rows = [(str(np.datetime_as_string(s, unit="ms")) + "Z", r[0], "" if x is None else repr(x), repr(r[3]))
+                for s, r, x in zip(stamps, rows, xs, strict=True)]  # fmt: skip
+    (tmp_path / "r.csv").write_text("timestamp,icao24,x,y\n" + "".join(",".join(c) + "\n" for c in csv_rows))
+    cfg = TrackerConfig.tuned("aircraft")
+    a = rt.track_records(mr.read_track_records(tmp_path / "r.parquet"), ("glr",), cfg, sigma=10.0).table
+    b = rt.track_records(mr.read_track_records(tmp_path / "r.csv"), ("glr",), cfg, sigma=10.0).table
+    assert a.rows == b.rows and a.columns == b.columns
+    bad = tmp_path / "bad.parquet"
+    bad.write_bytes(b"PAR1" + b"\0" * 100)
+    with pytest.raises(InputError, match=r"bad.parquet: not a readable Parquet file"):
+        read_table(bad)
+    with pytest.raises(InputError, match=r"r.parquet: more than 10 data rows"):
+        read_table(tmp_path / "r.parquet", max_rows=10)
