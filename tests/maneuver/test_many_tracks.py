@@ -113,7 +113,7 @@ def test_parquet_records_read_as_their_csv_twins(tmp_path):
     table, _ = _interleaved(4, seed=3)
     rows = table.rows
     t0 = np.datetime64("2026-03-01T10:00:00.000")
-    stamps = [t0 + np.timedelta64(int(round(r[1] * 1000)), "ms") for r in rows]
+    stamps = [t0 + np.timedelta64(round(r[1] * 1000), "ms") for r in rows]
     xs = [None if i == 7 else r[2] for i, r in enumerate(rows)]
     pq.write_table(
         pa.table({"timestamp": pa.array(np.array(stamps).astype("int64"), pa.int64()).cast(pa.timestamp("ms", tz="UTC")), "icao24": [r[0] for r in rows],
