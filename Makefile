@@ -108,9 +108,10 @@ serve: $(DOCS_STAMP) $(MATHJAX)
 $(MATHJAX): scripts/fetch_mathjax.sh
 	bash scripts/fetch_mathjax.sh $@
 
-## bench: side-by-side timing of the LMP filter banks, the FFT path and the IMM against FilterPy, and of the
+## bench: side-by-side timing of the LMP filter banks, the FFT path and the IMM against FilterPy (and, on a real ADS-B
+## feed, against FilterPy and Stone Soup), and of the
 ## Monte Carlo engine (1 worker, 2 workers, Dask) and the start-up of the command line; results in benchmarks/results/, copied with a figure to
-## docs/performance/ and the Performance page (not part of the tests; ~9 minutes on 2 cores). Where JAX imports
+## docs/performance/ and the Performance page (not part of the tests; ~12 minutes on 2 cores). Where JAX imports
 ## (optional: pip install -e '.[bench-jax]'), bench_kf_bank.py also times the bank against JAX on one core; without it, that part is skipped
 bench: $(DEV_STAMP)
 	$(BIN)/python -m pip install -q -e '.[bench,dask]'
@@ -118,6 +119,7 @@ bench: $(DEV_STAMP)
 	$(BIN)/python benchmarks/bench_ukf_bank.py
 	$(BIN)/python benchmarks/bench_ukf_history.py
 	$(BIN)/python benchmarks/bench_imm.py
+	$(BIN)/python benchmarks/bench_tracks.py
 	$(BIN)/python benchmarks/bench_slrt.py
 	$(BIN)/python benchmarks/bench_fft.py
 	$(BIN)/python benchmarks/bench_radar_fast.py
