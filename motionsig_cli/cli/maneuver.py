@@ -409,8 +409,8 @@ def maneuver(
       motionsig maneuver --front-end ebpsk --method all --view summary   # on the EBPSK radar's positions
       motionsig maneuver --front-end ebpsk --view front-end --plot sigma.png
 
-    --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary); the
-    measurements view and FILE run no Monte Carlo and ignore them.
+    --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary) and to
+    FILE (its tracks, in tasks of whole tracks); the measurements view runs no Monte Carlo and ignores them.
     """
     from motionsig_cli.maneuver import study as exp
 
@@ -429,7 +429,7 @@ def maneuver(
             raise typer.BadParameter(
                 "with a record (FILE) the record holds the measurements", param_hint="--front-end"
             )
-        _track_record(path, methods, tracker, sigma, T, record, real, view, plot_compare, output)
+        _track_record(path, methods, tracker, sigma, T, record, real, view, plot_compare, output, engine)
         return
     record.refuse_without_file()
     real.refuse()
@@ -561,6 +561,7 @@ def _front_end_view(sc: exp.ManeuverScenario, fe: Any, sigmas: Any, calibrate: b
 def _track_record(
     path: str, methods: tuple[str, ...], tracker: TrackerOptions, sigma: str | None, T: float | None,
     record: RecordOptions, real: RealRecordOptions, view: View, plot_compare: Path | None, output: Output,
+    engine: Engine,
 ) -> None:  # fmt: skip
     """Track one measurement record with every requested method (and draw it with --plot). The default
     tuning is ``aircraft``, or ``paper`` for the paper's own simulated records (``--view measurements``)."""
@@ -592,7 +593,8 @@ def _track_record(
     cfg = tracker.config(real.tuning.value if real.tuning is not None else ("paper" if own else "aircraft"))
     if output.plot is not None and len(tracks.tracks) > 1:
         raise typer.BadParameter(f"draws one track; the record holds {len(tracks.tracks)}", param_hint="--plot")
-    result = rt.track_records(tracks, methods, cfg, sigma=s, consistency=real.checks(cfg))
+    plan = rt.plan_tracking(tracks, methods, cfg, sigma=s, consistency=real.checks(cfg))
+    result = common.run_job(rt.RecordJob(plan), engine, "maneuver", output.quiet)
     if output.plot is not None:
         from motionsig_cli.plotting import maneuver_record_figure
 

@@ -25,16 +25,18 @@ per declaration.
 
 from __future__ import annotations
 
+import hashlib
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime, timedelta
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from motionsig_cli.config import ConfigError, integer
 from motionsig_cli.detection.glr import InputModel, input_tracker
+from motionsig_cli.engine import run_job
 from motionsig_cli.errors import InputError
 from motionsig_cli.filters.consistency import REASONS, Consistency
 from motionsig_cli.filters.imm import imm_filter
@@ -43,7 +45,8 @@ from motionsig_cli.maneuver.study import TrackerConfig, _check_methods, _numeric
 from motionsig_cli.models.motion import H_POS4, H_POS6, cv_input_model, cv_input_steps, two_point_restart
 from motionsig_cli.tables import Table, make_meta
 
-__all__ = ["RecordTrack", "imm_declarations", "track_record", "track_records"]
+__all__ = ["TASK_STEPS", "RecordJob", "RecordTrack", "TrackingPlan", "imm_declarations", "plan_tracking", "track_record",
+           "track_records"]
 
 
 @dataclass(frozen=True)
@@ -186,6 +189,64 @@ def track_records(
             unwatched, as the paper's Monte Carlo.
         bucket: most segments per batch.
     """
+    plan = plan_tracking(tracks, methods, cfg, sigma=sigma, consistency=consistency, bucket=bucket)
+    return run_job(RecordJob(plan))  # the tasks of the command, in this process: the command's numbers
+
+
+@dataclass(frozen=True)
+class TrackingPlan:
+    """Every decision of a tracking run that concerns all tracks at once (each track's noise, the segments,
+    the shared period and whether one σ serves every step), made before any tracker runs, so that the
+    segments can be tracked in any grouping — in this process or on the engine's workers
+    (:class:`RecordJob`) — with the same numbers."""
+
+    recs: tuple[TrackRecord, ...]
+    noise: tuple[tuple[np.ndarray, float, dict[str, Any], bool, bool], ...]
+    segs: tuple[_Segment, ...]
+    methods: tuple[str, ...]
+    cfg: TrackerConfig
+    consistency: Consistency | None
+    fixed_T: float | None
+    r_uniform: float | None
+    T: float
+    s_med: float
+    bucket: int
+    untracked: tuple[tuple[str, str], ...]
+    skipped: tuple[tuple[str, int], ...]
+
+    def track(self, which: Sequence[int]) -> dict[int, dict[str, dict[str, np.ndarray | None]]]:
+        """The segments ``which``: segment → method → the tracker's arrays (batched longest first)."""
+        which = list(which)
+        order = sorted(which, key=lambda i: (-self.segs[i].steps.size, i))
+        out: dict[int, dict[str, dict[str, np.ndarray | None]]] = {i: {} for i in which}
+        Rs = [n[0] for n in self.noise]
+        for idx in _buckets(order, [self.segs[i].steps.size for i in order], self.bucket):
+            bt = _batch([self.segs[i] for i in idx], list(self.recs), Rs, self.fixed_T)
+            for m in self.methods:
+                with _numerics(self.s_med, self.T), np.errstate(all="ignore"):
+                    res = _run(m, bt, self.cfg, self.consistency, self.T, self.fixed_T is not None, self.r_uniform)
+                for j, i in enumerate(idx):
+                    n = self.segs[i].steps.size
+                    out[i][m] = {k: (None if v is None else v[j, :n]) for k, v in res.items()}
+        return out
+
+    def tables(self, done: Mapping[int, dict[str, dict[str, np.ndarray | None]]]) -> RecordTrack:
+        """The output tables from every segment's arrays."""
+        results = {m: [done[i][m] for i in range(len(self.segs))] for m in self.methods}
+        return _tables(list(self.recs), self.methods, self.cfg, self.consistency, list(self.segs), results,
+                       list(self.noise), list(self.untracked), list(self.skipped))  # fmt: skip
+
+
+def plan_tracking(
+    tracks: TrackSet | Sequence[TrackRecord],
+    methods: Sequence[str],
+    cfg: TrackerConfig,
+    *,
+    sigma: float | str | None = None,
+    consistency: Consistency | str | None = "tuned",
+    bucket: int = 256,
+) -> TrackingPlan:
+    """The :class:`TrackingPlan` of :func:`track_records` (same arguments)."""
     _check_methods(methods)
     integer("bucket", bucket, 1)
     if isinstance(consistency, str):
@@ -212,19 +273,62 @@ def track_records(
     one_r = {n[1] for n in noise} if all(n[4] for n in noise) else set()
     r_uniform = next(iter(one_r)) ** 2 if len(one_r) == 1 else None
     T = fixed_T if fixed_T is not None else float(np.median([r.T for r in kept if math.isfinite(r.T)] or [1.0]))
-    order = sorted(range(len(segs)), key=lambda i: -segs[i].steps.size)
-    results: dict[str, list[dict[str, np.ndarray | None]]] = {m: [{} for _ in segs] for m in methods}
-    s_med = float(np.median([n[1] for n in noise]))
-    for idx in _buckets(order, [segs[i].steps.size for i in order], bucket):
-        chunk = [segs[i] for i in idx]
-        bt = _batch(chunk, kept, [n[0] for n in noise], fixed_T)
-        for m in methods:
-            with _numerics(s_med, T), np.errstate(all="ignore"):
-                out = _run(m, bt, cfg, consistency, T, fixed_T is not None, r_uniform)
-            for j, i in enumerate(idx):
-                n = segs[i].steps.size
-                results[m][i] = {k: (None if v is None else v[j, :n]) for k, v in out.items()}
-    return _tables(kept, methods, cfg, consistency, segs, results, noise, untracked, skipped)
+    return TrackingPlan(tuple(kept), tuple(noise), tuple(segs), tuple(methods), cfg, consistency, fixed_T,
+                        r_uniform, T, float(np.median([n[1] for n in noise])), bucket, tuple(untracked),
+                        tuple(skipped))  # fmt: skip
+
+
+TASK_STEPS = 20_000
+"""Steps per task of a :class:`RecordJob` (whole tracks; at least 0.1 s of work at ~100k steps/s)."""
+
+
+@dataclass(frozen=True)
+class RecordJob:
+    """A record of many tracks on the engine (:func:`motionsig_cli.engine.run_job`): tasks of whole tracks,
+    about :data:`TASK_STEPS` steps each, in the record's order of tracks (the chunking depends on the record
+    only, never on the workers); each task tracks its segments with the plan's shared decisions, so the
+    output is byte-identical for 1 worker, N workers and a Dask cluster, and a ``--checkpoint`` resumes it."""
+
+    name: ClassVar[str] = "maneuver-record"
+    plan: TrackingPlan
+
+    def identity(self) -> dict[str, Any]:
+        h = hashlib.sha256()
+        for rec in self.plan.recs:
+            h.update(rec.label.encode() + b"\0")
+            for a in (rec.z, rec.t, rec.segment):
+                h.update(np.ascontiguousarray(a).tobytes())
+        for n in self.plan.noise:
+            h.update(np.ascontiguousarray(n[0]).tobytes())
+        c = self.plan.consistency
+        return {"record_sha256": h.hexdigest(), "methods": list(self.plan.methods), "config": self.plan.cfg.meta(),
+                "consistency": c.meta() if c is not None else "off", "bucket": self.plan.bucket}  # fmt: skip
+
+    def tasks(self) -> list[tuple[int, ...]]:
+        by_track: dict[int, list[int]] = {}
+        for i, sg in enumerate(self.plan.segs):
+            by_track.setdefault(sg.track, []).append(i)
+        tasks, cur, size = [], [], 0
+        for t in sorted(by_track):
+            cur += by_track[t]
+            size += sum(self.plan.segs[i].steps.size for i in by_track[t])
+            if size >= TASK_STEPS:
+                tasks.append(tuple(cur))
+                cur, size = [], 0
+        if cur:
+            tasks.append(tuple(cur))
+        return tasks
+
+    def task_size(self, task: tuple[int, ...]) -> int:
+        return int(sum(self.plan.segs[i].steps.size for i in task))
+
+    def run_task(self, task: tuple[int, ...]) -> list[dict[str, dict[str, np.ndarray | None]]]:
+        done = self.plan.track(task)
+        return [done[i] for i in task]
+
+    def reduce(self, tasks: Sequence[tuple[int, ...]], results: Sequence[Any]) -> RecordTrack:
+        done = {i: r for task, res in zip(tasks, results, strict=True) for i, r in zip(task, res, strict=True)}
+        return self.plan.tables(done)
 
 
 def _buckets(order: list[int], lengths: list[int], size: int) -> list[list[int]]:

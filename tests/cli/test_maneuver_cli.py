@@ -203,7 +203,9 @@ def test_checkpoint_resumes_to_the_same_bytes_and_refuses_other_parameters(capsy
 test_bad_engine_options = bad_engine_options_test(*ENGINE_ARGS)
 
 
-def test_views_without_monte_carlo_ignore_the_engine_options(capsys, tmp_path):
+def test_views_without_monte_carlo_ignore_the_engine_options_and_a_record_uses_them(capsys, tmp_path):
+    """The measurements view runs no Monte Carlo: no checkpoint. A record (FILE) runs on the engine in tasks
+    of whole tracks: its checkpoint is written, and a rerun from it writes the same bytes."""
     ck = tmp_path / "ck"
     rc, out, err = run(capsys, "maneuver", "--view", "measurements", "--runs", "1", "--scans", "5", "--sigma",
                        "100", "--workers", "2", "--checkpoint", str(ck))  # fmt: skip
@@ -211,9 +213,11 @@ def test_views_without_monte_carlo_ignore_the_engine_options(capsys, tmp_path):
     assert not ck.exists()
     rec = tmp_path / "rec.csv"
     rec.write_text(out)
-    rc, _, err = run(capsys, "maneuver", "--input", str(rec), "--workers", "2", "--checkpoint", str(ck))
+    rc, first, err = run(capsys, "maneuver", "--input", str(rec), "--workers", "2", "--checkpoint", str(ck))
     assert rc == 0, err
-    assert not ck.exists()
+    assert ck.exists()
+    rc, again, err = run(capsys, "maneuver", "--input", str(rec), "--checkpoint", str(ck))
+    assert rc == 0 and again == first, err
 
 
 def test_the_command_layer_copies_of_core_constants_agree():

@@ -133,3 +133,38 @@ def test_parquet_records_read_as_their_csv_twins(tmp_path):
         read_table(bad)
     with pytest.raises(InputError, match=r"r.parquet: more than 10 data rows"):
         read_table(tmp_path / "r.parquet", max_rows=10)
+
+
+def test_the_engine_gives_the_same_bytes_for_any_workers_and_resumes(capsys, tmp_path, monkeypatch):
+    """A many-track record on the engine (tasks of whole tracks; small tasks here so there are several):
+    the same tables as all segments in one batch (to rounding: a batch's composition moves the last digit of
+    a few values) and as track_records (exactly: it runs the same tasks); through the command, 1 worker, 2
+    workers and a run resumed from its checkpoint write the same bytes."""
+    from motionsig_cli.engine import Engine, run_job
+
+    monkeypatch.setattr(rt, "TASK_STEPS", 150)
+    table, _ = _interleaved(6, seed=5)
+    ts = mr.read_track_records(table)
+    cfg = TrackerConfig.tuned("aircraft")
+    plan = rt.plan_tracking(ts, ("imm", "glr"), cfg)
+    job = rt.RecordJob(plan)
+    assert len(job.tasks()) >= 3
+    got = run_job(job, Engine(workers=1))
+    same = rt.track_records(ts, ("imm", "glr"), cfg)
+    assert got.table.rows == same.table.rows and got.events.rows == same.events.rows
+    one = plan.tables(plan.track(range(len(plan.segs))))  # every segment in one batch
+    c = one.table.columns
+    num = [c.index(k) for k in ("x", "vx", "y", "vy", "ax", "ay", "nis")]
+    a = np.array([[np.nan if r[j] is None else r[j] for j in num] for r in one.table.rows], float)
+    b = np.array([[np.nan if r[j] is None else r[j] for j in num] for r in got.table.rows], float)
+    np.testing.assert_allclose(a, b, rtol=1e-10, atol=1e-9)
+    p = tmp_path / "feed.csv"
+    p.write_text("icao24,time,x,y\n" + "".join(",".join(repr(v) if isinstance(v, float) else v for v in r) + "\n"
+                                            for r in table.rows))  # fmt: skip
+    outs = []
+    for args in ((), ("--workers", "2"), ("--checkpoint", str(tmp_path / "ck")), ("--checkpoint", str(tmp_path / "ck"))):
+        o = tmp_path / f"o{len(outs)}.csv"
+        rc, _, err = run(capsys, "maneuver", str(p), "--method", "imm,glr", "-o", str(o), *args)
+        assert rc == 0, err
+        outs.append(o.read_bytes())
+    assert all(o == outs[0] for o in outs)
