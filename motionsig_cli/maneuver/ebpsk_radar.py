@@ -72,7 +72,6 @@ from functools import cached_property, lru_cache
 from typing import Any, ClassVar
 
 import numpy as np
-from scipy import signal
 
 from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
 from motionsig_cli.detection.cfar import CFARConfig, ca_cfar, pd_swerling0
@@ -254,6 +253,8 @@ class EbpskRadar:
         ones = np.flatnonzero(np.asarray(cfg.bits) == 1)
         self.offsets = (ones - ones[0]) * cfg.samples_per_symbol  # d_j, relative to the first bit-1 symbol
         # filter memory: samples until the impulse response's envelope falls below 1e-4 of its peak
+        from scipy import signal  # here, not at import: scipy.signal costs 0.5 s to import
+
         imp = signal.lfilter(self.b, self.a, np.r_[1.0, np.zeros(200_000)])
         env = np.abs(imp)
         peak = env.max()
@@ -330,6 +331,8 @@ class EbpskRadar:
     def process(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(z, u) (B, n) complex: z the I/Q of the impacting filter's output (one-period boxcar), u the coherent
         sum of z over the bit-1 offsets, u[n] = Σ_j z[n + d_j] (samples whose offsets leave the window: 0)."""
+        from scipy import signal
+
         y = signal.lfilter(self.b, self.a, x, axis=-1)
         n = x.shape[-1]
         lo = np.exp(-2j * math.pi * np.arange(n) / self.L)  # exp(−j2π f_if n/f_s)

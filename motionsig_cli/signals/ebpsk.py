@@ -37,7 +37,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy import signal as sp_signal
 
 from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
 
@@ -282,6 +281,8 @@ def impacting_filter(cfg: EBPSKConfig) -> tuple[np.ndarray, np.ndarray]:
     zeros, poles = filter_roots(cfg)
     b = np.real(np.poly(zeros))
     a = np.real(np.poly(poles))
+    from scipy import signal as sp_signal  # here: scipy.signal costs 0.5 s to import
+
     _, h = sp_signal.freqz(b, a, worN=_grid(cfg), fs=cfg.fs)
     return b / float(np.max(np.abs(h))), a
 
@@ -296,6 +297,8 @@ def filter_response(cfg: EBPSKConfig, n: int = 1 << 14) -> tuple[np.ndarray, np.
     integer("n", n, 2)
     b, a = impacting_filter(cfg)
     f = np.linspace(0.0, cfg.fs / 2, n)
+    from scipy import signal as sp_signal  # here: scipy.signal costs 0.5 s to import
+
     _, h = sp_signal.freqz(b, a, worN=f, fs=cfg.fs)
     return f, h
 
@@ -303,6 +306,8 @@ def filter_response(cfg: EBPSKConfig, n: int = 1 << 14) -> tuple[np.ndarray, np.
 def apply_filter(x: np.ndarray, cfg: EBPSKConfig) -> np.ndarray:
     """The impacting filter's output for each row of ``x`` (..., n_samples), from rest (zero state)."""
     b, a = impacting_filter(cfg)
+    from scipy import signal as sp_signal  # here: scipy.signal costs 0.5 s to import
+
     return sp_signal.lfilter(b, a, np.asarray(x, dtype=float), axis=-1)
 
 
