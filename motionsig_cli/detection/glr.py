@@ -334,6 +334,17 @@ def input_tracker(
         R_last = P0b[:, pos][:, :, pos].copy()  # the initial position covariance (R of z_b)
         since = np.zeros(B)
         rejected = np.zeros((B, N), dtype=bool)
+
+    def start(b: np.ndarray, x_new: np.ndarray, P_new: np.ndarray) -> None:
+        """Tracks b start afresh from (x_new, P_new): no input, an empty onset buffer."""
+        x[b] = 0.0
+        x[b, :n] = x_new
+        P[b] = 0.0
+        P[b, :n, :n] = P_new
+        if detecting:
+            onset_of[b] = -1
+            M[b], info[b], e[b], fed[b] = 0.0, 0.0, 0.0, False
+
     for k in range(N):
         if dt is not None:  # F_ξ(Δt_k), Q(Δt_k)
             assert model.steps is not None
@@ -441,27 +452,12 @@ def input_tracker(
             if restart.any():  # a two-point restart; the onset buffer is emptied
                 b = np.flatnonzero(restart)
                 Rb = R[b, k] if varying else np.broadcast_to(R, (b.size, m, m))
-                x_new, P_new = two_point_restart(z_last[b], z[b, k], since[b], R_last[b], Rb, n=n)
-                x_new, P_new = mon.cfg.restart(x_new, P_new)
-                x[b] = 0.0
-                x[b, :n] = x_new
-                P[b] = 0.0
-                P[b, :n, :n] = P_new
-                if detecting:
-                    onset_of[b] = -1
-                    M[b], info[b], e[b], fed[b] = 0.0, 0.0, 0.0, False
+                start(b, *mon.cfg.restart(*two_point_restart(z_last[b], z[b, k], since[b], R_last[b], Rb, n=n)))
                 mon.reset(restart)
             coast = bad & ~restart
             if coast.any():  # no measurement to restart from: keep the position, forget the motion and input
                 b = np.flatnonzero(coast)
-                x_new, P_new = mon.cfg.coast(x[b, :n], P[b, :n, :n])
-                x[b] = 0.0
-                x[b, :n] = x_new
-                P[b] = 0.0
-                P[b, :n, :n] = P_new
-                if detecting:
-                    onset_of[b] = -1
-                    M[b], info[b], e[b], fed[b] = 0.0, 0.0, 0.0, False
+                start(b, *mon.cfg.coast(x[b, :n], P[b, :n, :n]))
                 mon.reset(coast)
             took = (measured[:, k] if seen is None else seen) | restart
             z_last[took] = z[took, k]

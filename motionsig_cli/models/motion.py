@@ -343,6 +343,16 @@ def imm_models(
     )
 
 
+def _switching(dt: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    """Π(Δt) (..., 3, 3) of a continuous-time Markov chain with mean sojourns τ_i: p_ii(Δt) = exp(−Δt/τ_i),
+    the rest shared equally (eq M3)."""
+    stay = np.exp(-dt[..., None] / tau)
+    Pi = np.broadcast_to(((1.0 - stay) / 2)[..., :, None], (*dt.shape, 3, 3)).copy()
+    idx = np.arange(3)
+    Pi[..., idx, idx] = stay
+    return Pi
+
+
 AIRCRAFT_Q = (0.5, 0.05, 5.0)
 """Default psds of :func:`aircraft_models`: q̃₁ = 0.5 m²/s³ (CV: a velocity random walk of 0.7 m/s in 1 s,
 an airliner's wind and autopilot corrections), q̃₂ = 0.05 m²/s⁵ and q̃₃ = 5 m²/s⁵ (Wiener-process
@@ -388,11 +398,7 @@ def aircraft_models(
         dt = np.asarray(dt, float)
         Phi = np.stack([_phi_cv6(dt), _phi_ca6(dt), _phi_ca6(dt)], axis=-3)
         Qd = np.stack([_q_cv6(dt, q[0]), _q_ca6(dt, q[1]), _q_ca6(dt, q[2])], axis=-3)
-        stay = np.exp(-dt[..., None] / tau)  # p_ii(Δt) = exp(−Δt/τ_i), eq M3
-        Pi = np.broadcast_to(((1.0 - stay) / 2)[..., :, None], (*dt.shape, 3, 3)).copy()
-        idx = np.arange(3)
-        Pi[..., idx, idx] = stay
-        return Phi, Qd, Pi
+        return Phi, Qd, _switching(dt, tau)
 
     Phi, Qd, Pi = steps(np.float64(T))
     return ModelSet(Phi, Qd, Pi, np.asarray(mu0, float),
@@ -442,11 +448,7 @@ def coordinated_turn_models(
         dt = np.asarray(dt, float)
         Phi = np.stack([_phi_cv6(dt), ct(dt, w), ct(dt, -w)], axis=-3)
         Qd = np.stack([_q_cv6(dt, q[0]), _q_cv6(dt, q[1]), _q_cv6(dt, q[2])], axis=-3)
-        stay = np.exp(-dt[..., None] / tau)  # eq M3
-        Pi = np.broadcast_to(((1.0 - stay) / 2)[..., :, None], (*dt.shape, 3, 3)).copy()
-        idx = np.arange(3)
-        Pi[..., idx, idx] = stay
-        return Phi, Qd, Pi
+        return Phi, Qd, _switching(dt, tau)
 
     Phi, Qd, Pi = steps(np.float64(T))
     return ModelSet(Phi, Qd, Pi, np.asarray(mu0, float),
