@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
 from datetime import datetime
 from pathlib import Path
 from typing import Any
@@ -46,7 +46,17 @@ import numpy as np
 
 from motionsig_cli.config import ConfigError, integer, one_of
 from motionsig_cli.errors import InputError
-from motionsig_cli.tables import MAX_ROWS, Table, all_decimal, is_decimal, name_list, read_table, shorten
+from motionsig_cli.tables import (
+    MAX_BYTES,
+    MAX_ROWS,
+    Table,
+    all_decimal,
+    is_decimal,
+    iter_table,
+    name_list,
+    read_table,
+    shorten,
+)
 
 __all__ = [
     "KINDS",
@@ -62,6 +72,7 @@ __all__ = [
     "parse_columns",
     "parse_units",
     "read_record",
+    "read_record_in_pieces",
     "uniform_grid",
 ]
 
@@ -460,6 +471,74 @@ def read_record(
     return Record(
         values, lines, rec.columns, used_units, origin, extra, dict(t.meta), t.source, t.header_line, t
     )
+
+
+CHUNK_ROWS = 200_000
+"""Rows per piece of :func:`read_record_in_pieces` (~250 MB of cells while a piece is converted)."""
+
+
+def read_record_in_pieces(
+    source: str | Path,
+    spec: RecordSpec,
+    *,
+    columns: str | Mapping[str, str] | None = None,
+    units: str | Mapping[str, str] | None = None,
+    chunk_rows: int = CHUNK_ROWS,
+    max_rows: int | None = None,
+    max_bytes: int = MAX_BYTES,
+    each: Callable[[Table], None] | None = None,
+) -> Record:
+    """:func:`read_record` of a file read ``chunk_rows`` rows at a time (:func:`~motionsig_cli.tables.iter_table`):
+    each piece's cells are converted to arrays and dropped before the next piece is read, so a record of
+    millions of rows costs its arrays (8 bytes a number, a shared string a label), not its text. The values
+    are those :func:`read_record` gives for the whole file, to the bit: timestamps are counted from the
+    file's first one (exact microseconds, as there), and a label's repeats share one string.
+
+    Args:
+        each: called with every piece's table before it is converted (checks that need the cells).
+        max_rows: most rows of the whole file (default: ``spec.max_rows``).
+
+    Raises:
+        As :func:`read_record`, naming the file's line wherever the fault is.
+    """
+    colmap = parse_columns(columns, spec)
+    unitmap = parse_units(units, spec)
+    limit = spec.max_rows if max_rows is None else max_rows
+    pieces: list[Record] = []
+    t0: datetime | None = None
+    shared: dict[str, str] = {}
+    for t in iter_table(source, chunk_rows=chunk_rows, max_rows=limit, max_bytes=max_bytes):
+        if each is not None:
+            each(t)
+        piece = read_record(t, replace(spec, max_rows=max(spec.max_rows, len(t.rows))), columns=colmap, units=unitmap)
+        t.rows.clear()  # the cells are no longer needed (the arrays hold the values)
+        if piece.time_origin is not None and len(piece):
+            here = datetime.fromisoformat(piece.time_origin)
+            if t0 is None:
+                t0 = here
+            elif (here.tzinfo is None) != (t0.tzinfo is None):
+                raise piece.error(0, "time", "mixes timestamps with and without a time zone")
+            elif here != t0:  # seconds from the file's first timestamp, exactly as read whole
+                us = np.rint(piece.values["time"] * 1e6) + float((here - t0) // _MICROSECOND)
+                piece.values["time"] = us / 1e6
+        for name, arr in piece.values.items():
+            if arr.dtype == object:
+                piece.values[name] = np.array([shared.setdefault(v, v) for v in arr.tolist()], dtype=object)
+        pieces.append(piece)
+    first = pieces[0]
+    values = {k: np.concatenate([p.values[k] for p in pieces]) for k in first.values}
+    lines = np.concatenate([p.lines for p in pieces])
+    table = first.table
+    shell = None if table is None else Table(columns=table.columns, rows=[], meta=table.meta, lines=(),
+                                             source=table.source, header_line=table.header_line,
+                                             meta_lines=table.meta_lines)  # fmt: skip
+    origin = None if t0 is None else t0.isoformat()
+    rec = Record(values, lines, first.columns, first.units, origin, first.extra, first.meta, first.source,
+                 first.header_line, shell)  # fmt: skip
+    for role in spec.roles:
+        if role.order is not None and role.name in values and len(pieces) > 1:
+            _check_order(rec, role, values[role.name])  # across the pieces' seams too
+    return rec
 
 
 def _find_columns(t: Table, spec: RecordSpec, colmap: dict[str, str]) -> dict[str, str]:

@@ -29,7 +29,7 @@ import re
 import stat
 import sys
 import zlib
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -386,6 +386,35 @@ def read_table(
             repeated (also in letter case) or missing column; the message names the file and, where
             there is one, the line.
     """
+    tables = list(iter_table(source, max_rows=max_rows, max_bytes=max_bytes))
+    if len(tables) != 1:  # pragma: no cover - without chunk_rows a source is one table
+        raise AssertionError("read_table: one table expected")
+    table = tables[0]
+    for col in required:
+        table.column(col)
+    return table
+
+
+def iter_table(
+    source: str | Path,
+    *,
+    chunk_rows: int | None = None,
+    max_rows: int = MAX_ROWS,
+    max_bytes: int = MAX_BYTES,
+) -> Iterator[Table]:
+    """:func:`read_table` in pieces of at most ``chunk_rows`` rows (None: one piece), each a :class:`Table`
+    with the source's columns, metadata, header line and the file lines of its own rows, so that a large
+    CSV (or gzip-compressed CSV, or Parquet, read a batch at a time) is never held whole: only one piece of
+    cells is alive at a time. The limits and checks are those of :func:`read_table`, over the whole source
+    (``max_rows`` counts every piece); a JSON document is parsed whole and comes as one piece. The first
+    piece may be empty (a header without rows); later pieces never are.
+
+    Raises:
+        InputError: as :func:`read_table`, when the piece that holds the fault is reached (earlier pieces
+            have been yielded: a caller that must be all-or-nothing keeps its output until the end).
+    """
+    if chunk_rows is not None and (isinstance(chunk_rows, bool) or not isinstance(chunk_rows, int) or chunk_rows < 1):
+        raise ValueError(f"chunk_rows: {chunk_rows!r} is not a positive integer")
     name = "<stdin>" if str(source) == "-" else str(source)
     try:
         if str(source) == "-":
@@ -394,25 +423,24 @@ def read_table(
                 raw = io.BytesIO(sys.stdin.read(max_bytes + 1).encode("utf-8"))
             stream = _gunzipped(io.BufferedReader(_Limited(raw, name, max_bytes), buffer_size=1 << 16), name,
                                 max_bytes)  # fmt: skip
-            table = _read_stream(stream, name, max_rows)
+            yield from _read_stream(stream, name, max_rows, chunk_rows)
         else:
             with open_regular(source) as fh:
                 if fh.peek(4)[:4] == b"PAR1":
-                    table = _read_parquet(fh, name, max_rows, max_bytes)
+                    yield from _read_parquet(fh, name, max_rows, max_bytes, chunk_rows)
                 else:
                     stream = _gunzipped(io.BufferedReader(_Limited(fh, name, max_bytes), buffer_size=1 << 16),
                                         name, max_bytes)  # fmt: skip
-                    table = _read_stream(stream, name, max_rows)
+                    yield from _read_stream(stream, name, max_rows, chunk_rows)
     except (gzip.BadGzipFile, EOFError, zlib.error) as exc:
         raise InputError(f"{name}: not a readable gzip file ({exc or 'truncated'})") from None
     except OSError as exc:
         raise InputError(f"{name}: cannot read ({exc.strerror or exc})") from None
-    for col in required:
-        table.column(col)
-    return table
 
 
-def _read_parquet(fh: io.BufferedReader, name: str, max_rows: int, max_bytes: int) -> Table:
+def _read_parquet(
+    fh: io.BufferedReader, name: str, max_rows: int, max_bytes: int, chunk_rows: int | None = None
+) -> Iterator[Table]:
     """A Parquet file (recognised by its magic bytes ``PAR1``), read with the optional pyarrow: its columns
     as the table's, its rows numbered from 2 as a CSV's would be (row 1 the header), timestamps as ISO 8601
     text (UTC with ``Z``), nulls as empty cells. The file's size counts against ``max_bytes`` and its rows
@@ -433,17 +461,38 @@ def _read_parquet(fh: io.BufferedReader, name: str, max_rows: int, max_bytes: in
         n = pf.metadata.num_rows
         if n > max_rows:
             raise InputError(f"{name}: more than {max_rows} data rows (the limit for this input)")
-        tab = pf.read()
     except (pa.ArrowException, OSError) as exc:
         raise InputError(f"{name}: not a readable Parquet file ({shorten(str(exc), 120)})") from None
-    columns = tuple(str(c) for c in tab.column_names)
+    columns = tuple(str(c) for c in pf.schema_arrow.names)
     seen: dict[str, str] = {}
     for c in columns:
         if c.lower() in seen:
             raise InputError(f"{name}: columns {seen[c.lower()]!r} and {c!r} differ only in letter case")
         seen[c.lower()] = c
+    meta = {k.decode(errors="replace"): v.decode(errors="replace") for k, v in (pf.schema_arrow.metadata or {}).items()
+            if not k.startswith(b"pandas") and not k.startswith(b"ARROW")}  # fmt: skip
+    first = 2  # the line a CSV's first row would have (row 1 the header)
+    batches = pf.iter_batches(batch_size=chunk_rows or max(n, 1))
+    while True:
+        try:
+            batch = next(batches, None)
+        except (pa.ArrowException, OSError) as exc:
+            raise InputError(f"{name}: not a readable Parquet file ({shorten(str(exc), 120)})") from None
+        if batch is None:
+            break
+        rows = _parquet_rows(pa, batch)
+        yield Table(columns=columns, rows=rows, meta=meta, lines=tuple(range(first, first + len(rows))),
+                    source=name, header_line=1)  # fmt: skip
+        first += len(rows)
+    if first == 2:  # no rows: the header alone
+        yield Table(columns=columns, rows=[], meta=meta, lines=(), source=name, header_line=1)
+
+
+def _parquet_rows(pa: Any, batch: Any) -> list[tuple[Any, ...]]:
+    """The rows of a Parquet record batch as cells: timestamps as ISO 8601 text (UTC with ``Z``), nulls as
+    empty cells."""
     cells = []
-    for col in tab.columns:
+    for col in batch.columns:
         if pa.types.is_timestamp(col.type):
             unit = col.type.unit
             tz = col.type.tz
@@ -454,11 +503,7 @@ def _read_parquet(fh: io.BufferedReader, name: str, max_rows: int, max_bytes: in
             cells.append(["" if m else f"{v}{suffix}" for v, m in zip(stamps.tolist(), null.tolist(), strict=True)])
         else:
             cells.append(["" if v is None else v for v in col.to_pylist()])
-    rows = list(zip(*cells, strict=True)) if cells else []
-    meta = {k.decode(errors="replace"): v.decode(errors="replace") for k, v in (pf.schema_arrow.metadata or {}).items()
-            if not k.startswith(b"pandas") and not k.startswith(b"ARROW")}  # fmt: skip
-    return Table(columns=columns, rows=rows, meta=meta, lines=tuple(range(2, len(rows) + 2)), source=name,
-                 header_line=1)  # fmt: skip
+    return list(zip(*cells, strict=True)) if cells else []
 
 
 def _gunzipped(stream: io.BufferedReader, name: str, max_bytes: int) -> io.BufferedReader:
@@ -470,8 +515,10 @@ def _gunzipped(stream: io.BufferedReader, name: str, max_bytes: int) -> io.Buffe
                              buffer_size=1 << 16)  # fmt: skip
 
 
-def _read_stream(stream: io.BufferedReader, name: str, max_rows: int) -> Table:
-    """CSV (line by line) or JSON from an open binary stream."""
+def _read_stream(
+    stream: io.BufferedReader, name: str, max_rows: int, chunk_rows: int | None = None
+) -> Iterator[Table]:
+    """CSV (line by line, in pieces of ``chunk_rows`` rows) or JSON (one piece) from an open binary stream."""
     start = stream.peek(1 << 16)[: 1 << 16].removeprefix(b"\xef\xbb\xbf").lstrip()
     if start[:1] in (b"{", b"["):  # JSON: read whole (bounded), as one text; a one-line document may be long
         chunks: list[bytes] = []
@@ -492,20 +539,23 @@ def _read_stream(stream: io.BufferedReader, name: str, max_rows: int) -> Table:
             at = data.count(b"\n", 0, exc.start) + 1
             raise InputError(f"{name}:{at}: not a UTF-8 text file (byte {data[exc.start]:#04x})") from None
         del data
-        return _read_json(text, name, max_rows)
+        yield _read_json(text, name, max_rows)
+        return
     lines = _lines(stream, name)
     head: list[tuple[int, str]] = []
     meta: dict[str, Any] = {}
     meta_lines: dict[str, int] = {}
-    linenos: list[int] = []  # line of each non-comment line handed to the CSV parser
+    linenos: list[int] = []  # line of each non-comment line handed to the CSV parser since the last piece
+    started = False  # the header has been handed over: later comments are skipped, not metadata
 
     def body() -> Any:
+        nonlocal started
         for lineno, line in _chain(head, lines):
             stripped = line.strip()
             if not stripped:
                 continue
             if stripped.startswith("#"):
-                if not linenos:  # metadata lines before the header; later comments are skipped
+                if not started:  # metadata lines before the header; later comments are skipped
                     key, sep, value = stripped[1:].partition(":")
                     if sep:
                         value = value.strip()
@@ -518,49 +568,65 @@ def _read_stream(stream: io.BufferedReader, name: str, max_rows: int) -> Table:
                             raise InputError(f"{name}:{lineno}: metadata {shorten(key, 40)}: {exc}") from None
                         meta_lines[key] = lineno
                 continue
+            started = True
             linenos.append(lineno)
             yield line
 
     try:
-        table = _parse_csv(csv.reader(body(), strict=True), linenos, meta, name, max_rows)
+        for table in _parse_csv(csv.reader(body(), strict=True), linenos, meta, name, max_rows, chunk_rows):
+            table.meta_lines.update(meta_lines)
+            yield table
     except csv.Error as exc:
         at = f"{name}:{linenos[-1]}" if linenos else name
         raise InputError(f"{at}: not readable as CSV ({exc})") from None
-    table.meta_lines.update(meta_lines)
-    return table
 
 
-def _parse_csv(reader: Any, linenos: list[int], meta: dict[str, Any], name: str, max_rows: int) -> Table:
-    """The header and rows of a CSV reader fed by ``_read_stream`` (which fills ``linenos``)."""
+def _parse_csv(
+    reader: Any, linenos: list[int], meta: dict[str, Any], name: str, max_rows: int, chunk_rows: int | None = None
+) -> Iterator[Table]:
+    """The header and rows of a CSV reader fed by ``_read_stream`` (which appends to ``linenos`` the line of
+    each CSV line it hands over; emptied here after the header and after each piece), in pieces of at most
+    ``chunk_rows`` rows (None: one)."""
     header = next(reader, None)
     if header is None:
         raise InputError(f"{name}: no header row (empty input?)")
     if len(linenos) != 1:
         raise InputError(f"{name}:{linenos[0]}: a quoted field is not closed on its line (not supported)")
+    header_line = linenos[0]
     columns = tuple(c.strip() for c in header)
     if len(columns) == 1 and ";" in columns[0]:
         raise InputError(
-            f"{name}:{linenos[0]}: the header {shorten(columns[0])} is one column: the file looks separated by "
+            f"{name}:{header_line}: the header {shorten(columns[0])} is one column: the file looks separated by "
             "';' (fields must be separated by commas)"
         )
-    _check_columns(columns, f"{name}:{linenos[0]}")
+    _check_columns(columns, f"{name}:{header_line}")
     n = len(columns)
+    del linenos[:]
     rows: list[tuple[Any, ...]] = []
+    total = 0
+    pieces = 0
     for cells in reader:
-        if len(linenos) != len(rows) + 2:
+        if len(linenos) != len(rows) + 1:
             raise InputError(
-                f"{name}:{linenos[len(rows) + 1]}: a quoted field is not closed on its line (not supported)"
+                f"{name}:{linenos[len(rows)]}: a quoted field is not closed on its line (not supported)"
             )
         if len(cells) != n:
             raise InputError(f"{name}:{linenos[-1]}: expected {n} fields, found {len(cells)}")
-        if len(rows) >= max_rows:
+        if total >= max_rows:
             raise InputError(
                 f"{name}:{linenos[-1]}: more than {max_rows} data rows (the limit for this input)"
             )
         rows.append(tuple(c.strip() for c in cells))
-    return Table(
-        columns=columns, rows=rows, meta=meta, lines=tuple(linenos[1:]), source=name, header_line=linenos[0]
-    )
+        total += 1
+        if chunk_rows is not None and len(rows) >= chunk_rows:
+            yield Table(columns=columns, rows=rows, meta=meta, lines=tuple(linenos), source=name,
+                        header_line=header_line)  # fmt: skip
+            pieces += 1
+            rows = []
+            del linenos[:]
+    if rows or not pieces:
+        yield Table(columns=columns, rows=rows, meta=meta, lines=tuple(linenos[: len(rows)]), source=name,
+                    header_line=header_line)  # fmt: skip
 
 
 def _check_columns(columns: Sequence[str], where: str) -> None:

@@ -65,15 +65,17 @@ from motionsig_cli.records import (
     grid_period,
     parse_columns,
     read_record,
+    read_record_in_pieces,
     uniform_grid,
 )
 from motionsig_cli.surveillance.report_hygiene import Cleaned, HygieneError, HygienePolicy, clean_reports
-from motionsig_cli.tables import Table, read_table
+from motionsig_cli.tables import Table
 
 __all__ = [
     "FORMS",
     "JITTER_TOL",
     "MAD_TO_SD",
+    "MAX_BYTES",
     "MAX_COORD",
     "MAX_ROWS",
     "MAX_SCANS",
@@ -91,9 +93,11 @@ __all__ = [
 
 MAX_SCANS = SCANS_RANGE[1]
 """Most steps of a record (rows, and grid scans including the missed ones): the trackers' scan limit."""
-MAX_ROWS = 2_000_000
-"""Most rows of a record (all its tracks; each track at most :data:`MAX_SCANS` steps). A record is held in
-memory while it is read (about 0.5 kB per row of an ADS-B export: 1 GB at the limit)."""
+MAX_ROWS = 20_000_000
+"""Most rows of a record (all its tracks; each track at most :data:`MAX_SCANS` steps). A file is read in
+pieces (:func:`~motionsig_cli.records.read_record_in_pieces`): its text is never held whole, only its arrays."""
+MAX_BYTES = 4 << 30
+"""Most bytes of a record file (4 GiB of text, after decompression: ~3.5·10⁷ rows of an ADS-B export)."""
 MAX_COORD = 1e9
 """Largest |measurement| accepted from a record [m] (a million km; squares stay far from overflow)."""
 JITTER_TOL = 0.05
@@ -325,9 +329,13 @@ def read_track_records(
     """
     opts = options if options is not None else ReadOptions(columns=columns, units=units, T=T)
     colmap = parse_columns(opts.columns, SPEC)
-    table = source if isinstance(source, Table) else read_table(source, max_rows=SPEC.max_rows)
-    _one_run(table, set(colmap.values()))
-    rec = read_record(table, SPEC, columns=colmap, units=opts.units)
+    if isinstance(source, Table):
+        _one_run(source, set(colmap.values()))
+        rec = read_record(source, SPEC, columns=colmap, units=opts.units)
+    else:  # a file, read in pieces: its text is never held whole (MAX_ROWS)
+        runs = _Runs(set(colmap.values()))
+        rec = read_record_in_pieces(source, SPEC, columns=colmap, units=opts.units, max_bytes=MAX_BYTES,
+                                    each=runs.check)  # fmt: skip
     if not (rec.has("time") or rec.has("scan")):
         cols = ", ".join(rec.table.columns) if rec.table is not None else ""
         raise rec.error(
@@ -716,9 +724,13 @@ def _meta_number(rec: Record, key: str, lo: float, hi: float, unit: str) -> floa
         raise InputError(f"{rec.source}: metadata {key!r} = {exc.detail}") from None
 
 
-def _one_run(t: Table, mapped: set[str]) -> tuple[int, str] | None:
+def _one_run(t: Table, mapped: set[str], first: dict[str, Any] | None = None) -> tuple[int, str] | None:
     """Refuse a file holding several runs (or several σ) of ``--view measurements`` (before the order of
     its scans is checked: a second run starts again at scan 1).
+
+    Args:
+        first: the first cell of each of those columns in the file, when ``t`` is a later piece of it
+            (:class:`_Runs`); None: ``t`` is the whole file.
 
     Returns:
         In any other file, where its ``sigma`` column varies (a per-scan σ, which the trackers do not
@@ -726,19 +738,30 @@ def _one_run(t: Table, mapped: set[str]) -> tuple[int, str] | None:
     """
     measurements = t.meta.get("command") == "maneuver" and t.meta.get("view") == "measurements"
     for col in ("run", "sigma"):
-        if col in t.columns and col not in mapped:
+        if col in t.columns and col not in mapped and t.rows:
             cells = t.column(col)
-            other = next((i for i, v in enumerate(cells) if v != cells[0]), None)
+            ref = cells[0] if first is None else first.setdefault(col, cells[0])
+            other = next((i for i, v in enumerate(cells) if v != ref), None)
             if other is None:
                 continue
             line = t.lines[other] if other < len(t.lines) else other + 2
             if col == "sigma" and not measurements:
-                return line, f"σ changes from {cells[0]} to {cells[other]}"
+                return line, f"σ changes from {ref} to {cells[other]}"
             raise InputError(
                 f"{t.source}:{line}: column {col!r}: several values of {col!r} in one file "
-                f"({cells[other]} after {cells[0]}); track one record at a time"
+                f"({cells[other]} after {ref}); track one record at a time"
             )
     return None
+
+
+class _Runs:
+    """:func:`_one_run` over the pieces of a file read in pieces."""
+
+    def __init__(self, mapped: set[str]) -> None:
+        self.mapped, self.first = mapped, {}  # type: ignore[var-annotated]
+
+    def check(self, t: Table) -> None:
+        _one_run(t, self.mapped, self.first)
 
 
 def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.ndarray, float]:
