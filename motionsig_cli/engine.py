@@ -566,6 +566,7 @@ def run_tasks(
     sizes: Sequence[int] | None = None,
     progress: Callable[[int], None] | None = None,
     identity: Mapping[str, Any] | None = None,
+    consume: Callable[[int, Any], None] | None = None,
 ) -> list[R]:
     """``[fn(t) for t in tasks]``, computed where ``engine`` says, returned in task order.
 
@@ -576,11 +577,16 @@ def run_tasks(
         sizes: Trials per task, for ``progress`` (default 1 per task).
         progress: Called with a task's size each time a task finishes (in completion order).
         identity: The command and its parameters (JSON values); required with a checkpoint.
+        consume: Called with ``(i, result)`` in task order, as soon as tasks 0..i have finished; the result
+            is then dropped (the list returned holds None), so that a long run holds only the results that
+            finished ahead of an earlier task (with a pool, at most two per worker in flight), and a
+            checkpoint's results are read back one at a time as they are consumed.
     """
     n = len(tasks)
     sizes = list(sizes) if sizes is not None else [1] * n
     results: list[Any] = [None] * n
     done = [False] * n
+    stored = [False] * n  # done in the checkpoint, read back when consumed
     ckpt: Checkpoint | None = None
     if engine.checkpoint is not None:
         if identity is None:
@@ -588,17 +594,39 @@ def run_tasks(
         ckpt = Checkpoint(engine.checkpoint, identity, tasks)
         for i in range(n):
             done[i], results[i] = ckpt.load(i)
+            if done[i] and consume is not None:
+                results[i], stored[i] = None, True
             if done[i] and progress is not None:
                 progress(sizes[i])
         ckpt.report()
     pending = [i for i in range(n) if not done[i]]
+    next_out = 0
+
+    def flush() -> None:
+        nonlocal next_out
+        while consume is not None and next_out < n and done[next_out]:
+            i = next_out
+            if stored[i]:
+                assert ckpt is not None
+                ok, value = ckpt.load(i)
+                if not ok:  # pragma: no cover - the file was read a moment ago
+                    raise EngineError("checkpoint", f"task {i}'s file changed while the run resumed")
+            else:
+                value = results[i]
+            results[i] = None
+            next_out += 1
+            consume(i, value)
 
     def finish(i: int, value: Any) -> None:
         results[i] = value
+        done[i] = True
         if ckpt is not None:
             ckpt.save(i, value)
         if progress is not None:
             progress(sizes[i])
+        flush()
+
+    flush()
 
     with one_blas_thread():
         if engine.scheduler is not None:
@@ -609,6 +637,7 @@ def run_tasks(
                 finish(i, fn(tasks[i]))
         else:
             _run_pool(fn, tasks, pending, min(engine.workers, len(pending)), finish)
+    flush()
     return results
 
 

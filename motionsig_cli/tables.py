@@ -29,7 +29,7 @@ import re
 import stat
 import sys
 import zlib
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -190,9 +190,17 @@ def format_csv(table: Table, *, meta: bool = True) -> str:
     if meta:
         for key, value in table.meta.items():
             buf.write(f"# {key}: {json.dumps(_plain(value), allow_nan=False)}\n")
+    csv.writer(buf, lineterminator="\n").writerow(table.columns)
+    buf.write(format_rows(table.rows))
+    return buf.getvalue()
+
+
+def format_rows(rows: Iterable[Sequence[Any]]) -> str:
+    """The CSV lines of ``rows``, as :func:`format_csv` writes them after the header (a table's rows may be
+    written a piece at a time and the pieces joined)."""
+    buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(table.columns)
-    for row in table.rows:
+    for row in rows:
         writer.writerow([_cell(v) for v in row])
     return buf.getvalue()
 

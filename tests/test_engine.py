@@ -69,6 +69,27 @@ def test_checkpoint_resumes_only_the_missing_tasks(tmp_path):
     assert np.concatenate(again).tobytes() == np.concatenate(full).tobytes()
 
 
+def test_consume_takes_each_result_in_task_order_and_drops_it(many_tasks, tmp_path):
+    """consume: every result once, in task order, whatever the workers; the list returned keeps none of them;
+    resuming from a checkpoint hands over the stored results (read back one at a time) with the new ones."""
+    tasks = tasks_of(23, 3)
+    fn = functools.partial(_draws, 2.0)
+    want = run_tasks(fn, tasks, Engine(1))
+    for engine in (Engine(1), Engine(2)):
+        got: list[tuple[int, np.ndarray]] = []
+        kept = run_tasks(fn, tasks, engine, consume=lambda i, r: got.append((i, r)))  # noqa: B023
+        assert [i for i, _ in got] == list(range(len(tasks))) and kept == [None] * len(tasks)
+        assert np.concatenate([r for _, r in got]).tobytes() == np.concatenate(want).tobytes()
+    ident = {"command": "test", "n": 23}
+    run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident)
+    (tmp_path / "ck" / "task-0000003.task").unlink()
+    got = []
+    CALLS.clear()
+    run_tasks(fn, tasks, Engine(1, None, tmp_path / "ck"), identity=ident, consume=lambda i, r: got.append((i, r)))
+    assert CALLS == [9] and [i for i, _ in got] == list(range(len(tasks)))
+    assert np.concatenate([r for _, r in got]).tobytes() == np.concatenate(want).tobytes()
+
+
 def test_checkpoint_of_other_parameters_is_refused(tmp_path):
     fn = functools.partial(_draws, 1.0)
     run_tasks(fn, tasks_of(4, 2), Engine(1, None, tmp_path), identity={"command": "a", "seed": 1})

@@ -12,7 +12,7 @@ import os
 import stat
 import sys
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -127,9 +127,15 @@ def atomic_path(path: Path) -> Iterator[Path]:
 def write_text(text: str, out: Path | None) -> None:
     """Write to ``out`` atomically, or to stdout when ``out`` is None; a failed write (a full device, a
     vanished directory) is an :class:`InputError` naming the file, and leaves no partial file."""
+    write_with(lambda fh: fh.write(text), out)
+
+
+def write_with(write: Callable[[Any], Any], out: Path | None) -> None:
+    """``write(fh)`` on a text stream: ``out``'s, atomically (:func:`atomic_path`), or stdout's when ``out`` is
+    None; a failed write is an :class:`InputError` naming the file, and leaves no partial file."""
     if out is None:
         try:
-            sys.stdout.write(text)
+            write(sys.stdout)
             sys.stdout.flush()
         except BrokenPipeError:
             raise
@@ -140,11 +146,31 @@ def write_text(text: str, out: Path | None) -> None:
         with atomic_path(out) as tmp:
             if tmp.exists() and not tmp.is_file():
                 with os.fdopen(_open_special(tmp), "w", encoding="utf-8") as fh:
-                    fh.write(text)
+                    write(fh)
             else:
-                tmp.write_text(text, encoding="utf-8")
+                with open(tmp, "w", encoding="utf-8", newline="") as fh:
+                    write(fh)
     except OSError as exc:
         raise InputError(f"{out}: cannot write ({exc.strerror or exc})") from None
+
+
+def emit_spooled(table: Table, bodies: Sequence[Path], out: Path | None) -> None:
+    """Write ``table`` as CSV whose rows are the text of the files ``bodies`` (rows written as they were
+    computed: :func:`~motionsig_cli.tables.format_rows`), joined after its metadata and header: the bytes
+    of :func:`emit` of the same rows, without holding them. To ``out`` atomically, or to stdout."""
+    import shutil
+
+    from motionsig_cli.tables import Table, format_csv
+
+    head = format_csv(Table(columns=table.columns, rows=[], meta=table.meta))
+
+    def copy(fh: Any) -> None:
+        fh.write(head)
+        for body in bodies:
+            with open(body, encoding="utf-8", newline="") as src:
+                shutil.copyfileobj(src, fh, 1 << 20)
+
+    write_with(copy, out)
 
 
 def emit(table: Table, fmt: str, out: Path | None) -> None:

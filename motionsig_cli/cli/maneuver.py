@@ -21,7 +21,9 @@ The command parses the options and writes the results; the configurations of
 
 from __future__ import annotations
 
+import contextlib
 import math
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Annotated, Any
@@ -594,12 +596,26 @@ def _track_record(
     if output.plot is not None and len(tracks.tracks) > 1:
         raise typer.BadParameter(f"draws one track; the record holds {len(tracks.tracks)}", param_hint="--plot")
     plan = rt.plan_tracking(tracks, methods, cfg, sigma=s, consistency=real.checks(cfg))
-    result = common.run_job(rt.RecordJob(plan), engine, "maneuver", output.quiet)
-    if output.plot is not None:
-        from motionsig_cli.plotting import maneuver_record_figure
+    del tracks  # the plan holds the tracks
+    spool = view is View.scans and output.fmt.value == "csv"
+    with contextlib.ExitStack() as stack:
+        if spool:  # rows to files as tasks finish, then joined into --out: a feed's output is never held whole
+            from motionsig_cli.cli.io import emit_spooled
+            from motionsig_cli.engine import job_trials
 
-        output.figure(maneuver_record_figure(**result.figure))
-    output.emit(result.events if view is View.events else result.table)  # after the figure: all or nothing
+            where = stack.enter_context(tempfile.TemporaryDirectory(prefix="motionsig-maneuver-"))
+            with common.engine_session(engine, job_trials(rt.RecordJob(plan)), "maneuver", output.quiet) as advance:
+                result, bodies = rt.track_records_to_files(plan, engine, Path(where), progress=advance)
+        else:
+            result = common.run_job(rt.RecordJob(plan), engine, "maneuver", output.quiet)
+        if output.plot is not None:
+            from motionsig_cli.plotting import maneuver_record_figure
+
+            output.figure(maneuver_record_figure(**result.figure))
+        if spool:  # after the figure: all or nothing
+            emit_spooled(result.table, bodies, output.out)
+        else:
+            output.emit(result.events if view is View.events else result.table)
     if result.sigma_estimated:
         output.note(
             f"maneuver: no σ given (--sigma) or in the record's metadata: estimated σ = "

@@ -27,26 +27,27 @@ from __future__ import annotations
 
 import hashlib
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from datetime import datetime, timedelta
-from typing import Any, ClassVar
+from pathlib import Path
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
 from motionsig_cli.config import ConfigError, integer
 from motionsig_cli.detection.glr import InputModel, input_tracker
-from motionsig_cli.engine import run_job
+from motionsig_cli.engine import Engine, run_job, run_tasks
 from motionsig_cli.errors import InputError
 from motionsig_cli.filters.consistency import REASONS, Consistency
 from motionsig_cli.filters.imm import imm_filter
 from motionsig_cli.maneuver.record import TrackRecord, TrackSet, choose_sigma
 from motionsig_cli.maneuver.study import TrackerConfig, _check_methods, _numerics
 from motionsig_cli.models.motion import H_POS4, H_POS6, cv_input_model, cv_input_steps, two_point_restart
-from motionsig_cli.tables import Table, make_meta
+from motionsig_cli.tables import Table, format_rows, make_meta
 
 __all__ = ["TASK_STEPS", "RecordJob", "RecordTrack", "TrackingPlan", "imm_declarations", "plan_tracking", "track_record",
-           "track_records"]
+           "track_records", "track_records_to_files"]
 
 
 @dataclass(frozen=True)
@@ -232,9 +233,9 @@ class TrackingPlan:
 
     def tables(self, done: Mapping[int, dict[str, dict[str, np.ndarray | None]]]) -> RecordTrack:
         """The output tables from every segment's arrays."""
-        results = {m: [done[i][m] for i in range(len(self.segs))] for m in self.methods}
-        return _tables(list(self.recs), self.methods, self.cfg, self.consistency, list(self.segs), results,
-                       list(self.noise), list(self.untracked), list(self.skipped))  # fmt: skip
+        builder = _Builder(self)
+        builder.add(done)
+        return builder.finish()
 
 
 def plan_tracking(
@@ -331,6 +332,36 @@ class RecordJob:
         return self.plan.tables(done)
 
 
+def track_records_to_files(
+    plan: TrackingPlan,
+    engine: Engine,
+    directory: Path,
+    *,
+    progress: Callable[[int], None] | None = None,
+) -> tuple[RecordTrack, list[Path]]:
+    """:class:`RecordJob` of ``plan`` on ``engine`` with its rows written as they are computed: each task's
+    tracks, once the tasks before it are done, become CSV text in one file per method under ``directory``,
+    and their arrays are dropped. So a record of millions of rows holds its tracks and a few tasks'
+    arrays, not its output. Returns the tables without their rows (the metadata and events complete) and
+    the files, in method order: the output's rows are those files' text joined
+    (:func:`motionsig_cli.cli.io.emit_spooled`), the bytes :func:`track_records` would give."""
+    job = RecordJob(plan)
+    tasks = job.tasks()
+    spools = {m: _Spool(Path(directory) / f"rows-{k}-{m}.csv") for k, m in enumerate(plan.methods)}
+    builder = _Builder(plan, spools)
+
+    def consume(i: int, res: list[dict[str, dict[str, np.ndarray | None]]]) -> None:
+        builder.add(dict(zip(tasks[i], res, strict=True)))
+
+    try:
+        run_tasks(job.run_task, tasks, engine, sizes=[job.task_size(t) for t in tasks], progress=progress,
+                  identity={"command": job.name, **job.identity()}, consume=consume)  # fmt: skip
+    finally:
+        for sp in spools.values():
+            sp.close()
+    return builder.finish(), [spools[m].path for m in plan.methods]
+
+
 def _buckets(order: list[int], lengths: list[int], size: int) -> list[list[int]]:
     """Segments sorted longest first, cut into batches of at most ``size`` whose shortest is at least half
     their longest (the padding, predict-only steps whose output is dropped, is then at most half a batch)."""
@@ -410,184 +441,233 @@ def _run(
     return out
 
 
-def _tables(
-    recs: list[TrackRecord], methods: Sequence[str], cfg: TrackerConfig, consistency: Consistency | None,
-    segs: list[_Segment], results: dict[str, list[dict[str, np.ndarray | None]]],
-    noise: list[tuple[np.ndarray, float, dict[str, Any], bool, bool]], untracked: list[tuple[str, str]],
-    skipped: list[tuple[str, int]],
-) -> RecordTrack:  # fmt: skip
-    rec0 = recs[0]
-    origin = rec0.record.time_origin
-    geo = rec0.frame is not None
-    labelled = any(r.label for r in recs)
-    many = len(recs) + len(untracked) > 1
-    lead = ["track"] if labelled else []
-    cols = [*lead, "method", "scan", "t", "measured", "x", "vx", "y", "vy", "ax", "ay", "mu_1", "mu_2", "mu_3",
-            "declared", "onset", "segment", "onset_t", "nis", "gated", "reinit"]  # fmt: skip
-    ecols = [*lead, "method", "segment", "scan", "t", "onset_scan", "onset_t", "u_x", "u_y", "x", "y"]
-    if origin is not None:
-        cols += ["time", "onset_time"]
-        ecols += ["time", "onset_time"]
-    if geo:
-        cols += ["latitude", "longitude"]
-        ecols += ["latitude", "longitude"]
-    rows: list[tuple[Any, ...]] = []
-    erows: list[tuple[Any, ...]] = []
-    summary: dict[str, dict[str, int]] = {}
-    by_track: dict[int, list[int]] = {}
-    for i, sg in enumerate(segs):
-        by_track.setdefault(sg.track, []).append(i)
-    fig = recs[0] if len(recs) == 1 else None
-    figure_tracks, figure_speeds, figure_decl = {}, {}, {}
-    mu_full = None
-    for m in methods:
-        counts = {name: 0 for name in REASONS[1:]}
-        n_gated = n_decl = n_rej = 0
+class _RowSink(Protocol):
+    """Where the output rows of one method go: a list (in memory) or a spool file (:class:`_Spool`)."""
+
+    def extend(self, rows: Any) -> None: ...
+
+
+class _Spool:
+    """Rows written as CSV text (:func:`~motionsig_cli.tables.format_rows`) to a file as they come."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.fh = open(path, "w", encoding="utf-8", newline="")
+        self.n = 0
+
+    def extend(self, rows: Any) -> None:
+        rows = list(rows)
+        self.fh.write(format_rows(rows))
+        self.n += len(rows)
+
+    def close(self) -> None:
+        self.fh.close()
+
+
+class _Builder:
+    """The output tables of a tracking run, built a task of whole tracks at a time (:meth:`add`, in the
+    record's order of tracks), the rows of each method going to that method's sink; :meth:`finish` gives
+    the :class:`RecordTrack` (rows in method order, then track, then segment) with the metadata of all."""
+
+    def __init__(self, plan: TrackingPlan, sinks: Mapping[str, _RowSink] | None = None) -> None:
+        self.plan = plan
+        recs = plan.recs
+        rec0 = recs[0]
+        self.origin = rec0.record.time_origin
+        self.geo = rec0.frame is not None
+        self.labelled = any(r.label for r in recs)
+        self.many = len(recs) + len(plan.untracked) > 1
+        lead = ["track"] if self.labelled else []
+        cols = [*lead, "method", "scan", "t", "measured", "x", "vx", "y", "vy", "ax", "ay", "mu_1", "mu_2", "mu_3",
+                "declared", "onset", "segment", "onset_t", "nis", "gated", "reinit"]  # fmt: skip
+        ecols = [*lead, "method", "segment", "scan", "t", "onset_scan", "onset_t", "u_x", "u_y", "x", "y"]
+        if self.origin is not None:
+            cols += ["time", "onset_time"]
+            ecols += ["time", "onset_time"]
+        if self.geo:
+            cols += ["latitude", "longitude"]
+            ecols += ["latitude", "longitude"]
+        self.cols, self.ecols = cols, ecols
+        self.rows: dict[str, _RowSink] = dict(sinks) if sinks is not None else {m: [] for m in plan.methods}  # type: ignore[misc]
+        self.erows: dict[str, list[tuple[Any, ...]]] = {m: [] for m in plan.methods}
+        self.counts = {m: {name: 0 for name in REASONS[1:]} for m in plan.methods}
+        self.tally = {m: {"gated": 0, "declarations": 0, "rejected": 0} for m in plan.methods}
+        self.by_track: dict[int, list[int]] = {}
+        for i, sg in enumerate(plan.segs):
+            self.by_track.setdefault(sg.track, []).append(i)
+        self.fig = recs[0] if len(recs) == 1 else None
+        self.figure: dict[str, dict[str, Any]] = {"tracks": {}, "speeds": {}, "declarations": {}}
+        self.mu_full: np.ndarray | None = None
+        if self.fig is not None:
+            K = self.fig.z.shape[0]
+            for m in plan.methods:
+                self.figure["tracks"][m.upper()] = np.full((K, 2), np.nan)
+                self.figure["speeds"][m.upper()] = np.full(K, np.nan)
+                self.figure["declarations"][m.upper()] = []
+            if "imm" in plan.methods:
+                self.mu_full = np.full((K, 3), np.nan)
+
+    def add(self, done: Mapping[int, dict[str, dict[str, np.ndarray | None]]]) -> None:
+        """The rows of the segments ``done`` (segment → method → the tracker's arrays): whole tracks, the
+        next ones in the record's order."""
+        tracks = sorted({self.plan.segs[i].track for i in done})
+        for m in self.plan.methods:
+            for ti in tracks:
+                for i in self.by_track[ti]:
+                    self._segment_rows(m, ti, i, done[i][m])
+
+    def _segment_rows(self, m: str, ti: int, i: int, r: dict[str, np.ndarray | None]) -> None:
+        rec, sg, origin, fig = self.plan.recs[ti], self.plan.segs[i], self.origin, self.fig
+        label = [rec.label] if self.labelled else []
+        steps, n = sg.steps, sg.steps.size
+        st = r["state"]
+        assert st is not None
         if fig is not None:
-            K = fig.z.shape[0]
-            pos_full, spd_full = np.full((K, 2), np.nan), np.full(K, np.nan)
-            decl: list[tuple[int, int]] = []
-            if m == "imm":
-                mu_full = np.full((K, 3), np.nan)
-        for ti, rec in enumerate(recs):
-            label = [rec.label] if labelled else []
-            for i in by_track.get(ti, []):
-                sg, r = segs[i], results[m][i]
-                steps, n = sg.steps, sg.steps.size
-                st = r["state"]
-                assert st is not None
+            self.figure["tracks"][m.upper()][steps] = st[:, [0, 2]]
+            self.figure["speeds"][m.upper()][steps] = np.hypot(st[:, 1], st[:, 3])
+            if r["mu"] is not None and self.mu_full is not None:
+                self.mu_full[steps] = r["mu"]
+        latlon = rec.frame.to_geodetic(st[:, 0], st[:, 2]) if self.geo else None
+        mu, det, ons = r["mu"], r["declared"], r["onset"]
+        nis = r["nis"] if r["nis"] is not None else np.full(n, np.nan)
+        gated = r["gated"] if r["gated"] is not None else np.zeros(n, bool)
+        reinit = r["reinit"] if r["reinit"] is not None else np.zeros(n, np.int8)
+        tally = self.tally[m]
+        tally["gated"] += int(gated.sum())
+        if r["rejected"] is not None:
+            tally["rejected"] += int(r["rejected"].sum())
+        for code in reinit[reinit > 0]:
+            self.counts[m][REASONS[int(code)]] += 1
+        g = steps
+        onset_scan: list[Any] = [None] * n
+        onset_t: list[Any] = [None] * n
+        onset_iso: list[Any] = [None] * n
+        if det is not None and ons is not None:
+            hit = np.flatnonzero(det & (ons >= 0))
+            og = np.where(ons[hit] < n, steps[np.minimum(ons[hit], n - 1)], steps[hit])
+            o_scan, o_t = rec.scan[og].tolist(), rec.t[og].tolist()
+            o_iso = _iso_many(origin, rec.t[og]) if origin is not None else [None] * hit.size
+            u = r["u"][hit] if r["u"] is not None else np.full((hit.size, 2), np.nan)
+            t_iso = _iso_many(origin, rec.t[steps[hit]]) if origin is not None else []
+            for q, j in enumerate(hit.tolist()):
+                onset_scan[j], onset_t[j], onset_iso[j] = o_scan[q], o_t[q], o_iso[q]
                 if fig is not None:
-                    pos_full[steps] = st[:, [0, 2]]
-                    spd_full[steps] = np.hypot(st[:, 1], st[:, 3])
-                    if r["mu"] is not None and mu_full is not None:
-                        mu_full[steps] = r["mu"]
-                latlon = rec.frame.to_geodetic(st[:, 0], st[:, 2]) if geo else None
-                mu, det, ons = r["mu"], r["declared"], r["onset"]
-                nis = r["nis"] if r["nis"] is not None else np.full(n, np.nan)
-                gated = r["gated"] if r["gated"] is not None else np.zeros(n, bool)
-                reinit = r["reinit"] if r["reinit"] is not None else np.zeros(n, np.int8)
-                n_gated += int(gated.sum())
-                if r["rejected"] is not None:
-                    n_rej += int(r["rejected"].sum())
-                for code in reinit[reinit > 0]:
-                    counts[REASONS[int(code)]] += 1
-                g = steps
-                onset_scan: list[Any] = [None] * n
-                onset_t: list[Any] = [None] * n
-                onset_iso: list[Any] = [None] * n
-                if det is not None and ons is not None:
-                    hit = np.flatnonzero(det & (ons >= 0))
-                    og = np.where(ons[hit] < n, steps[np.minimum(ons[hit], n - 1)], steps[hit])
-                    o_scan, o_t = rec.scan[og].tolist(), rec.t[og].tolist()
-                    o_iso = _iso_many(origin, rec.t[og]) if origin is not None else [None] * hit.size
-                    u = r["u"][hit] if r["u"] is not None else np.full((hit.size, 2), np.nan)
-                    t_iso = _iso_many(origin, rec.t[steps[hit]]) if origin is not None else []
-                    for q, j in enumerate(hit.tolist()):
-                        onset_scan[j], onset_t[j], onset_iso[j] = o_scan[q], o_t[q], o_iso[q]
-                        if fig is not None:
-                            decl.append((int(steps[j]), int(og[q])))
-                        ev: list[Any] = [*label, m, sg.segment, int(rec.scan[steps[j]]), float(rec.t[steps[j]]),
-                                         o_scan[q], o_t[q], _f(u[q, 0]), _f(u[q, 1]), float(st[j, 0]),
-                                         float(st[j, 2])]  # fmt: skip
-                        if origin is not None:
-                            ev += [t_iso[q], o_iso[q]]
-                        if latlon is not None:
-                            ev += [float(latlon[0][j]), float(latlon[1][j])]
-                        erows.append(tuple(ev))
-                    n_decl += hit.size
-                columns: list[list[Any]] = [
-                    *([[rec.label] * n] if labelled else []),
-                    [m] * n,
-                    rec.scan[g].tolist(),
-                    rec.t[g].tolist(),
-                    rec.measured[g].tolist(),
-                    *(st[:, c].tolist() for c in range(st.shape[1])),
-                    *(([None] * n,) * 3 if mu is None else (mu[:, c].tolist() for c in range(3))),
-                    [None] * n if det is None else det.tolist(),
-                    onset_scan,
-                    [sg.segment] * n,
-                    onset_t,
-                    _nullable(nis),
-                    gated.tolist(),
-                    [REASONS[c] or None for c in reinit.tolist()],
-                ]
+                    self.figure["declarations"][m.upper()].append((int(steps[j]), int(og[q])))
+                ev: list[Any] = [*label, m, sg.segment, int(rec.scan[steps[j]]), float(rec.t[steps[j]]),
+                                 o_scan[q], o_t[q], _f(u[q, 0]), _f(u[q, 1]), float(st[j, 0]),
+                                 float(st[j, 2])]  # fmt: skip
                 if origin is not None:
-                    columns += [_iso_many(origin, rec.t[g]), onset_iso]
+                    ev += [t_iso[q], o_iso[q]]
                 if latlon is not None:
-                    columns += [latlon[0].tolist(), latlon[1].tolist()]
-                rows.extend(zip(*columns, strict=True))
+                    ev += [float(latlon[0][j]), float(latlon[1][j])]
+                self.erows[m].append(tuple(ev))
+            tally["declarations"] += hit.size
+        columns: list[list[Any]] = [
+            *([[rec.label] * n] if self.labelled else []),
+            [m] * n,
+            rec.scan[g].tolist(),
+            rec.t[g].tolist(),
+            rec.measured[g].tolist(),
+            *(st[:, c].tolist() for c in range(st.shape[1])),
+            *(([None] * n,) * 3 if mu is None else (mu[:, c].tolist() for c in range(3))),
+            [None] * n if det is None else det.tolist(),
+            onset_scan,
+            [sg.segment] * n,
+            onset_t,
+            _nullable(nis),
+            gated.tolist(),
+            [REASONS[c] or None for c in reinit.tolist()],
+        ]
+        if origin is not None:
+            columns += [_iso_many(origin, rec.t[g]), onset_iso]
+        if latlon is not None:
+            columns += [latlon[0].tolist(), latlon[1].tolist()]
+        self.rows[m].extend(zip(*columns, strict=True))
+
+    def finish(self) -> RecordTrack:
+        """The tables (rows in memory, or none where the rows went to spool files) and the summary."""
+        plan = self.plan
+        recs, methods, cfg, consistency = list(plan.recs), plan.methods, plan.cfg, plan.consistency
+        segs, noise, untracked, skipped = list(plan.segs), list(plan.noise), list(plan.untracked), list(plan.skipped)
+        rec0, many, fig = recs[0], self.many, self.fig
+        summary: dict[str, dict[str, int]] = {}
+        for m in methods:
+            counts, tally = self.counts[m], self.tally[m]
+            summary[m] = {"declarations": tally["declarations"], "gated": tally["gated"],
+                          "rejected_declarations": tally["rejected"], "restarts": sum(counts.values()),
+                          **{f"restarts_{k}": v for k, v in counts.items()}}  # fmt: skip
+        steps_all = sum(r.z.shape[0] for r in recs)
+        missed = sum(int((~r.measured).sum()) for r in recs)
+        S = len(segs)
+        if many:
+            sig_meta: dict[str, Any] = {
+                "sigma": float(np.median([nz[1] for nz in noise])),
+                "sigma_source": "per track (see sigma_by_track)",
+                "sigma_by_track": {r.label: nz[1] for r, nz in zip(recs, noise, strict=True)},
+            }
+            hygiene: dict[str, Any] = {"policy": rec0.hygiene.get("policy"), "max_gap_s": "per track"}
+            for key in ("reordered", "exact_duplicates", "conflicting_duplicates", "empty_duplicates",
+                        "stale_repeats", "gaps"):  # fmt: skip
+                hygiene[key] = sum(int(r.hygiene.get(key, 0)) for r in recs)
+            T_meta: dict[str, Any] = {"T": float(np.median([r.T for r in recs])), "T_source": "per track (median)"}
+        else:
+            sig_meta = {"sigma": noise[0][1], **noise[0][2]}
+            hygiene = rec0.hygiene
+            T_meta = {"T": rec0.T, "T_source": rec0.T_source}
+        meta = make_meta(
+            "maneuver",
+            **rec0.record.provenance(),
+            **T_meta,
+            grid=all(r.grid for r in recs),
+            position_form=rec0.form,
+            conversion=rec0.conversion,
+            hygiene=hygiene,
+            **sig_meta,
+            steps=steps_all,
+            measured_steps=steps_all - missed,
+            missed_scans=missed,
+            segments=S + len(skipped),
+            untracked_segments=[seg for _lab, seg in skipped] if not many else [list(x) for x in skipped],
+            init="two-point differencing on the first two measured scans of each segment (velocity over their time "
+            "difference, covariances of both): "
+            + "; ".join(f"{int(recs[sg.track].scan[sg.a])} and {int(recs[sg.track].scan[sg.b])}" for sg in segs[:20]),
+            methods=list(methods),
+            config=cfg.meta(),
+            transition=[list(row) for row in cfg.Pi],
+            mu0=list(cfg.mu0),
+            consistency=consistency.meta() if consistency is not None else "off",
+            summary=summary,
+            imm_declaration=f"1 - mu_CV above {cfg.declare[0]:g}, again only after falling below "
+            f"{cfg.declare[1]:g}; onset: the last step below {cfg.declare[1]:g}",
+            **({"tracks": len(recs), "untracked_tracks": [list(x) for x in untracked]} if many else {}),
+        )
+        rows: list[tuple[Any, ...]] = []
+        for m in methods:
+            if isinstance(self.rows[m], list):
+                rows.extend(self.rows[m])  # type: ignore[arg-type]
+        table = Table(columns=tuple(self.cols), rows=rows, meta=meta)
+        events = Table(columns=tuple(self.ecols), rows=[e for m in methods for e in self.erows[m]],
+                       meta={**meta, "view": "events"})  # fmt: skip
+        s0 = sig_meta["sigma"]
         if fig is not None:
-            figure_tracks[m.upper()] = pos_full
-            figure_speeds[m.upper()] = spd_full
-            figure_decl[m.upper()] = decl
-        summary[m] = {"declarations": n_decl, "gated": n_gated, "rejected_declarations": n_rej,
-                      "restarts": sum(counts.values()), **{f"restarts_{k}": v for k, v in counts.items()}}  # fmt: skip
-    steps_all = sum(r.z.shape[0] for r in recs)
-    missed = sum(int((~r.measured).sum()) for r in recs)
-    S = len(segs)
-    if many:
-        sig_meta: dict[str, Any] = {
-            "sigma": float(np.median([nz[1] for nz in noise])),
-            "sigma_source": "per track (see sigma_by_track)",
-            "sigma_by_track": {r.label: nz[1] for r, nz in zip(recs, noise, strict=True)},
-        }
-        hygiene: dict[str, Any] = {"policy": rec0.hygiene.get("policy"), "max_gap_s": "per track"}
-        for key in ("reordered", "exact_duplicates", "conflicting_duplicates", "empty_duplicates",
-                    "stale_repeats", "gaps"):  # fmt: skip
-            hygiene[key] = sum(int(r.hygiene.get(key, 0)) for r in recs)
-        T_meta: dict[str, Any] = {"T": float(np.median([r.T for r in recs])), "T_source": "per track (median)"}
-    else:
-        sig_meta = {"sigma": noise[0][1], **noise[0][2]}
-        hygiene = rec0.hygiene
-        T_meta = {"T": rec0.T, "T_source": rec0.T_source}
-    meta = make_meta(
-        "maneuver",
-        **rec0.record.provenance(),
-        **T_meta,
-        grid=all(r.grid for r in recs),
-        position_form=rec0.form,
-        conversion=rec0.conversion,
-        hygiene=hygiene,
-        **sig_meta,
-        steps=steps_all,
-        measured_steps=steps_all - missed,
-        missed_scans=missed,
-        segments=S + len(skipped),
-        untracked_segments=[seg for _lab, seg in skipped] if not many else [list(x) for x in skipped],
-        init="two-point differencing on the first two measured scans of each segment (velocity over their time "
-        "difference, covariances of both): "
-        + "; ".join(f"{int(recs[sg.track].scan[sg.a])} and {int(recs[sg.track].scan[sg.b])}" for sg in segs[:20]),
-        methods=list(methods),
-        config=cfg.meta(),
-        transition=[list(row) for row in cfg.Pi],
-        mu0=list(cfg.mu0),
-        consistency=consistency.meta() if consistency is not None else "off",
-        summary=summary,
-        imm_declaration=f"1 - mu_CV above {cfg.declare[0]:g}, again only after falling below "
-        f"{cfg.declare[1]:g}; onset: the last step below {cfg.declare[1]:g}",
-        **({"tracks": len(recs), "untracked_tracks": [list(x) for x in untracked]} if many else {}),
-    )
-    table = Table(columns=tuple(cols), rows=rows, meta=meta)
-    events = Table(columns=tuple(ecols), rows=erows, meta={**meta, "view": "events"})
-    s0 = sig_meta["sigma"]
-    if fig is not None:
-        figure = {"z": fig.z, "scan": fig.scan, "first": 0, "tracks": figure_tracks, "speeds": figure_speeds,
-                  "declarations": figure_decl, "mu": mu_full,
-                  "model_names": cfg.models(fig.T if math.isfinite(fig.T) else 1.0).names,
-                  "title": f"{fig.source}: σ = {s0:.4g} m, {steps_all} steps, {missed} missed, {S} segment"
-                  f"{'s' * (S != 1)}"}  # fmt: skip
-    else:
-        figure = {}
-    parts = [f"{m} {v['declarations']} declaration{'s' * (v['declarations'] != 1)}"
-             + (f", {v['restarts']} restart{'s' * (v['restarts'] != 1)}" if v["restarts"] else "")
-             for m, v in summary.items()]  # fmt: skip
-    how = str(sig_meta["sigma_source"]).split(":")[0]
-    what = f"{len(recs)} tracks ({len(untracked)} untracked)" if many else f"track {rec0.label}" if labelled else "1 track"
-    note = (
-        f"tracked {steps_all} steps of {rec0.source} ({what}) in {S} segment{'s' * (S != 1)} ({missed} without a "
-        f"position) with {', '.join(methods)}; σ = {s0:.4g} m ({how}); " + "; ".join(parts)
-    )
-    return RecordTrack(table, events, note, figure, any(nz[3] for nz in noise))
+            figure = {"z": fig.z, "scan": fig.scan, "first": 0, "tracks": self.figure["tracks"],
+                      "speeds": self.figure["speeds"], "declarations": self.figure["declarations"], "mu": self.mu_full,
+                      "model_names": cfg.models(fig.T if math.isfinite(fig.T) else 1.0).names,
+                      "title": f"{fig.source}: σ = {s0:.4g} m, {steps_all} steps, {missed} missed, {S} segment"
+                      f"{'s' * (S != 1)}"}  # fmt: skip
+        else:
+            figure = {}
+        parts = [f"{m} {v['declarations']} declaration{'s' * (v['declarations'] != 1)}"
+                 + (f", {v['restarts']} restart{'s' * (v['restarts'] != 1)}" if v["restarts"] else "")
+                 for m, v in summary.items()]  # fmt: skip
+        how = str(sig_meta["sigma_source"]).split(":")[0]
+        what = (f"{len(recs)} tracks ({len(untracked)} untracked)" if many else f"track {rec0.label}"
+                if self.labelled else "1 track")  # fmt: skip
+        note = (
+            f"tracked {steps_all} steps of {rec0.source} ({what}) in {S} segment{'s' * (S != 1)} ({missed} without a "
+            f"position) with {', '.join(methods)}; σ = {s0:.4g} m ({how}); " + "; ".join(parts)
+        )
+        return RecordTrack(table, events, note, figure, any(nz[3] for nz in noise))
 
 
 def _f(v: Any) -> float | None:

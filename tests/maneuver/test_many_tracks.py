@@ -15,7 +15,7 @@ from motionsig_cli.errors import InputError
 from motionsig_cli.maneuver import record as mr
 from motionsig_cli.maneuver import record_tracking as rt
 from motionsig_cli.maneuver.study import TrackerConfig
-from motionsig_cli.tables import Table, read_table
+from motionsig_cli.tables import Table, format_csv, read_table
 from tests.adsb import ADSB_DIR
 from tests.cli.helpers import run
 
@@ -168,3 +168,7 @@ def test_the_engine_gives_the_same_bytes_for_any_workers_and_resumes(capsys, tmp
         assert rc == 0, err
         outs.append(o.read_bytes())
     assert all(o == outs[0] for o in outs)
+    # the command writes its rows to files as tasks finish and joins them: the bytes of the table in memory
+    mem = rt.track_records(mr.read_track_records(p), ("imm", "glr"), cfg)
+    assert outs[0] == format_csv(mem.table).encode()
+    assert outs[0].count(b"\n") > len(mem.table.rows) > 500
