@@ -66,13 +66,14 @@ POSITION_LIMIT = 1e8
 
 
 def _check_nodes(nodes: object) -> np.ndarray:
-    """``nodes`` as an (S, 2) float array of distinct finite positions within ±1e8 m, S ≥ 2."""
+    """``nodes`` as an (S, 2) float array of distinct finite positions within ±1e8 m, S ≥ 3 (two ranges leave
+    a mirror ambiguity)."""
     try:
         arr = np.asarray(nodes, dtype=float)
     except (TypeError, ValueError):
         raise ConfigError("nodes", nodes, "is not a list of positions x,y [m]") from None
-    if arr.ndim != 2 or arr.shape[1] != 2 or not 2 <= arr.shape[0] <= MAX_NODES:
-        raise ConfigError("nodes", nodes, f"is not 2 to {MAX_NODES} positions x,y [m]")
+    if arr.ndim != 2 or arr.shape[1] != 2 or not 3 <= arr.shape[0] <= MAX_NODES:
+        raise ConfigError("nodes", nodes, f"is not 3 to {MAX_NODES} positions x,y [m]")
     if not np.all(np.isfinite(arr)) or np.any(np.abs(arr) > POSITION_LIMIT):
         raise ConfigError("nodes", nodes, "holds a coordinate that is not finite or beyond ±1e8 m")
     if len({tuple(p) for p in arr.tolist()}) < arr.shape[0]:
@@ -151,7 +152,7 @@ class NodeNetwork:
     Attributes:
         front_end: the radar of every node (its position is ignored; its power, waveform and detector
             statistics are used): a prepared :class:`~motionsig_cli.maneuver.ebpsk_tracking.EbpskFrontEnd`.
-        nodes: node positions [m], 2 … 64 distinct (assumed :data:`DEFAULT_NODES`).
+        nodes: node positions [m], 3 … 64 distinct (assumed :data:`DEFAULT_NODES`).
         min_nodes: detections needed for a position, 3 … S (assumed 3).
         iterations: Gauss–Newton steps (5).
     """
