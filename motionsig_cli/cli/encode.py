@@ -478,7 +478,8 @@ def ebpsk_cmd(
     first symbol shows the carrier switching on). --ber gives BER vs Eb/N0 with binomial SE beside the
     coherent bound Q(sqrt((1-rho) Eb/N0)), which no receiver beats, and the receiver's closed form where it
     has one. The default receiver is differential: the phase of the first K cycles against the unmodulated
-    rest of the symbol (and its neighbours', --span), no carrier phase needed; about 0.4 dB from the bound.
+    rest of the symbol (and its neighbours', --span), no carrier phase needed; 0.1 dB from the bound at a
+    BER of 1e-2 (0.4 dB with --span 1).
 
     \b
     Example:
