@@ -26,6 +26,15 @@ coefficient set for our sampling; the placement used here is documented in :func
 and its radii and offsets are **assumed** (chosen for the impact ratio and the BER measured in
 ``tests/signals/test_ebpsk.py`` and ``tests/maneuver/test_ebpsk_link.py``).
 
+Receivers (:data:`RECEIVERS`, :class:`Receiver`). The bound is the coherent matched filter on the raw samples
+(:func:`matched_statistic`, eq. M1: it needs the carrier phase). The default is the differential receiver
+(:func:`differential_statistic`, eqs D1–D3): the phase of the first K cycles against the unmodulated rest of
+the symbol (and of its neighbours), the per-symbol noncoherent ML detector when the reference is the symbol's
+own tail. The impacting-filter receivers threshold :func:`symbol_statistic` of the filter output:
+``impacting`` with the filter designed from a stated Q (:func:`designed_filter`, eqs F1–F3: a reading of the
+literature's structure), ``impacting-assumed`` with the placement of :class:`EBPSKConfig` (the earlier
+default; the radar of :mod:`motionsig_cli.maneuver.ebpsk_radar` still uses it).
+
 Everything is vectorised over rows: ``modulate`` takes bits ``(..., n_bits)``, ``apply_filter`` and
 ``demodulate`` waveforms ``(..., n_samples)``.
 """
@@ -53,7 +62,6 @@ __all__ = [
     "check_bits",
     "demodulate",
     "designed_filter",
-    "designed_q",
     "detection_window",
     "differential_statistic",
     "filter_response",
@@ -460,17 +468,9 @@ class Receiver:
         if self.name == "matched":
             return "coherent matched filter (knows the carrier phase)"
         if self.name == "impacting":
-            return (
-                f"impacting filter designed for Q = {designed_q(self.q, None):s}, {self.statistic} threshold"
-            )
+            q = "πK" if self.q is None else f"{self.q:g}"
+            return f"impacting filter designed for Q = {q}, {self.statistic} threshold"
         return f"impacting filter of assumed placement, {self.statistic} threshold"
-
-
-def designed_q(q: float | None, cfg: EBPSKConfig | None) -> str:
-    """``q`` as text, or "πK" (with its value when ``cfg`` is given) where it is None."""
-    if q is not None:
-        return f"{q:g}"
-    return "πK" if cfg is None else f"πK = {math.pi * cfg.K:.3g}"
 
 
 def designed_filter(cfg: EBPSKConfig, q: float | None = None) -> EBPSKConfig:
@@ -530,7 +530,8 @@ def differential_statistic(x: np.ndarray, cfg: EBPSKConfig, span: int = DEFAULT_
     symbols centred on this one (fewer at the record's ends): the carrier phase runs on across symbols and
     the tails are never modulated, so the reference gains energy whatever the neighbours' bits (assumed:
     the phase is constant over ``span`` symbols). Error probability (Stein's formula for the sign of
-    Re(a b*) with independent Gaussian a, b; :func:`differential_ber`)                               (D3)
+    Re(a b*) with independent Gaussian a, b;
+    :func:`motionsig_cli.maneuver.ebpsk_link.differential_ber`)                               (D3)
     """
     s = integer("span", span, 1, 99)
     a, b = _segments(x, cfg)

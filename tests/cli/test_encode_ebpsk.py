@@ -118,3 +118,12 @@ def test_ber_receivers(capsys, tmp_path):
 def test_bad_input_is_one_line(capsys, args, option):
     err = one_line_error(capsys, "encode", "ebpsk", *args)
     assert option in err
+
+
+def test_the_command_layer_lists_the_registered_receivers():
+    """The command module spells out the receivers without importing NumPy: they must be the registry's."""
+    from motionsig_cli.cli import encode as cli
+    from motionsig_cli.signals.ebpsk import DEFAULT_RECEIVER, DEFAULT_SPAN, RECEIVERS
+
+    assert tuple(r.value for r in cli.ReceiverName) == RECEIVERS
+    assert DEFAULT_RECEIVER == "differential" and DEFAULT_SPAN == 3
