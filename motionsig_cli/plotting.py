@@ -7,6 +7,8 @@ slides" are Govaers, *Evaluation of Distributed Detection Methods for Agile Targ
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
@@ -843,21 +845,23 @@ def ebpsk_waveform_figure(
 
 def ebpsk_ber_figure(
     ebn0_db: np.ndarray,
-    ber: np.ndarray,
-    se: np.ndarray,
+    curves: Sequence[tuple[str, np.ndarray, np.ndarray]],
     bound: np.ndarray,
     *,
-    label: str = "",
+    closed_forms: Sequence[tuple[str, np.ndarray]] = (),
     title: str = "",
 ) -> Figure:
-    """BER of the EBPSK amplitude demodulator against E_b/N_0 (±2 SE bars; zero counts not drawn) beside
-    the coherent bound Q(√((1 − ρ) E_b/N_0))."""
+    """BER of EBPSK receivers against E_b/N_0: each of ``curves`` (label, BER, SE) with ±2 SE bars (zero
+    counts not drawn), each of ``closed_forms`` (label, BER) as a thin line, beside the coherent bound
+    Q(√((1 − ρ) E_b/N_0))."""
     fig = Figure(figsize=(7, 4.5), layout="constrained")
     ax = fig.add_subplot()
-    ok = ber > 0
-    ax.errorbar(
-        ebn0_db[ok], ber[ok], yerr=2 * se[ok], marker="o", ms=4, capsize=2, label=label or "Monte Carlo"
-    )
+    for label, ber, se in curves:
+        ber, se = np.asarray(ber), np.asarray(se)
+        ok = ber > 0
+        ax.errorbar(ebn0_db[ok], ber[ok], yerr=2 * se[ok], marker="o", ms=4, capsize=2, label=label)
+    for label, ber in closed_forms:
+        ax.semilogy(ebn0_db, ber, ":", lw=1, label=label)
     ax.semilogy(ebn0_db, bound, "k--", lw=1, label=r"coherent bound $Q(\sqrt{(1-\rho)E_b/N_0})$")
     ax.set_xlabel(r"$E_b/N_0$ [dB]")
     ax.set_ylabel("bit error rate")

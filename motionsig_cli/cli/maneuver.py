@@ -49,7 +49,9 @@ OPTIONS = {"sigmas": "--sigma", "methods": "--method", "Pi": "--transition", "g2
 
 G2 = choices("G2", "Form of G₂ = G₃ (``models.motion.G2_FORMS``).", "paper-fixed", "standard")
 Preset = choices("Preset", "Trajectory preset (``maneuver.scenario.PRESETS``).", "literal", "turn90")
-View = choices("View", "What the table holds.", "scans", "events", "summary", "measurements", "front-end")
+View = choices(
+    "View", "What the table holds.", "scans", "events", "summary", "measurements", "front-end", "network"
+)
 FrontEnd = choices("FrontEnd", "Where the trackers' measurements come from.", "gaussian", "ebpsk")
 Level = choices("Level", "How the EBPSK front end is simulated.", "detector", "samples")
 Correction = choices("Correction", "State correction on a declaration.", "exact", "paper")
@@ -64,12 +66,12 @@ def _methods(text: str, choices: tuple[str, ...]) -> tuple[str, ...]:
     return choices if names == ("all",) else names
 
 
-def _matrix(text: str) -> tuple[tuple[float, ...], ...]:
+def _matrix(text: str, what: str = "transition probability") -> tuple[tuple[float, ...], ...]:
     """``'a,b,c;d,e,f;…'`` → rows."""
     rows = [r for r in text.split(";") if r.strip()]
     if not rows:
         raise ValueError(f"no rows in {text!r}")
-    out = [tuple(common.float_list(r, what="transition probability")) for r in rows]
+    out = [tuple(common.float_list(r, what=what)) for r in rows]
     if len({len(r) for r in out}) != 1:
         raise ValueError(f"rows of different lengths in {text!r}")
     return tuple(out)
@@ -163,7 +165,12 @@ ResponseOpt = Annotated[
     int, _opt("--response", "Scans after a change a declaration can be attributed to it, 1 to 10000.")
 ]
 ViewOpt = Annotated[
-    View, _opt("--view", "scans, events, summary, measurements or front-end (ebpsk: σ, P_D along the track).")
+    View,
+    _opt(
+        "--view",
+        "scans, events, summary, measurements, front-end (ebpsk: σ, P_D along the track) or network (ebpsk: "
+        "position accuracy of several nodes ranging the target, beside the single radar).",
+    ),
 ]
 FrontEndOpt = Annotated[
     FrontEnd,
@@ -201,6 +208,13 @@ PriOpt = Annotated[
     float | None, _opt("--pri", "ebpsk: pulse repetition interval [s] (5e-3: unambiguous range 749 km).")
 ]
 BeamwidthOpt = Annotated[float | None, _opt("--beamwidth", "ebpsk: 3-dB beamwidth [deg], 0 to 180 (2).")]
+NodesOpt = Annotated[
+    str | None,
+    _opt(
+        "--nodes",
+        "ebpsk, --view network: node positions x,y;x,y;... [m] (assumed: seven nodes along the literal track).",
+    ),
+]
 PlotCompareOpt = Annotated[
     Path | None, _opt("--plot-compare", "Also draw RMS error and declarations of every method.")
 ]
@@ -356,6 +370,7 @@ class RadarOptions:
     pfa: PfaOpt = None
     pri: PriOpt = None
     beamwidth: BeamwidthOpt = None
+    nodes: NodesOpt = None
 
     def refuse(self) -> None:
         """Without --front-end ebpsk, a radar option is a usage error."""
@@ -410,6 +425,7 @@ def maneuver(
       motionsig maneuver --runs 5000 --method all --workers 8 --checkpoint ckpt/   # resumable if interrupted
       motionsig maneuver --front-end ebpsk --method all --view summary   # on the EBPSK radar's positions
       motionsig maneuver --front-end ebpsk --view front-end --plot sigma.png
+      motionsig maneuver --front-end ebpsk --view network --runs 100   # several nodes ranging the target
 
     --workers, --scheduler and --checkpoint apply to the Monte Carlo views (scans, events, summary) and to
     FILE (its tracks, in tasks of whole tracks); the measurements view runs no Monte Carlo and ignores them.
@@ -421,7 +437,7 @@ def maneuver(
     methods = _methods(method, exp.METHODS)
     if front_end is FrontEnd.gaussian:
         radar.refuse()
-        if view is View.front_end:
+        if view in (View.front_end, View.network):
             raise typer.BadParameter(
                 "tabulates the EBPSK front end; give --front-end ebpsk", param_hint="--view"
             )
@@ -444,7 +460,12 @@ def maneuver(
     sc = exp.ManeuverScenario(preset=preset.value, T=1.0 if T is None else T, scans=scans)
     source: Any = "gaussian"
     if front_end is FrontEnd.ebpsk:
+        if radar.nodes is not None and view is not View.network:
+            raise typer.BadParameter("places the nodes of --view network", param_hint="--nodes")
         fe = _front_end(sc, radar)
+        if view is View.network:
+            _network_view(sc, fe, sigmas, radar, runs, seed, output)
+            return
         if view is View.front_end:
             _front_end_view(sc, fe, sigmas, radar.p_t is None, output)
             return
@@ -594,7 +615,9 @@ def _track_record(
     own = meta.get("command") == "maneuver" and meta.get("view") == "measurements"
     cfg = tracker.config(real.tuning.value if real.tuning is not None else ("paper" if own else "aircraft"))
     if output.plot is not None and len(tracks.tracks) > 1:
-        raise typer.BadParameter(f"draws one track; the record holds {len(tracks.tracks)}", param_hint="--plot")
+        raise typer.BadParameter(
+            f"draws one track; the record holds {len(tracks.tracks)}", param_hint="--plot"
+        )
     plan = rt.plan_tracking(tracks, methods, cfg, sigma=s, consistency=real.checks(cfg))
     del tracks  # the plan holds the tracks
     spool = view is View.scans and output.fmt.value == "csv"
@@ -622,3 +645,37 @@ def _track_record(
             f"{result.table.meta['sigma']:.4g} m from the positions (deviations of measured triples)"
         )
     output.note(f"maneuver: {result.note}")
+
+
+def _network_view(
+    sc: exp.ManeuverScenario, fe: Any, sigmas: Any, radar: RadarOptions, runs: int, seed: int, output: Output
+) -> None:
+    """``--view network``: several nodes ranging the target, each the radar of ``fe`` (at --p-t, else at the
+    power that makes the single radar's median position σ the first --sigma), beside the single radar."""
+    from motionsig_cli.maneuver import ebpsk_network as en
+
+    if output.plot is not None:
+        raise typer.BadParameter("the network view draws no figure", param_hint="--plot")
+    nodes = en.DEFAULT_NODES
+    if radar.nodes is not None:
+        nodes = common.checked("--nodes", _matrix, radar.nodes, what="coordinate")
+    calibrate = radar.p_t is None
+    if calibrate:
+        fe = fe.calibrated(sc.truth(), sigmas[0])
+    net = en.NodeNetwork(fe, nodes)
+    for node in net.node_front_ends():
+        node.check_track(sc.truth())
+    table = en.network_table(sc, net, runs, seed)
+    table.meta["p_t"] = (
+        f"set so that the single radar's median position σ along the track is {sigmas[0]:g} m"
+        if calibrate
+        else "--p-t"
+    )
+    output.emit(table)
+    r = table.rows[-1]
+    c = table.columns
+    output.note(
+        f"maneuver: {len(net.nodes)} nodes at P_t = {fe.p_t:.3g} W each: RMS position error "
+        f"{r[c.index('rms_pos_m')]:.3g} ± {r[c.index('rms_pos_se_m')]:.1g} m per axis on "
+        f"{r[c.index('fix_rate')]:.0%} of the scans; the single radar's median σ {r[-1]:.0f} m"
+    )

@@ -26,6 +26,15 @@ coefficient set for our sampling; the placement used here is documented in :func
 and its radii and offsets are **assumed** (chosen for the impact ratio and the BER measured in
 ``tests/signals/test_ebpsk.py`` and ``tests/maneuver/test_ebpsk_link.py``).
 
+Receivers (:data:`RECEIVERS`, :class:`Receiver`). The bound is the coherent matched filter on the raw samples
+(:func:`matched_statistic`, eq. M1: it needs the carrier phase). The default is the differential receiver
+(:func:`differential_statistic`, eqs D1–D3): the phase of the first K cycles against the unmodulated rest of
+the symbol (and of its neighbours), the per-symbol noncoherent ML detector when the reference is the symbol's
+own tail. The impacting-filter receivers threshold :func:`symbol_statistic` of the filter output:
+``impacting`` with the filter designed from a stated Q (:func:`designed_filter`, eqs F1–F3: a reading of the
+literature's structure), ``impacting-assumed`` with the placement of :class:`EBPSKConfig` (the earlier
+default; the radar of :mod:`motionsig_cli.maneuver.ebpsk_radar` still uses it).
+
 Everything is vectorised over rows: ``modulate`` takes bits ``(..., n_bits)``, ``apply_filter`` and
 ``demodulate`` waveforms ``(..., n_samples)``.
 """
@@ -33,7 +42,7 @@ Everything is vectorised over rows: ``modulate`` takes bits ``(..., n_bits)``, `
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import numpy as np
@@ -41,18 +50,25 @@ import numpy as np
 from motionsig_cli.config import ConfigError, in_range, integer, one_of, positive
 
 __all__ = [
+    "DEFAULT_RECEIVER",
+    "DEFAULT_SPAN",
     "MAX_SAMPLES_PER_SYMBOL",
     "MAX_WAVEFORM_SAMPLES",
+    "RECEIVERS",
     "EBPSKConfig",
+    "Receiver",
     "Statistic",
     "apply_filter",
     "check_bits",
     "demodulate",
+    "designed_filter",
     "detection_window",
+    "differential_statistic",
     "filter_response",
     "filter_roots",
     "impact_ratio",
     "impacting_filter",
+    "matched_statistic",
     "modulate",
     "signal_correlation",
     "symbol_statistic",
@@ -383,3 +399,163 @@ def signal_correlation(cfg: EBPSKConfig) -> float:
     s = symbol_waveforms(cfg)
     e = np.sum(s * s, axis=1)
     return float(np.dot(s[0], s[1]) / math.sqrt(e[0] * e[1]))
+
+
+# ------------------------------------------------------------------------------------------ receivers
+RECEIVERS = ("differential", "impacting", "impacting-assumed", "matched")
+"""The registered receivers (:class:`Receiver`): ``differential`` (default: noncoherent, derived below),
+``impacting`` (impacting filter designed from a stated Q, :func:`designed_filter`, and an amplitude threshold),
+``impacting-assumed`` (the earlier default: the filter placement of :class:`EBPSKConfig`, assumed) and
+``matched`` (coherent matched filter: needs the carrier phase; the reference that reaches the bound)."""
+DEFAULT_RECEIVER = "differential"
+DEFAULT_SPAN = 3
+"""Symbol tails averaged into the differential receiver's phase reference (assumed: the carrier phase is
+constant over three symbols, 210 ns for Table I)."""
+
+
+@dataclass(frozen=True, slots=True)
+class Receiver:
+    """One of the :data:`RECEIVERS` and its settings, checked here once.
+
+    Attributes:
+        name: One of :data:`RECEIVERS`.
+        span: ``differential``: symbol tails in the phase reference, an odd integer 1 … 99 (1: the symbol's own
+            tail only — the per-symbol noncoherent ML detector, eq. D3 of :func:`differential_statistic`).
+        statistic: ``impacting*``: ``peak`` or ``energy`` (:func:`symbol_statistic`).
+        q: ``impacting``: quality factor Q > 1 of the filter's resonators (None: πK, :func:`designed_filter`).
+    """
+
+    name: str = DEFAULT_RECEIVER
+    span: int = DEFAULT_SPAN
+    statistic: str = "peak"
+    q: float | None = None
+
+    def __post_init__(self) -> None:
+        one_of("receiver", self.name, RECEIVERS)
+        span = integer("span", self.span, 1, 99)
+        if span % 2 == 0:
+            raise ConfigError(
+                "span", self.span, "is even: the reference is centred on the symbol (1, 3, 5, …)"
+            )
+        one_of("statistic", self.statistic, ("peak", "energy"))
+        if self.q is not None:
+            in_range("q", self.q, 1.0, 1e6, lo_open=True)
+
+    @property
+    def filtered(self) -> bool:
+        """Whether the receiver thresholds the impacting filter's output (a threshold to calibrate)."""
+        return self.name.startswith("impacting")
+
+    def filter_config(self, cfg: EBPSKConfig) -> EBPSKConfig:
+        """The waveform with this receiver's impacting filter: designed for ``impacting``, as given otherwise."""
+        return designed_filter(cfg, self.q) if self.name == "impacting" else cfg
+
+    def statistic_of(self, x: np.ndarray, cfg: EBPSKConfig) -> np.ndarray:
+        """The receiver's statistic of every symbol of the received record ``x`` (..., n_bits·L) →
+        (..., n_bits). ``differential`` and ``matched`` decide bit 1 where it is > 0; the impacting receivers
+        where it exceeds a threshold (in the units of :func:`symbol_statistic`)."""
+        if self.name == "differential":
+            return differential_statistic(x, cfg, self.span)
+        if self.name == "matched":
+            return matched_statistic(x, cfg)
+        f = self.filter_config(cfg)
+        return symbol_statistic(apply_filter(x, f), f, self.statistic)  # type: ignore[arg-type]
+
+    def describe(self) -> str:
+        """One line for metadata and summaries."""
+        if self.name == "differential":
+            return f"differential (noncoherent), phase reference from {self.span} symbol tail(s)"
+        if self.name == "matched":
+            return "coherent matched filter (knows the carrier phase)"
+        if self.name == "impacting":
+            q = "πK" if self.q is None else f"{self.q:g}"
+            return f"impacting filter designed for Q = {q}, {self.statistic} threshold"
+        return f"impacting filter of assumed placement, {self.statistic} threshold"
+
+
+def designed_filter(cfg: EBPSKConfig, q: float | None = None) -> EBPSKConfig:
+    """``cfg`` with the impacting filter designed from stated specifications (a reading of the literature's
+    structure — one zero pair on the carrier, pole pairs beside it — with every number derived from Q):
+
+    - zeros: r_z = 1 at f_if (a true notch: the unmodulated carrier gives no output);
+    - poles: two resonators of quality factor Q, 3-dB bandwidth B = f_if/Q each, so of radius
+      r_p = exp(−π B/f_s) = exp(−π f_if/(Q f_s))                                        (F1)
+      (the ring-down time constant 1/(π B) = Q/(π f_if));
+    - pole frequencies f_if (1 ± 1/(2Q)): half a bandwidth either side of the notch, so that the two
+      resonances meet at the carrier and the notch sits between two peaks                          (F2)
+    - Q = πK by default: the ring-down time constant equals the modulated segment, Q/(π f_if) = K/f_if   (F3)
+      (the impact rings for as long as the phase jump lasts; Q = 2π, r_p = 0.951, offset 0.080 for Table I).
+
+    Raises:
+        ConfigError: naming ``q`` (not > 1), or ``pole_offset`` when a pole would leave (0, fs/2).
+    """
+    qq = math.pi * cfg.K if q is None else in_range("q", q, 1.0, 1e6, lo_open=True)
+    radius = math.exp(-math.pi * cfg.f_if / (qq * cfg.fs))
+    return replace(cfg, zero_radius=1.0, zero_offset=0.0, pole_radius=radius, pole_offset=1 / (2 * qq))
+
+
+def _segments(x: np.ndarray, cfg: EBPSKConfig) -> tuple[np.ndarray, np.ndarray]:
+    """(a, b) per symbol: the complex-baseband sums of the first K cycles and of the other N − K (eq. D1)."""
+    x = np.asarray(x, dtype=float)
+    L = cfg.samples_per_symbol
+    if x.shape[-1] % L:
+        raise ConfigError("x", f"{x.shape[-1]} samples", f"is not a whole number of {L}-sample symbols")
+    n = np.arange(L)
+    # the carrier's phase runs on across symbols and a symbol is N whole cycles: the same phasor every symbol
+    z = x.reshape(*x.shape[:-1], x.shape[-1] // L, L) * np.exp(-2j * np.pi * (cfg.f_if / cfg.fs) * n)
+    first = n * cfg.f_if < cfg.K * cfg.fs * (1 - 1e-12)
+    return z[..., first].sum(axis=-1), z[..., ~first].sum(axis=-1)
+
+
+def differential_statistic(x: np.ndarray, cfg: EBPSKConfig, span: int = DEFAULT_SPAN) -> np.ndarray:
+    """The noncoherent (differential) EBPSK detector on the raw IF samples ``x`` (..., n_bits·L) →
+    (..., n_bits); decide bit 1 where the statistic is > 0.
+
+    Derivation. Per symbol, with ω = 2π f_if/f_s and the sums over the samples of the first K cycles (a)
+    and of the other N − K (b),
+
+        a = Σ x_n e^{−jωn},  b = Σ x_n e^{−jωn}                                                 (D1)
+
+    A sine of phase φ gives (M/2)e^{j(φ−π/2)} per cycle of M samples (the 2ω image sums to zero over a whole
+    cycle, M ≥ 3) and white noise of variance σ² a circular complex term of variance Mσ² per cycle. So
+    a = (KM/2)e^{j(φ+θb)}u + n_a and b = ((N−K)M/2)e^{jφ}u + n_b (u = e^{−jπ/2}, b the bit, n_a, n_b
+    independent). With φ unknown and uniform, the ML choice between the two symbols' complex templates is
+    the larger envelope |⟨x, s̃_b⟩| = |a e^{−jθb} + b|, and
+
+        |a e^{−jθ} + b|² − |a + b|² = 4 sin(θ/2) Im(a b* e^{−jθ/2})                            (D2)
+
+    so the per-symbol noncoherent ML detector decides 1 where Im(a b* e^{−jθ/2}) > 0 (for θ = π: where
+    Re(a b*) < 0 — the phase of the modulated segment against the symbol's own tail, a differential
+    detector that needs no carrier phase). ``span`` > 1 replaces b by the sum of the tails of the ``span``
+    symbols centred on this one (fewer at the record's ends): the carrier phase runs on across symbols and
+    the tails are never modulated, so the reference gains energy whatever the neighbours' bits (assumed:
+    the phase is constant over ``span`` symbols). Error probability (Stein's formula for the sign of
+    Re(a b*) with independent Gaussian a, b;
+    :func:`motionsig_cli.maneuver.ebpsk_link.differential_ber`)                               (D3)
+    """
+    s = integer("span", span, 1, 99)
+    a, b = _segments(x, cfg)
+    if s > 1:
+        h = s // 2
+        pad = [(0, 0)] * (b.ndim - 1) + [(h, h)]
+        c = np.cumsum(np.pad(b, pad), axis=-1)
+        c = np.concatenate([np.zeros_like(c[..., :1]), c], axis=-1)
+        b = c[..., s:] - c[..., :-s]
+    return np.imag(a * np.conj(b) * np.exp(-0.5j * cfg.theta))
+
+
+def matched_statistic(x: np.ndarray, cfg: EBPSKConfig) -> np.ndarray:
+    """The coherent matched-filter (ML) detector of two known symbols s0, s1 in white Gaussian noise, on the
+    raw IF samples ``x`` (..., n_bits·L) → (..., n_bits): ⟨x, s1 − s0⟩ − (E1 − E0)/2, bit 1 where > 0 (M1).
+
+    The symbols differ only in the first K cycles, so only those samples count; its error probability is
+    Q(‖s1 − s0‖/(2σ)) = Q(√((1 − ρ) E_b/N_0)) with 1 − ρ = (K/N)(1 − cos θ) (:func:`signal_correlation`),
+    the bound no receiver beats. It needs the carrier phase (0 in the link's model)."""
+    x = np.asarray(x, dtype=float)
+    L = cfg.samples_per_symbol
+    if x.shape[-1] % L:
+        raise ConfigError("x", f"{x.shape[-1]} samples", f"is not a whole number of {L}-sample symbols")
+    s = symbol_waveforms(cfg)
+    d = s[1] - s[0]
+    bias = 0.5 * float(s[1] @ s[1] - s[0] @ s[0])
+    return x.reshape(*x.shape[:-1], x.shape[-1] // L, L) @ d - bias

@@ -52,8 +52,12 @@ def test_ber_table(capsys, tmp_path):
     rc, out, err = run(capsys, *args, "--plot", str(png), "--workers", "1")
     assert rc == 0, err
     t = table(out, tmp_path)
-    assert t.columns == ("ebn0_db", "bits", "errors", "ber", "se", "coherent_bound", "threshold")
+    cols = ("ebn0_db", "bits", "errors", "ber", "se", "coherent_bound", "closed_form", "threshold")
+    assert t.columns == cols
+    assert t.meta["receiver"] == "differential" and t.meta["span"] == 3
     ber, se, bound = t.numeric("ber"), t.numeric("se"), t.numeric("coherent_bound")
+    closed = t.numeric("closed_form")
+    assert np.all(np.abs(ber - closed) < 4 * np.sqrt(closed * (1 - closed) / 2000) + 1e-12)
     assert list(t.numeric("bits", integer=True)) == [2000, 2000]
     np.testing.assert_allclose(se, np.sqrt(ber * (1 - ber) / 2000))
     assert ber[1] < ber[0] and np.all(ber >= bound - 4 * np.sqrt(bound * (1 - bound) / 2000))
@@ -63,6 +67,25 @@ def test_ber_table(capsys, tmp_path):
     # same output with 2 workers and a fixed seed
     rc, out2, _ = run(capsys, *args, "--workers", "2")
     assert out2 == out
+
+
+def test_ber_receivers(capsys, tmp_path):
+    """--receiver picks the registered receiver; the impacting ones calibrate a threshold, record their
+    filter, and have no closed form; the earlier default stays reachable by name."""
+    args = ("encode", "ebpsk", "--ber", "--ebn0", "10", "--trials", "2", "--bits-per-trial", "500", "-q")
+    seen = {}
+    for name in ("differential", "matched", "impacting", "impacting-assumed"):
+        rc, out, err = run(capsys, *args, "--receiver", name)
+        assert rc == 0, err
+        t = table(out, tmp_path, f"{name}.csv")
+        assert t.meta["receiver"] == name
+        seen[name] = t
+    assert seen["impacting"].meta["filter_pole_radius"] == pytest.approx(math.exp(-1 / 20))
+    assert seen["impacting-assumed"].meta["filter_pole_radius"] == 0.93
+    assert seen["impacting"].numeric("threshold")[0] > 0
+    assert math.isnan(seen["impacting"].numeric("closed_form")[0])
+    assert seen["matched"].numeric("closed_form")[0] == seen["matched"].numeric("coherent_bound")[0]
+    assert seen["differential"].numeric("threshold")[0] == 0
 
 
 @pytest.mark.parametrize(
@@ -81,9 +104,26 @@ def test_ber_table(capsys, tmp_path):
         (("--ber", "--ebn0", "3,x"), "--ebn0"),
         (("--ber", "--trials", "0"), "--trials"),
         (("--ber", "--threshold", "-1"), "--threshold"),
+        (("--ber", "--receiver", "impacting", "--threshold", "-1"), "--threshold"),
+        (("--ber", "--span", "2"), "--span"),
+        (("--ber", "--receiver", "matched", "--span", "3"), "--span"),
+        (("--ber", "--q", "3"), "--q"),
+        (("--ber", "--receiver", "impacting", "--q", "0.5"), "--q"),
+        (("--ber", "--statistic", "energy"), "--statistic"),
+        (("--ber", "--receiver", "coherent"), "--receiver"),
+        (("--span", "3"), "--span"),
         (("--pole-radius", "1"), "--pole-radius"),
     ],
 )
 def test_bad_input_is_one_line(capsys, args, option):
     err = one_line_error(capsys, "encode", "ebpsk", *args)
     assert option in err
+
+
+def test_the_command_layer_lists_the_registered_receivers():
+    """The command module spells out the receivers without importing NumPy: they must be the registry's."""
+    from motionsig_cli.cli import encode as cli
+    from motionsig_cli.signals.ebpsk import DEFAULT_RECEIVER, DEFAULT_SPAN, RECEIVERS
+
+    assert tuple(r.value for r in cli.ReceiverName) == RECEIVERS
+    assert DEFAULT_RECEIVER == "differential" and DEFAULT_SPAN == 3

@@ -229,7 +229,7 @@ def test_the_command_layer_copies_of_core_constants_agree():
     assert cli.CHI2_2_999 == CHI2_2_999
     assert tuple(g.value for g in cli.G2) == G2_FORMS
     assert tuple(p.value for p in cli.Preset) == ex.PRESETS
-    assert tuple(v.value for v in cli.View) == (*ex.VIEWS, "measurements", "front-end")
+    assert tuple(v.value for v in cli.View) == (*ex.VIEWS, "measurements", "front-end", "network")
     assert tuple(f.value for f in cli.FrontEnd) == ("gaussian", "ebpsk") == tuple(ex.SOURCES)
     assert tuple(c.value for c in cli.Correction) == CORRECTIONS
     assert tuple(c.value for c in cli.Continuation) == CONTINUATIONS

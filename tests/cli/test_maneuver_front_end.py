@@ -53,9 +53,31 @@ def test_front_end_view_tabulates_sigma_and_the_powers_for_the_papers_values(cap
     assert png.stat().st_size > 0
 
 
+def test_network_view_compares_the_nodes_with_the_single_radar(capsys, tmp_path):
+    """--view network: per phase, the nodes' RMS position error (a Monte Carlo of WLS fixes) beside the single
+    radar's σ at the same power; --nodes places them (here three nodes around the first 60 scans)."""
+    rc, out, err = run(capsys, "maneuver", "--front-end", "ebpsk", "--view", "network", "--runs", "20",
+                       "--scans", "60", "--nodes", "-80000,40000;80000,40000;0,-60000")  # fmt: skip
+    assert rc == 0, err
+    t = table(out, tmp_path)
+    c = t.columns
+    assert t.meta["network"]["nodes_m"] == [[-80000.0, 40000.0], [80000.0, 40000.0], [0.0, -60000.0]]
+    track = t.rows[-1]
+    assert track[0] == "track"
+    assert float(track[c.index("single_median_sigma_pos_m")]) == pytest.approx(100.0)
+    assert 0 < float(track[c.index("rms_pos_m")]) < 10.0
+    assert "3 nodes" in err and "RMS position error" in err
+
+
 @pytest.mark.parametrize(
     ("args", "option"),
     [
+        (("--view", "network"), "--view"),
+        (("--front-end", "ebpsk", "--nodes", "0,0;1,1;2,2"), "--nodes"),
+        (("--front-end", "ebpsk", "--view", "network", "--nodes", "0,0;1,x"), "--nodes"),
+        (("--front-end", "ebpsk", "--view", "network", "--nodes", "0,0;1,1"), "--nodes"),
+        (("--front-end", "ebpsk", "--view", "network", "--nodes", "1,2,3;4,5,6;7,8,9"), "--nodes"),
+        (("--front-end", "ebpsk", "--view", "network", "--plot", "x.png"), "--plot"),
         (("--p-t", "1e6"), "--p-t"),
         (("--level", "samples"), "--level"),
         (("--view", "front-end"), "--view"),

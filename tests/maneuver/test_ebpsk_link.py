@@ -1,9 +1,11 @@
-"""BER Monte Carlo of the EBPSK amplitude demodulator (motionsig_cli.maneuver.ebpsk_link).
+"""BER Monte Carlo of the EBPSK receivers (motionsig_cli.maneuver.ebpsk_link).
 
 Tolerances. A BER estimate from n bits has binomial SE √(p(1−p)/n); "within 4 SE" fails by chance with
 probability < 10⁻⁴ per point. The coherent bound is checked two ways: an optimum correlation receiver
-written here reaches it (within 4 SE: checks the noise scaling, E_b and ρ), and the impacting-filter
-detector never beats it by more than 4 SE.
+written here reaches it (within 4 SE: checks the noise scaling, E_b and ρ), and no receiver beats it by
+more than 4 SE. The default (differential) receiver is checked against its closed form (Stein's formula),
+which is itself checked against binary DPSK's ½e^{−γ}; the earlier default (``impacting-assumed``) against
+the error counts that the previous version of the code printed for the same seed.
 """
 
 import math
@@ -13,34 +15,88 @@ import pytest
 
 from motionsig_cli.config import ConfigError
 from motionsig_cli.engine import Engine, run_job
-from motionsig_cli.maneuver.ebpsk_link import BerJob, coherent_ber, noise_sigma, optimum_threshold
+from motionsig_cli.maneuver.ebpsk_link import (
+    BerJob,
+    closed_form_ber,
+    coherent_ber,
+    differential_ber,
+    noise_sigma,
+    optimum_threshold,
+)
 from motionsig_cli.rng import trial_rng
-from motionsig_cli.signals.ebpsk import EBPSKConfig, modulate, symbol_waveforms
+from motionsig_cli.signals.ebpsk import EBPSKConfig, Receiver, modulate, symbol_waveforms
 
 CFG = EBPSKConfig()
 EBN0 = (6.0, 10.0, 14.0, 18.0)
+ASSUMED = Receiver("impacting-assumed")
 
 
 @pytest.fixture(scope="module")
-def result():
-    return run_job(BerJob(CFG, EBN0, trials=20, bits_per_trial=1000, seed=11))
+def assumed():
+    return run_job(BerJob(CFG, EBN0, trials=20, bits_per_trial=1000, seed=11, receiver=ASSUMED))
 
 
-def test_ber_decreases_and_is_small_at_high_snr(result):
-    ber, se = result.ber, result.se
+def test_earlier_default_is_reproducible_by_name(assumed):
+    """``impacting-assumed`` is the receiver that was the default before the differential one: the previous
+    version of this code (commit 2e36d59, ``BerJob(CFG, EBN0, trials=20, bits_per_trial=1000, seed=11)``)
+    printed these error counts of 20000 bits (BER 0.280, 0.126, 0.0173, 3.0e-4)."""
+    np.testing.assert_array_equal(assumed.errors, [5603, 2525, 346, 6])
+    ber, se = assumed.ber, assumed.se
     for i in range(len(EBN0) - 1):
         assert ber[i + 1] < ber[i] - 4 * math.hypot(se[i], se[i + 1])
-    # measured (this seed, 20000 bits per point): 0.280, 0.126, 0.0173, 3.0e-4
-    assert 0.2 < ber[0] < 0.4
-    assert ber[-1] < 2e-3
 
 
-def test_detector_never_beats_the_coherent_bound(result):
-    bound = coherent_ber(CFG, np.array(EBN0))
-    se = np.sqrt(bound * (1 - bound) / result.bits)  # SE under the bound: the most a lucky run could dip
-    assert np.all(result.ber >= bound - 4 * se)
-    # and it stays well short of it: ≈ 8 dB at a BER of 10⁻² (the simple detector is not optimal)
-    assert result.ber[2] > 10 * bound[2]
+@pytest.fixture(scope="module")
+def receivers():
+    """Every receiver on the same bits and noise: 100 000 bits per point."""
+    out = {}
+    for rx in (Receiver(), Receiver(span=1), Receiver("matched"), Receiver("impacting"), ASSUMED):
+        out[(rx.name, rx.span)] = run_job(
+            BerJob(
+                CFG, (6.0, 10.0), trials=100, bits_per_trial=1000, seed=23, receiver=rx, calibration_bits=5000
+            )
+        )
+    return out
+
+
+def test_default_receiver_meets_its_closed_form_and_the_target(receivers):
+    """The differential receiver (span 3: the default; span 1: the per-symbol noncoherent ML detector) is
+    within 4 SE of Stein's formula (the record's two end symbols, with fewer tails, are 2 of 1000 bits: their
+    effect is < 10⁻⁵), and at 10 dB its BER is ≤ 2·10⁻² — 0.1 dB from the bound at 10⁻² (span 1: 0.4 dB)."""
+    for span in (3, 1):
+        res = receivers[("differential", span)]
+        p = differential_ber(CFG, np.array(res.ebn0_db), span)
+        np.testing.assert_allclose(res.closed_form, p)
+        sd = np.sqrt(p * (1 - p) / res.bits)
+        assert np.all(np.abs(res.ber - p) < 4 * sd), (span, res.ber, p)
+    default = run_job(BerJob(CFG, (10.0,), trials=100, bits_per_trial=1000, seed=23, calibration_bits=5000))
+    assert default.receiver == Receiver() and default.receiver.span == 3
+    assert default.ber[0] + 4 * default.se[0] <= 2e-2
+
+
+def test_no_receiver_beats_the_bound_and_the_matched_filter_reaches_it(receivers):
+    bound = coherent_ber(CFG, np.array([6.0, 10.0]))
+    sd = np.sqrt(bound * (1 - bound) / 100_000)  # SE under the bound: the most a lucky run could dip
+    for res in receivers.values():
+        assert np.all(res.ber >= bound - 4 * sd), res.receiver
+    assert np.all(np.abs(receivers[("matched", 3)].ber - bound) < 4 * sd)
+    # the impacting-filter receivers stay far short of it (≈ 10× the differential receiver's BER at 10 dB)
+    for key in (("impacting", 3), ("impacting-assumed", 3)):
+        assert receivers[key].ber[1] > 5 * receivers[("differential", 3)].ber[1]
+        assert np.all(np.isnan(receivers[key].closed_form))
+
+
+def test_differential_closed_form_is_dpsk_when_the_segments_match():
+    """Stein's formula with equal SNRs on both segments (K = N − K, span 1) is binary DPSK's ½ e^{−γ}
+    (Proakis, eq. 5.2-69), γ = (K/N) E_b/N_0; with an infinitely long reference it tends to the bound."""
+    cfg = EBPSKConfig(N=4, K=2)
+    e = np.array([0.0, 4.0, 8.0, 12.0])
+    np.testing.assert_allclose(differential_ber(cfg, e, 1), 0.5 * np.exp(-0.5 * 10 ** (e / 10)), rtol=1e-9)
+    np.testing.assert_allclose(differential_ber(CFG, 10.0, 99), coherent_ber(CFG, 10.0), rtol=0.05)
+    with pytest.raises(ConfigError) as err:
+        differential_ber(EBPSKConfig(theta=2.0), 10.0)
+    assert err.value.field == "theta"
+    assert np.isnan(closed_form_ber(EBPSKConfig(theta=2.0), Receiver(), 10.0))
 
 
 def test_optimum_correlation_receiver_reaches_the_bound():
@@ -63,6 +119,9 @@ def test_optimum_correlation_receiver_reaches_the_bound():
 def test_result_is_independent_of_chunking():
     kw = dict(cfg=CFG, ebn0_db=(8.0, 12.0), trials=6, bits_per_trial=300, seed=5, calibration_bits=2000)
     base = run_job(BerJob(**kw))
+    assert run_job(BerJob(**kw, chunk=2), Engine(1)).errors.tolist() == base.errors.tolist()
+    kw["receiver"] = ASSUMED
+    base = run_job(BerJob(**kw))
     for chunk in (1, 4, 6):
         job = BerJob(**kw, chunk=chunk)
         assert len(job.tasks()) == math.ceil(6 / chunk)
@@ -70,7 +129,7 @@ def test_result_is_independent_of_chunking():
 
 
 def test_trial_streams_and_fixed_threshold():
-    job = BerJob(CFG, (10.0,), trials=3, bits_per_trial=50, threshold=0.9, seed=2)
+    job = BerJob(CFG, (10.0,), trials=3, bits_per_trial=50, threshold=0.9, seed=2, receiver=ASSUMED)
     assert job.thresholds == (0.9,)
     # the task recomputes the bits of trial t from trial_rng(seed, t, 0)
     errors = job.run_task(range(0, 3))
@@ -95,8 +154,9 @@ def test_optimum_threshold():
         ({"ebn0_db": (float("nan"),)}, "ebn0_db"),
         ({"trials": 0}, "trials"),
         ({"bits_per_trial": 0}, "bits_per_trial"),
-        ({"statistic": "mean"}, "statistic"),
-        ({"threshold": -1.0}, "threshold"),
+        ({"receiver": "differential"}, "receiver"),
+        ({"threshold": 0.5}, "threshold"),
+        ({"threshold": -1.0, "receiver": ASSUMED}, "threshold"),
         ({"trials": 10**7, "bits_per_trial": 1000}, "trials"),
     ],
 )

@@ -13,14 +13,19 @@ from scipy import signal as sp_signal
 
 from motionsig_cli.config import ConfigError
 from motionsig_cli.signals.ebpsk import (
+    RECEIVERS,
     EBPSKConfig,
+    Receiver,
     apply_filter,
     demodulate,
+    designed_filter,
     detection_window,
+    differential_statistic,
     filter_response,
     filter_roots,
     impact_ratio,
     impacting_filter,
+    matched_statistic,
     modulate,
     signal_correlation,
     symbol_statistic,
@@ -29,8 +34,9 @@ from motionsig_cli.signals.ebpsk import (
 CFG = EBPSKConfig()  # Table I: f_if 100 MHz, fs 1 GHz, K = 2, N = 7
 
 
-def reference_waveform(bits, N, K, theta, f, fs):
-    """The definition, one sample at a time: in symbol j, t = n/fs − j·N/f; bit 1 adds θ while t < K/f."""
+def reference_waveform(bits, N, K, theta, f, fs, phase0=0.0):
+    """The definition, one sample at a time: in symbol j, t = n/fs − j·N/f; bit 1 adds θ while t < K/f
+    (``phase0``: a carrier phase added throughout, as an unknown channel phase)."""
     L = round(N * fs / f)
     out = []
     for j, b in enumerate(bits):
@@ -38,7 +44,7 @@ def reference_waveform(bits, N, K, theta, f, fs):
             t_local = m / fs
             t = (j * L + m) / fs
             phase = theta if (b == 1 and t_local < K / f - 1e-15) else 0.0
-            out.append(math.sin(2 * math.pi * f * t + phase))
+            out.append(math.sin(2 * math.pi * f * t + phase + phase0))
     return np.array(out)
 
 
@@ -166,3 +172,90 @@ def test_signal_correlation_closed_form(K, N, theta):
     cfg = EBPSKConfig(K=K, N=N, theta=theta)
     assert signal_correlation(cfg) == pytest.approx(1 - K / N * (1 - math.cos(theta)), abs=1e-12)
     assert cfg.bit_energy == pytest.approx(N * 10 / 2)
+
+
+# ------------------------------------------------------------------------------------------ receivers
+@pytest.mark.parametrize("theta", [math.pi, math.pi / 2, 4.0])
+@pytest.mark.parametrize("span", [1, 3])
+def test_differential_needs_no_carrier_phase(theta, span):
+    """The differential statistic (eq. D2) decides every noiseless bit right whatever the carrier phase and
+    amplitude of the record: it compares the modulated segment's phase with the tail's, never with a
+    reference phase. The record is written out here from the definition with a phase offset φ₀."""
+    cfg = EBPSKConfig(theta=theta)
+    rng = np.random.default_rng(4)
+    bits = rng.integers(0, 2, 40)
+    for phi0, amp in ((0.0, 1.0), (1.3, 0.2), (-2.9, 7.0)):
+        x = amp * reference_waveform(bits, 7, 2, theta, 100e6, 1e9, phase0=phi0)
+        stat = differential_statistic(x, cfg, span)
+        np.testing.assert_array_equal(stat > 0, bits == 1)
+        # and its magnitude is that of D2: |Im(a b* e^{-jθ/2})| = (KM/2)((N−K)M/2)·(tails)·sin(θ/2)·amp²
+        tails = np.full(40, span)
+        if span == 3:
+            tails[[0, -1]] = 2
+        expect = (2 * 10 / 2) * (5 * 10 / 2) * tails * math.sin(theta / 2) * amp**2
+        np.testing.assert_allclose(np.abs(stat), expect, rtol=1e-9)
+
+
+def test_matched_statistic_is_the_correlation_with_the_difference():
+    """M1 written out: ⟨x, s1 − s0⟩ over the first K cycles only (the symbols agree elsewhere), bias 0 for
+    equal energies; noiseless decisions are right and the statistic is ±‖s1 − s0‖²/2 = ±(1 − cos θ)KM/2."""
+    bits = np.array([0, 1, 1, 0, 1])
+    x = modulate(bits, CFG)
+    stat = matched_statistic(x, CFG)
+    np.testing.assert_allclose(stat, np.where(bits == 1, 1, -1) * 2 * 2 * 10 / 2, atol=1e-9)
+
+
+def test_designed_filter_meets_its_specifications():
+    """F1–F3 checked on the designed filter's roots and response, not on its formulas: each pole pair's
+    impulse response decays with time constant Q/(π f_if) (Q = πK = 2π: 20 samples, two IF cycles), the
+    poles sit at f_if(1 ± 1/(2Q)), the zeros on the unit circle at f_if; |H(f_if)| = 0."""
+    d = designed_filter(CFG)
+    zeros, poles = filter_roots(d)
+    q = 2 * math.pi
+    np.testing.assert_allclose(np.abs(zeros), 1.0)
+    np.testing.assert_allclose(np.abs(np.angle(zeros)), 2 * math.pi * 0.1)
+    freqs = np.sort(np.abs(np.angle(poles[:2]))) / (2 * math.pi) * 1e9
+    np.testing.assert_allclose(freqs, 100e6 * np.array([1 - 1 / (2 * q), 1 + 1 / (2 * q)]))
+    # time constant: |p|^n falls by e over Q fs/(π f_if) samples
+    tau = q * 10 / math.pi
+    assert np.abs(poles[0]) ** tau == pytest.approx(math.exp(-1))
+    f, h = filter_response(d, 1 << 15)
+    assert np.abs(h[np.argmin(np.abs(f - 100e6))]) < 1e-3
+    assert d.pole_radius == pytest.approx(0.9512, abs=1e-4) and d.pole_offset == pytest.approx(
+        0.0796, abs=1e-4
+    )
+    # a stated Q other than the default
+    assert designed_filter(CFG, 10.0).pole_offset == pytest.approx(0.05)
+
+
+@pytest.mark.parametrize(
+    "kw, field",
+    [
+        ({"name": "coherent"}, "receiver"),
+        ({"span": 2}, "span"),
+        ({"span": 0}, "span"),
+        ({"statistic": "mean"}, "statistic"),
+        ({"q": 1.0}, "q"),
+        ({"q": float("nan")}, "q"),
+    ],
+)
+def test_receiver_errors_name_the_field(kw, field):
+    with pytest.raises(ConfigError) as e:
+        Receiver(**kw)
+    assert e.value.field == field
+
+
+def test_receiver_registry_dispatch():
+    """Every registered receiver decides noiseless bits right (after the lead-in symbol of the filtered ones)
+    and only the impacting ones need a threshold."""
+    bits = np.array([0, 0, 1, 0, 1, 1, 0, 1])
+    x = modulate(bits, CFG)
+    for name in RECEIVERS:
+        rx = Receiver(name)
+        stat = rx.statistic_of(x, CFG)
+        assert rx.filtered == name.startswith("impacting")
+        if rx.filtered:
+            s = stat[2:]
+            assert s[bits[2:] == 1].min() > s[bits[2:] == 0].max()
+        else:
+            np.testing.assert_array_equal(stat > 0, bits == 1)
