@@ -113,6 +113,18 @@ class IMMTrack:
         return np.exp(self.log_mu)
 
 
+def _weighted(c: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """Σ_j c_j X_j: (B, r) weights of (B, r, n) vectors, (B, n)."""
+    return (c[:, None, :] @ X)[:, 0]
+
+
+def _spread(c: np.ndarray, P: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Σ_j c_j [P_j + d_j d_jᵀ]: the covariance of a mixture, from (B, r) weights, (B, r, n, n) covariances and
+    (B, r, n) deviations from its mean (eq 13), (B, n, n)."""
+    B, r, n = d.shape
+    return (c[:, None, :] @ P.reshape(B, r, n * n)).reshape(B, n, n) + np.swapaxes(d * c[..., None], 1, 2) @ d
+
+
 def imm_filter(
     z: np.ndarray,
     H: np.ndarray,
@@ -233,28 +245,25 @@ def imm_filter(
             w = np.exp(a - np.where(reachable, log_cbar, 0.0)[:, None, :])
         w = np.where(reachable[:, None, :], w, np.exp(log_mu)[:, :, None])  # unreachable j: any valid weights
         # 3: mixing, eqs (9)–(10)
-        X0 = np.einsum("bij,bin->bjn", w, X)  # (B, j, n)
-        D = X[:, :, None, :] - X0[:, None, :, :]  # X̂_i − X̂_0j, (B, i, j, n)
-        WD = w[..., None] * D
-        P0j = np.einsum("bij,binm->bjnm", w, P) + np.einsum("bijn,bijm->bjnm", WD, D)
+        # (the sums over i as batched matrix products: an einsum of these shapes is 10-20 times slower)
+        wT = np.swapaxes(w, 1, 2)  # (B, j, i)
+        X0 = wT @ X  # Σ_i μ_{i|j} X̂_i, (B, j, n)
+        D = np.swapaxes(X[:, :, None, :] - X0[:, None, :, :], 1, 2)  # X̂_i − X̂_0j, (B, j, i, n)
+        P0j = (wT @ P.reshape(B, r, n * n)).reshape(B, r, n, n) + np.swapaxes(wT[..., None] * D, -1, -2) @ D
         # 4: model-matched prediction and update
-        if Phi.ndim == 3:
-            Xp = np.einsum("jnm,bjm->bjn", Phi, X0)  # X̂_j(k|k−1) = Φ_j X̂_0j
-        else:
-            Xp = np.einsum("bjnm,bjm->bjn", Phi, X0)
+        Xp = (Phi @ X0[..., None])[..., 0]  # X̂_j(k|k−1) = Φ_j X̂_0j
         Pp = Phi @ P0j @ PhiT + Qd  # P_j(k|k−1) = Φ_j P_0j Φ_jᵀ + G_j Q_j G_jᵀ
         Rk = R[:, k, None] if varying else R
         up = joseph_update(Xp, Pp, z[:, k, None, :], H, Rk)
         seen = measured[:, k] if (mon is not None or not every) else None  # (B,) runs measured at scan k
         if mon is not None:
             cbar = np.exp(log_cbar)
-            xb = np.einsum("bj,bjn->bn", cbar, Xp)  # the combined prediction x̄, P̄
-            d = Xp - xb[:, None, :]
-            Pb = np.einsum("bj,bjnm->bnm", cbar, Pp) + np.einsum("bj,bjn,bjm->bnm", cbar, d, d)
+            xb = _weighted(cbar, Xp)  # the combined prediction x̄, P̄
+            Pb = _spread(cbar, Pp, Xp - xb[:, None, :])
             nu = z[:, k] - xb @ H.T
             Sb = H @ Pb @ H.T + (R[:, k] if varying else R)
             S_inv, _, _ = spd_inv_logdet(Sb)
-            nis = np.einsum("bi,bij,bj->b", nu, S_inv, nu)
+            nis = (nu[:, None, :] @ S_inv @ nu[:, :, None])[:, 0, 0]
             seen = mon.screen(k, seen, nis, nu, Sb, since + dt[:, k])  # C1: a gated measurement is not used
         if seen is None or seen.all():
             X, P, loglik = up.x, up.P, up.loglik
@@ -267,11 +276,10 @@ def imm_filter(
         log_mu = s - logsumexp(s, axis=1)[:, None]
         # 7: output, eqs (12)–(13) corrected
         mu = np.exp(log_mu)
-        xc = np.einsum("bj,bjn->bn", mu, X)
+        xc = _weighted(mu, X)
         Pc = None
         if P_out is not None or mon is not None:
-            d = X - xc[:, None, :]
-            Pc = np.einsum("bj,bjnm->bnm", mu, P) + np.einsum("bj,bjn,bjm->bnm", mu, d, d)
+            Pc = _spread(mu, P, X - xc[:, None, :])
         if mon is not None:
             assert Pc is not None
             since = since + dt[:, k]

@@ -914,6 +914,13 @@ def spd_inv_logdet(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return inv, np.where(ok, logdet, -np.inf), ok
 
 
+def _selection(H: np.ndarray) -> np.ndarray | None:
+    """The components H picks, where each row of H is one 1 among 0s (H x = x[pick]); else None."""
+    if H.ndim != 2 or not np.all((H == 0.0) | (H == 1.0)) or not np.all(H.sum(axis=1) == 1.0):
+        return None
+    return np.argmax(H, axis=1)
+
+
 def joseph_update(x: np.ndarray, P: np.ndarray, z: np.ndarray, H: np.ndarray, R: np.ndarray) -> Update:
     """Measurement update of a batch of filters sharing H and R.
 
@@ -925,15 +932,26 @@ def joseph_update(x: np.ndarray, P: np.ndarray, z: np.ndarray, H: np.ndarray, R:
         x: (..., n); P: (..., n, n); z: (..., m) broadcastable against H x; H: (m, n); R: (m, m).
     """
     m, n = H.shape
-    nu = z - x @ H.T
-    PHt = P @ H.T
-    S = H @ PHt + R
+    pick = _selection(H)
+    if pick is not None:  # H picks components: products with H are gathers
+        nu = z - x[..., pick]
+        PHt = P[..., :, pick]
+        S = PHt[..., pick, :] + R
+    else:
+        nu = z - x @ H.T
+        PHt = P @ H.T
+        S = H @ PHt + R
     S_inv, logdet, ok = spd_inv_logdet(S)
     if not np.all(ok):
         raise np.linalg.LinAlgError("innovation covariance is not positive definite")
     K = PHt @ S_inv
-    A = np.eye(n) - K @ H
-    P_new = A @ P @ np.swapaxes(A, -1, -2) + K @ R @ np.swapaxes(K, -1, -2)
+    KT = np.swapaxes(K, -1, -2)
+    if pick is not None:  # A P Aᵀ with A = I − K H applied as two rank-m corrections (no n×n products):
+        AP = P - K @ P[..., pick, :]  # A P = P − K (H P)
+        P_new = AP - AP[..., :, pick] @ KT + K @ R @ KT  # (A P) Aᵀ = A P − (A P) Hᵀ Kᵀ
+    else:
+        A = np.eye(n) - K @ H
+        P_new = A @ P @ np.swapaxes(A, -1, -2) + K @ R @ KT
     P_new = 0.5 * (P_new + np.swapaxes(P_new, -1, -2))
     x_new = x + (K @ nu[..., None])[..., 0]
     maha = (nu[..., None, :] @ S_inv @ nu[..., :, None])[..., 0, 0]
