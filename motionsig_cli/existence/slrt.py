@@ -693,12 +693,6 @@ class SlrtJob:
             raise ConfigError("options", self.options, "is not FusionOptions")
         for sc in self.cases:
             check_applicable(self.methods, sc.model(), self.options)
-            if "dkf" in self.methods and sc.clutter_rate > 0:
-                raise ConfigError(
-                    "methods", "dkf", "is exact only for data without clutter (a sensor's update with two "
-                    f"measurements is a mixture); here: {sc.clutter_rate:g} false alarms per scan (use clutter "
-                    "0 and give the filters' clutter density by filter_clutter, or use fkf or fkf-feedback)"
-                )  # fmt: skip
 
     def runs_per_task(self) -> int:
         """Runs per task: worth at least the engine's minimum task time *and* 4× the per-batch overhead of
