@@ -7,8 +7,12 @@ Poisson clutter uniform in each field of view, and the track-existence scores of
 Run r draws only from ``trial_rng(seed, r)`` (truth, detections, clutter, the initial track draw), so a
 result does not depend on the number of runs or on their order.
 
-The command's experiment is a :class:`SlrtStudy` (target cases at several p_D and a no-target case, the
-runs, Wald's test). Its Monte Carlo, :meth:`SlrtStudy.job`, is a :class:`SlrtJob` for the engine
+The command's experiment is a :class:`SlrtStudy` (target cases at several p_D and no-target cases, the runs,
+Wald's test). A no-target case is run as a tracker runs it (:func:`false_tracks`): every detection of scan 1
+starts a tentative track, one-point initialised, scored from scan 2 on the clutter that follows, so its rates
+are over false tracks; :meth:`SlrtResult.oc_rows` sweeps Wald's thresholds over a grid to give the operating
+characteristics (false-track confirmation against true-track confirmation and deletion), and
+:meth:`SlrtResult.matched_rows` compares the schemes at equal error rates. Its Monte Carlo, :meth:`SlrtStudy.job`, is a :class:`SlrtJob` for the engine
 (:class:`motionsig_cli.engine.MonteCarloJob`): tasks are chunks of consecutive runs of one case, sized from
 :func:`cost` only (never from the worker count), and joined in task order, so the scores are the same on
 1 worker, N workers or Dask. :meth:`SlrtStudy.result` turns the scores into the per-scan curves or Wald's
@@ -49,19 +53,29 @@ from motionsig_cli.rng import DEFAULT_SEED, trial_rng
 from motionsig_cli.tables import Table, make_meta
 
 __all__ = [
+    "MATCHED_RATES",
+    "OC_LOG_A",
+    "OC_LOG_B",
+    "ONE_POINT_VEL_SD",
     "VIEWS",
+    "FalseTracks",
     "SlrtJob",
     "SlrtResult",
     "SlrtScenario",
     "SlrtStudy",
+    "clopper_pearson",
     "cost",
     "decisions",
+    "false_tracks",
     "generate",
     "lost_after_confirmation",
+    "one_point_cov",
     "run",
     "scan_picture",
     "scan_xy",
+    "score_case",
     "summarise",
+    "to_xy",
 ]
 
 MAX_SECONDS = 240.0
