@@ -278,7 +278,11 @@ class SlrtScenario:
                     "the no-target case needs clutter"
                 )  # fmt: skip
             if self.scans < 2:
-                raise ConfigError("scans", self.scans, "is too few: a false track starts on scan 1 and is scored from scan 2")
+                raise ConfigError(
+                    "scans",
+                    self.scans,
+                    "is too few: a false track starts on scan 1 and is scored from scan 2",
+                )
 
     def _check_maneuvers(self) -> None:
         """The agile windows and their values (see the class docstring)."""
@@ -569,7 +573,9 @@ def one_point_cov(meas: MeasurementModel, z: np.ndarray, noise: np.ndarray | Non
         pos = np.maximum(np.sqrt(R[:, 0, 0]), z[:, 0] * np.sqrt(R[:, 1, 1]))
     else:
         pos = np.sqrt(R[:, 0, 0])
-    sd = np.stack([pos, np.full_like(pos, ONE_POINT_VEL_SD), pos, np.full_like(pos, ONE_POINT_VEL_SD)], axis=-1)
+    sd = np.stack(
+        [pos, np.full_like(pos, ONE_POINT_VEL_SD), pos, np.full_like(pos, ONE_POINT_VEL_SD)], axis=-1
+    )
     return sd[:, :, None] * np.eye(4) * sd[:, None, :]
 
 
@@ -1107,7 +1113,9 @@ class SlrtResult:
         for target, false, sc in self._pairs():
             for m in st.methods:
                 if not FUSION_METHODS[m].uses_thresholds:
-                    rows += [(target, false, sc.pd_filter, m, *p) for p in _oc_grid(raw[target][m], raw[false][m])]
+                    rows += [
+                        (target, false, sc.pd_filter, m, *p) for p in _oc_grid(raw[target][m], raw[false][m])
+                    ]
         return rows
 
     def matched_rows(self) -> list[tuple[Any, ...]]:
@@ -1123,7 +1131,11 @@ class SlrtResult:
                     sweep = [r for r in oc if r[0] == target and r[3] == m]
                     if not sweep:
                         continue
-                    ok = [r for r in sweep if r[col["false_confirmed"]] <= r_false and r[col["target_deleted"]] <= r_del]
+                    ok = [
+                        r
+                        for r in sweep
+                        if r[col["false_confirmed"]] <= r_false and r[col["target_deleted"]] <= r_del
+                    ]
                     best = min(ok, key=lambda r: (-r[col["target_confirmed"]], r[col["target_asn"]] or math.inf),
                                default=None)  # fmt: skip
                     rows.append((target, false, sc.pd_filter, r_false, r_del, m,

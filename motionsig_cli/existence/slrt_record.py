@@ -814,7 +814,9 @@ def _tracks(det: Detections, sensors: SensorTable, cfg: SlrtRecordConfig) -> Tra
         )
     s_idx = det.sensor[sel]
     z = det.z[sel]
-    meas = sensors.models[int(s_idx[0])].meas  # the kind and the conversion to x-y; the noise per detection below
+    meas = sensors.models[
+        int(s_idx[0])
+    ].meas  # the kind and the conversion to x-y; the noise per detection below
     xy = exp.to_xy(meas, z, sensors.positions[s_idx])
     how = "the larger of sigma_r and r*sigma_phi" if det.kind == "range_bearing" else "sigma_xy"
     m0 = np.zeros((sel.size, 4))

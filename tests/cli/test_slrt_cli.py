@@ -28,9 +28,11 @@ def test_curves_and_plots(capsys, tmp_path):
     assert t.meta["sprt"]["log_B"] == pytest.approx(6.802, abs=1e-3)
     mean = t.numeric("mean_loglr")
     case = t.column("case")
-    assert all(m < 0 for m, c, k in zip(mean, case, t.column("scan"), strict=True)
-               if c.startswith("no target") and k != "1")  # a false track starts at 0 on scan 1, then falls
-    assert {m for m, c, k in zip(mean, case, t.column("scan"), strict=True) if c.startswith("no target") and k == "1"} == {0.0}
+    scan = t.column("scan")
+    false = [(m, k) for m, c, k in zip(mean, case, scan, strict=True) if c.startswith("no target")]
+    # a false track starts at log LR 0 on scan 1, then falls
+    assert {m for m, k in false if k == "1"} == {0.0}
+    assert all(m < 0 for m, k in false if k != "1")
     assert "mean log LR at scan 10" in err
 
 
@@ -429,3 +431,23 @@ def test_the_study_view_of_the_default_is_the_decisions_view_plus_columns(capsys
     for x, y in zip(s.column("asn"), d.column("mean_decision_scan"), strict=True):
         assert x == y == "" or float(x) == pytest.approx(float(y))  # empty: no row decided
     assert "target_motions" not in d.meta and "study" not in d.meta and "Clopper-Pearson" in s.meta["study"]
+
+
+def test_oc_and_matched_views(capsys, tmp_path):
+    args = ("slrt", "--runs", "4", "--scans", "5", "--pd", "0.5", "--methods", "ckf,lkf,naive", "--seed", "2", "-q")  # fmt: skip
+    rc, out, _ = run(capsys, *args, "--view", "matched")
+    t = table(out, tmp_path)
+    assert rc == 0 and t.columns == exp.MATCHED_COLUMNS
+    # naive is left out: its score uses the thresholds
+    assert t.column("method") == ["ckf", "lkf"] * len(exp.MATCHED_RATES)
+    assert "reference_false" in t.meta["matched"] and t.meta["oc_grid"]["log_B"][0] == 0.5
+    rc, out, _ = run(capsys, *args, "--view", "oc")
+    oc = table(out, tmp_path, "oc.csv")
+    assert rc == 0 and len(oc.rows) == 2 * len(exp.OC_LOG_A) * len(exp.OC_LOG_B)
+    assert set(oc.column("false_case")) == {"no target, p_D = 0.5"}
+    st = exp.SlrtStudy(exp.SlrtScenario(scans=5), pd=(0.5,), runs=4, seed=2, methods=("ckf", "lkf", "naive"))
+    from motionsig_cli.engine import run_job
+
+    want = st.result(run_job(st.job())).table("oc")
+    i = exp.OC_COLUMNS.index("false_confirmed")
+    np.testing.assert_array_equal(oc.numeric("false_confirmed"), [r[i] for r in want.rows])
