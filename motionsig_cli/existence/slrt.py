@@ -12,7 +12,9 @@ Wald's test). A no-target case is run as a tracker runs it (:func:`false_tracks`
 starts a tentative track, one-point initialised, scored from scan 2 on the clutter that follows, so its rates
 are over false tracks; :meth:`SlrtResult.oc_rows` sweeps Wald's thresholds over a grid to give the operating
 characteristics (false-track confirmation against true-track confirmation and deletion), and
-:meth:`SlrtResult.matched_rows` compares the schemes at equal error rates. Its Monte Carlo, :meth:`SlrtStudy.job`, is a :class:`SlrtJob` for the engine
+:meth:`SlrtResult.matched_rows` compares the schemes at equal error rates.
+
+Its Monte Carlo, :meth:`SlrtStudy.job`, is a :class:`SlrtJob` for the engine
 (:class:`motionsig_cli.engine.MonteCarloJob`): tasks are chunks of consecutive runs of one case, sized from
 :func:`cost` only (never from the worker count), and joined in task order, so the scores are the same on
 1 worker, N workers or Dask. :meth:`SlrtStudy.result` turns the scores into the per-scan curves or Wald's
@@ -99,8 +101,8 @@ MAX_MANEUVERS = 100
 VIEWS = ("curves", "decisions", "study", "oc", "matched")
 """The tables of :meth:`SlrtResult.table`: per-scan statistics of log LR, Wald's decisions, the study's
 comparison (rates with standard errors and confidence intervals against Wald's bounds, ASN, mean scores), the
-operating characteristics over a sweep of α (false-track against true-track confirmation), or the schemes
-compared at equal false-track confirmation rates."""
+operating characteristics over a grid of thresholds (false-track confirmation against true-track confirmation
+and deletion), or the schemes compared at equal error rates."""
 OC_LOG_B = tuple(0.5 * k for k in range(1, 29))
 """The confirmation thresholds log B of the operating-characteristic grid: 0.5 to 14 in steps of 0.5."""
 OC_LOG_A = tuple(-0.5 * k for k in range(1, 21))
@@ -608,7 +610,9 @@ def false_tracks(sc: SlrtScenario, gen: Generated) -> FalseTracks:
     r_idx, s_idx, j_idx = [], [], []
     for s in range(sc.n_sensors):
         r, j = np.nonzero(first.valid[s])
-        r_idx.append(r), s_idx.append(np.full(r.size, s)), j_idx.append(j)
+        r_idx.append(r)
+        s_idx.append(np.full(r.size, s))
+        j_idx.append(j)
     r, s, j = (np.concatenate(a) for a in (r_idx, s_idx, j_idx))
     order = np.lexsort((j, s, r))
     r, s, j = r[order], s[order], j[order]
