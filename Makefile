@@ -135,8 +135,10 @@ reproduce: $(RUN_STAMP)
 	@mkdir -p results/slrt
 	$(BIN)/motionsig slrt --plot results/slrt/slrt.png --plot-scan results/slrt/scan.png -o results/slrt/slrt_curves.csv -q
 	$(BIN)/motionsig slrt --view decisions --runs 200 -o results/slrt/slrt_decisions.csv -q
-	$(BIN)/motionsig slrt --view study --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/slrt/slrt_study.csv -q
-	$(BIN)/motionsig slrt --view study --target-motion agile --filter-q 600 --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 -o results/slrt/slrt_study_agile_q600.csv -q
+	$(BIN)/motionsig slrt --view study --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 --max-minutes 30 -o results/slrt/slrt_study.csv -q
+	$(BIN)/motionsig slrt --view study --target-motion agile --filter-q 600 --methods ckf,fkf,fkf-feedback,lkf,ldf,naive --runs 1000 --max-minutes 30 -o results/slrt/slrt_study_agile_q600.csv -q
+	$(BIN)/motionsig slrt --view matched --methods ckf,fkf,fkf-feedback,lkf,ldf --runs 1000 --max-minutes 30 -o results/slrt/slrt_matched.csv -q
+	$(BIN)/motionsig slrt --view oc --methods ckf,fkf,fkf-feedback,lkf,ldf --runs 1000 --max-minutes 30 -o results/slrt/slrt_oc.csv -q
 	$(BIN)/python scripts/check_slrt_long_run.py | tee results/slrt/long_run.txt
 	@mkdir -p results/maneuver
 	for p in literal turn90; do \

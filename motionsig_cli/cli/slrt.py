@@ -3,9 +3,10 @@ Govaers, *Evaluation of Distributed Detection Methods for Agile Targets* (Fraunh
 
 The chosen fusion methods (:data:`~motionsig_cli.detection.track_existence.FUSION_METHODS`: the choices,
 help and options are read from there; default CKF, FKF, LKF) score the same Monte Carlo runs of target
-cases at several detection probabilities, for a constant-velocity or an agile target or both, and a
-no-target case; the output is, per scan, the mean, median and 5–95 % band of log LR, Wald's decisions, or
-the study's comparison (rates with standard errors against Wald's bounds, ASN). Every value is checked by
+cases at several detection probabilities, for a constant-velocity or an agile target or both, and no-target
+cases (false tracks started on clutter); the output is, per scan, the mean, median and 5–95 % band of log LR,
+Wald's decisions, the study's comparison (rates with standard errors against Wald's bounds, ASN), the
+operating characteristics over a grid of thresholds, or the schemes at equal error rates. Every value is checked by
 the experiment (:class:`~motionsig_cli.existence.slrt.SlrtStudy`), not here; the fusion options
 (``--gate-pg``, ``--feedback-every``, ``--ldf-prior``, ``--ldf-weights``, ``--lkf-mean``) are the fields of
 :class:`~motionsig_cli.detection.track_existence.FusionOptions`.
@@ -41,11 +42,14 @@ if TYPE_CHECKING:
 View = choices(
     "View",
     "Output: per-scan log LR (statistics over runs), the SPRT decision table, the study's comparison "
-    "(rates with errors against Wald's bounds, ASN), or one simulated run's detections or sensors as input "
-    "files.",
+    "(rates with errors against Wald's bounds, ASN), the operating characteristics (false-track against "
+    "true-track rates over a grid of thresholds), the schemes at equal error rates, or one simulated run's "
+    "detections or sensors as input files.",
     "curves",
     "decisions",
     "study",
+    "oc",
+    "matched",
     "detections",
     "sensors",
 )
@@ -79,6 +83,7 @@ SIMULATION_ONLY = {
     "--accel": ("accel", "the record"),
     "--accel-scans": ("accel_scans", "the record"),
     "--filter-q": ("filter_q", "--q, the filters' psd"),
+    "--filter-clutter": ("filter_clutter", "the sensors table's clutter"),
 }
 # the agile scenario's options (option → parameter): only with --target-motion agile (or cv,agile)
 AGILE_ONLY = {
@@ -116,8 +121,10 @@ ViewOpt = Annotated[
     typer.Option(
         "--view",
         help="curves (per scan), decisions (SPRT table) or study (rates with standard errors and exact "
-        "intervals against Wald's bounds, ASN, tracks lost); detections or sensors: run 0 of the first "
-        "case as the files FILE and --sensor-table read.",
+        "intervals against Wald's bounds, ASN, tracks lost); oc (false-track and true-track confirmation and "
+        "deletion over a grid of thresholds log A, log B); matched (each scheme at the thresholds meeting "
+        "false-track confirmation <= 0.1 % and true-track deletion <= 1 %, and 1 % / 5 %); detections or "
+        "sensors: run 0 of the first case as the files FILE and --sensor-table read.",
     ),
 ]
 StopOpt = Annotated[
@@ -140,16 +147,32 @@ class Scenario:
         str, typer.Option("--pd", help="Detection probabilities of the target cases (data and filters).")
     ] = "0.9,0.5,0.2"
     no_target: Annotated[
-        bool, typer.Option("--no-target/--target-only", help="Also run the no-target (clutter only) case.")
+        bool,
+        typer.Option(
+            "--no-target/--target-only",
+            help="Also run the no-target (clutter only) cases: one tentative track per detection of scan 1, "
+            "as a tracker starts them, scored from scan 2; one case per --pd.",
+        ),
     ] = True
     filter_pd: Annotated[
-        float, typer.Option("--filter-pd", help="p_D the filters assume in the no-target case.")
-    ] = 0.9
+        float | None,
+        typer.Option(
+            "--filter-pd", help="One no-target case whose filters assume this p_D (default: one per --pd)."
+        ),
+    ] = None
     sensors: Annotated[int, typer.Option("--sensors", help="Radars on the circle.")] = 4
     radius: Annotated[
         float, typer.Option("--radius", help="Sensor circle radius [m] (slides: about 13 km).")
     ] = 13_000.0
     clutter: Annotated[float, typer.Option("--clutter", help="Mean false alarms per sensor and scan.")] = 5.0
+    filter_clutter: Annotated[
+        float | None,
+        typer.Option(
+            "--filter-clutter",
+            help="Mean false alarms per sensor and scan the filters assume (default: --clutter); with --clutter "
+            "0 it gives the log LRs their scale.",
+        ),
+    ] = None
     sigma_r: Annotated[float, typer.Option("--sigma-r", help="Range noise σ_r [m].")] = 50.0
     sigma_phi_deg: Annotated[float, typer.Option("--sigma-phi-deg", help="Bearing noise σ_φ [deg].")] = 0.2
     meas: Annotated[Meas, typer.Option("--meas", help="range-bearing (EKF) or cartesian (linear).")] = (
@@ -338,6 +361,7 @@ def slrt(
       motionsig slrt --plot slrt.png                          # the slides' four panels, 50 runs
       motionsig slrt --view decisions --runs 200              # confirm / delete / undecided, mean decision time
       motionsig slrt --view study --runs 1000 --target-motion cv,agile --methods ckf,fkf,fkf-feedback,lkf,ldf,naive
+      motionsig slrt --view matched --runs 1000 --methods ckf,fkf,fkf-feedback,lkf,ldf   # at equal error rates
       motionsig slrt --runs 2000 --workers 8 --checkpoint ckpt/  # parallel; rerun to resume if interrupted
       motionsig slrt --view detections -o dets.csv; motionsig slrt --view sensors -o sensors.csv
       motionsig slrt dets.csv --sensor-table sensors.csv           # the same run's scores, from the files
@@ -398,10 +422,11 @@ def _study(
     scen = exp.SlrtScenario(
         n_sensors=sc.sensors, radius=sc.radius, clutter_rate=sc.clutter, sigma_r=sc.sigma_r,
         sigma_phi_deg=sc.sigma_phi_deg, meas_model=sc.meas.value.replace("-", "_"), q=sc.q,
-        T=1.0 if sc.T is None else sc.T, scans=sc.scans, filter_q=sc.filter_q, **agile,  # type: ignore[arg-type]
+        T=1.0 if sc.T is None else sc.T, scans=sc.scans, filter_q=sc.filter_q, filter_clutter=sc.filter_clutter, **agile,  # type: ignore[arg-type]
     )  # fmt: skip
     return exp.SlrtStudy(
-        scen, pd=tuple(common.checked("--pd", common.float_list, sc.pd, what="p_D")), no_target=sc.no_target,
+        scen, pd=tuple(common.checked("--pd", common.float_list, sc.pd, what="p_D")),
+        no_target=sc.no_target and view not in (View.detections, View.sensors),  # they write the first case
         filter_pd=sc.filter_pd, runs=runs, seed=seed, alpha=alpha, beta=beta, methods=methods, stop=stop,
         motions=None if motions == ("cv",) else motions, **fusion,  # type: ignore[arg-type]
     )  # fmt: skip

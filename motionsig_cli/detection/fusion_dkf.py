@@ -9,12 +9,15 @@ of Govaers, *Evaluation of Distributed Detection Methods for Agile Targets*, Fra
 **Where it is exact.** Every local update must be a Kalman update whose covariance does not depend on
 the data, so that every node can run the *global* covariance recursion (the centralised filter's) itself:
 linear sensors (``cartesian``: z = Hx + v, H constant, R_s known to every node), every sensor reporting
-the target at every scan and nothing else (p_D = 1 for the filters, no clutter, no gate). With range–
+the target at every scan and nothing else (p_D = 1 for the filters, data without clutter, no gate; the
+filters' clutter density ρ_F may be positive: it is the density of a measurement under h₀, which scales
+the LR — log Λ gains log(p_D/ρ_F) per measurement — but not the update, a Kalman update with one
+measurement and p_D = 1). With range–
 bearing sensors H depends on the state estimate (the data), and with misses or clutter the PDA
 posterior covariance depends on the association weights (the data), so no node knows the global
 covariance: there the federated filter (``fkf``) is the distributed rule, as the slides say. The method
 refuses those models (:func:`check_dkf`) and a scan in which a sensor reports more than one
-measurement (impossible without clutter).
+measurement (impossible in data without clutter).
 
 **The filter.** With the global predicted and filtered covariances P_{k|k−1} = F P_{k−1|k−1} Fᵀ + Q and
 P_{k|k}⁻¹ = P_{k|k−1}⁻¹ + Σ_s H_sᵀ R_s⁻¹ H_s (computed here sensor by sensor in the Joseph form, no
@@ -68,15 +71,13 @@ def dkf_inapplicable(model: TrackExistenceModel, options: FusionOptions) -> str 
         why.append(f"{model.meas.kind.replace('_', '-')} sensors (their linearisation depends on the data)")
     if any(pd < 1.0 for pd in model.detection_probabilities()):
         why.append("p_D < 1")
-    if any(rate > 0 for rate in model.clutter_rates()):
-        why.append("clutter")
     if options.gate_pg is not None and options.gate_pg < 1.0:
         why.append("a gate")
     if not why:
         return None
     return (
-        "is exact only for linear (cartesian) sensors with p_D = 1, no clutter and no gate, where every node "
-        f"knows the global covariance; here: {', '.join(why)} (use fkf or fkf-feedback)"
+        "is exact only for linear (cartesian) sensors with p_D = 1, data without clutter and no gate, where "
+        f"every node knows the global covariance; here: {', '.join(why)} (use fkf or fkf-feedback)"
     )
 
 

@@ -7,8 +7,14 @@ Poisson clutter uniform in each field of view, and the track-existence scores of
 Run r draws only from ``trial_rng(seed, r)`` (truth, detections, clutter, the initial track draw), so a
 result does not depend on the number of runs or on their order.
 
-The command's experiment is a :class:`SlrtStudy` (target cases at several p_D and a no-target case, the
-runs, Wald's test). Its Monte Carlo, :meth:`SlrtStudy.job`, is a :class:`SlrtJob` for the engine
+The command's experiment is a :class:`SlrtStudy` (target cases at several p_D and no-target cases, the runs,
+Wald's test). A no-target case is run as a tracker runs it (:func:`false_tracks`): every detection of scan 1
+starts a tentative track, one-point initialised, scored from scan 2 on the clutter that follows, so its rates
+are over false tracks; :meth:`SlrtResult.oc_rows` sweeps Wald's thresholds over a grid to give the operating
+characteristics (false-track confirmation against true-track confirmation and deletion), and
+:meth:`SlrtResult.matched_rows` compares the schemes at equal error rates.
+
+Its Monte Carlo, :meth:`SlrtStudy.job`, is a :class:`SlrtJob` for the engine
 (:class:`motionsig_cli.engine.MonteCarloJob`): tasks are chunks of consecutive runs of one case, sized from
 :func:`cost` only (never from the worker count), and joined in task order, so the scores are the same on
 1 worker, N workers or Dask. :meth:`SlrtStudy.result` turns the scores into the per-scan curves or Wald's
@@ -49,19 +55,29 @@ from motionsig_cli.rng import DEFAULT_SEED, trial_rng
 from motionsig_cli.tables import Table, make_meta
 
 __all__ = [
+    "MATCHED_RATES",
+    "OC_LOG_A",
+    "OC_LOG_B",
+    "ONE_POINT_VEL_SD",
     "VIEWS",
+    "FalseTracks",
     "SlrtJob",
     "SlrtResult",
     "SlrtScenario",
     "SlrtStudy",
+    "clopper_pearson",
     "cost",
     "decisions",
+    "false_tracks",
     "generate",
     "lost_after_confirmation",
+    "one_point_cov",
     "run",
     "scan_picture",
     "scan_xy",
+    "score_case",
     "summarise",
+    "to_xy",
 ]
 
 MAX_SECONDS = 240.0
@@ -82,9 +98,32 @@ G0 = 9.80665
 """Standard gravity [m/s²], to state accelerations in g."""
 MAX_MANEUVERS = 100
 """Most turn (or acceleration) windows of one scenario."""
-VIEWS = ("curves", "decisions", "study")
-"""The tables of :meth:`SlrtResult.table`: per-scan statistics of log LR, Wald's decisions, or the study's
-comparison (rates with standard errors and confidence intervals against Wald's bounds, ASN, mean scores)."""
+VIEWS = ("curves", "decisions", "study", "oc", "matched")
+"""The tables of :meth:`SlrtResult.table`: per-scan statistics of log LR, Wald's decisions, the study's
+comparison (rates with standard errors and confidence intervals against Wald's bounds, ASN, mean scores), the
+operating characteristics over a grid of thresholds (false-track confirmation against true-track confirmation
+and deletion), or the schemes compared at equal error rates."""
+OC_LOG_B = tuple(0.5 * k for k in range(1, 29))
+"""The confirmation thresholds log B of the operating-characteristic grid: 0.5 to 14 in steps of 0.5."""
+OC_LOG_A = tuple(-0.5 * k for k in range(1, 21))
+"""The deletion thresholds log A of the grid: −0.5 to −10 in steps of 0.5."""
+MATCHED_RATES = ((1e-3, 0.01), (1e-2, 0.05))
+"""The (false-track confirmation, true-track deletion) rates at which the ``matched`` view compares the schemes."""
+OC_NOTE = (
+    "operating characteristics: per threshold pair (log_A, log_B) of the grid (Wald's design alpha = (1 - A)/(B - A), "
+    "beta = A(B - 1)/(B - A) beside it), the first crossing on the false tracks of the no-target case with the same "
+    "filter p_D (false_confirmed, exact 95 % interval) and on the target runs (target_confirmed, target_deleted "
+    "with exact intervals); asn: mean decision scan of the decided rows; rules whose score depends on the "
+    "thresholds (naive) are left out; false tracks of one run share its clutter, so the binomial intervals assume "
+    "their weak dependence away"
+)
+MATCHED_NOTE = (
+    "each scheme at the threshold pair of the grid with false_confirmed <= reference_false and target_deleted <= "
+    "reference_deleted that confirms the most targets within the scans, then the one deciding them soonest "
+    "(target_asn); None: no pair of the grid meets both"
+)
+
+
 ASSUMPTIONS = (
     "assumed: measurement model, noise, field of view, scan period, sensor angles, initial track and "
     "thresholds (the slides do not give them)"
@@ -96,6 +135,11 @@ AGILE_NOTE = (
     "arcs; rate > 0 turns left) and longitudinal accelerations along the velocity; scan k is reached from scan "
     "k-1 by one transition; g = rate x speed / 9.80665 at the window's noise-free start speed; assumed (the "
     "slides give no manoeuvre)"
+)
+FALSE_TRACK_NOTE = (
+    "no-target cases: one tentative track per detection of scan 1 (clutter, every sensor), position the "
+    "detection's, velocity 0, position sd max(sigma_r, r sigma_phi) (or sigma_xy), velocity sd 150 m/s (assumed); "
+    "log LR 0 at scan 1, scored from scan 2; rates are over the false tracks (the tracks column)"
 )
 STUDY_NOTE = (
     "rates are fractions of the runs with binomial standard errors sqrt(p(1-p)/n); error_rate_lo95..hi95 is "
@@ -135,6 +179,14 @@ class SlrtScenario:
             default: −5 m/s² (0.51 g) over scans 13–16, 158 → 138 m/s.
         filter_q: the acceleration psd the filters assume [m²/s³]; ``None``: ``q`` (the truth's, the slides'
             setting). An agile target needs a larger one (the notebook measures how much).
+        filter_clutter: the clutter rate λ_F the filters assume (their clutter density λ_F/|FoV|, the density
+            of a measurement under h₀); ``None``: ``clutter_rate``, the data's. With data without clutter
+            (``clutter_rate = 0``) a positive value gives the log LRs their scale (with λ_F = 0 the density is
+            floored at 10⁻³⁰⁰ and the scores are arbitrary up to a constant per measurement).
+        false_tracks: with ``target = False``, start the tentative tracks as a tracker does: one per detection
+            of scan 1 (all clutter; every sensor's), one-point initialised (:func:`one_point_cov`), scored
+            from scan 2 on (:func:`false_tracks`); a track's log LR is 0 at scan 1. Needs clutter and at least
+            two scans. False (the default): one track per run from N(m₀, P₀), m₀ drawn about ``x0``.
 
     Every field is checked (:class:`~motionsig_cli.config.ConfigError` naming it):
 
@@ -178,6 +230,8 @@ class SlrtScenario:
     accel_scans: tuple[tuple[int, int], ...] = ((13, 16),)
     accel: tuple[float, ...] = (-5.0,)
     filter_q: float | None = None
+    false_tracks: bool = False
+    filter_clutter: float | None = None
 
     def __post_init__(self) -> None:
         integer("n_sensors", self.n_sensors, 1, 64)
@@ -200,6 +254,8 @@ class SlrtScenario:
         in_range("q", self.q, 0.0, 1e6, unit="m²/s³")
         if self.filter_q is not None:
             in_range("filter_q", self.filter_q, 0.0, 1e6, unit="m²/s³")
+        if self.filter_clutter is not None:
+            in_range("filter_clutter", self.filter_clutter, 0.0, 1000.0)
         in_range("T", self.T, 0.0, 3600.0, lo_open=True, unit="s")
         integer("scans", self.scans, 1, 100_000)
         if len(self.x0) != 4:
@@ -213,6 +269,22 @@ class SlrtScenario:
         one_of("target_motion", self.target_motion, TARGET_MOTIONS)
         if self.target_motion == "agile":
             self._check_maneuvers()
+        if not isinstance(self.false_tracks, bool | np.bool_):
+            raise ConfigError("false_tracks", self.false_tracks, "is not true or false")
+        if self.false_tracks:
+            if self.target:
+                raise ConfigError("false_tracks", self.false_tracks, "needs target = False (clutter only)")
+            if self.clutter_rate <= 0:
+                raise ConfigError(
+                    "clutter_rate", self.clutter_rate, "leaves no false alarm to start a false track on: "
+                    "the no-target case needs clutter"
+                )  # fmt: skip
+            if self.scans < 2:
+                raise ConfigError(
+                    "scans",
+                    self.scans,
+                    "is too few: a false track starts on scan 1 and is scored from scan 2",
+                )
 
     def _check_maneuvers(self) -> None:
         """The agile windows and their values (see the class docstring)."""
@@ -349,7 +421,7 @@ class SlrtScenario:
             self.sensors,
             self.measurement(),
             self.pd_filter,
-            self.clutter_rate,
+            self.clutter_rate if self.filter_clutter is None else self.filter_clutter,
             np.diag([p * p, v * v, p * p, v * v]),
         )
 
@@ -489,6 +561,98 @@ def _truth(
     return truth
 
 
+ONE_POINT_VEL_SD = 150.0
+"""Velocity standard deviation [m/s] of a track started on one detection (assumed: an air target up to about
+300 m/s within 2σ)."""
+
+
+def one_point_cov(meas: MeasurementModel, z: np.ndarray, noise: np.ndarray | None = None) -> np.ndarray:
+    """Prior covariances (N, 4, 4) of tracks started on detections z (N, 2), velocity 0: position sd the larger
+    of σ_r and r·σ_φ (range–bearing) or σ_x (Cartesian), velocity sd :data:`ONE_POINT_VEL_SD`, the same on both
+    axes. ``noise``: each detection's sensor noise R (N, 2, 2); None: ``meas.R`` for all."""
+    R = np.broadcast_to(meas.R, (len(z), 2, 2)) if noise is None else noise
+    if meas.kind == "range_bearing":
+        pos = np.maximum(np.sqrt(R[:, 0, 0]), z[:, 0] * np.sqrt(R[:, 1, 1]))
+    else:
+        pos = np.sqrt(R[:, 0, 0])
+    sd = np.stack(
+        [pos, np.full_like(pos, ONE_POINT_VEL_SD), pos, np.full_like(pos, ONE_POINT_VEL_SD)], axis=-1
+    )
+    return sd[:, :, None] * np.eye(4) * sd[:, None, :]
+
+
+def to_xy(meas: MeasurementModel, z: np.ndarray, sensor: np.ndarray) -> np.ndarray:
+    """Detections z (..., 2) of sensors at ``sensor`` (..., 2) in Cartesian x–y."""
+    if meas.kind == "cartesian":
+        return np.array(z, dtype=float)
+    return sensor + z[..., :1] * np.stack([np.cos(z[..., 1]), np.sin(z[..., 1])], axis=-1)
+
+
+@dataclass(frozen=True)
+class FalseTracks:
+    """Tentative tracks started on the detections of scan 1 (:func:`false_tracks`): initial means (N, 4) and
+    covariances (N, 4, 4), each track's run (index into the batch) and sensor (N,), and scans 2..K with each
+    track's row holding its run's measurements."""
+
+    m0: np.ndarray
+    cov: np.ndarray
+    run: np.ndarray
+    sensor: np.ndarray
+    scans: list[ScanData]
+
+
+def false_tracks(sc: SlrtScenario, gen: Generated) -> FalseTracks:
+    """One tentative track per detection of scan 1 of every run and sensor (with no target: every one is
+    clutter), as a tracker starts them: position the detection's in x–y, velocity 0, covariance
+    :func:`one_point_cov`; run-major (a run's tracks by sensor, then in list order). Each track is scored on
+    its own run's scans 2..K: the scan data are gathered per track (a track's row is its run's row)."""
+    meas, first = sc.measurement(), gen.scans[0]
+    r_idx, s_idx, j_idx = [], [], []
+    for s in range(sc.n_sensors):
+        r, j = np.nonzero(first.valid[s])
+        r_idx.append(r)
+        s_idx.append(np.full(r.size, s))
+        j_idx.append(j)
+    r, s, j = (np.concatenate(a) for a in (r_idx, s_idx, j_idx))
+    order = np.lexsort((j, s, r))
+    r, s, j = r[order], s[order], j[order]
+    z = np.zeros((r.size, 2))
+    for k in range(sc.n_sensors):  # the S sensors' detections, each from its own (R, M, 2) array
+        z[s == k] = first.Z[k][r[s == k], j[s == k]]
+    m0 = np.zeros((r.size, 4))
+    xy = to_xy(meas, z, sc.sensors[s])
+    m0[:, 0], m0[:, 2] = xy[:, 0], xy[:, 1]
+    scans = [ScanData(tuple(Z[r] for Z in scan.Z), tuple(V[r] for V in scan.valid)) for scan in gen.scans[1:]]
+    return FalseTracks(m0, one_point_cov(meas, z), r, s, scans)
+
+
+def score_case(
+    sc: SlrtScenario, gen: Generated, methods: Sequence[str], options: FusionOptions
+) -> dict[str, np.ndarray]:
+    """log LR (rows × scans) per method of one case's generated runs: a row per run, or with
+    ``sc.false_tracks`` a row per false track (:func:`false_tracks`), whose log LR is 0 at scan 1."""
+    model = sc.model()
+    if not sc.false_tracks:
+        return run_methods(model, gen.m0, gen.scans, methods, options=options)
+    ft = false_tracks(sc, gen)
+    if ft.m0.shape[0] == 0:
+        return {m: np.zeros((0, sc.scans)) for m in methods}
+    scores = run_methods(replace(model, m0_cov=ft.cov), ft.m0, ft.scans, methods, options=options)
+    start = np.zeros((ft.m0.shape[0], 1))
+    return {m: np.concatenate([start, v], axis=1) for m, v in scores.items()}
+
+
+FALSE_TRACK_COST = 0.25
+"""A false track's share of a run's per-row filter cost (measured: 50 runs of the default scenario, six rules,
+the three no-target cases' ~990 tracks each took 1.5e-5 s per track, sensor and scan per three rules, against
+the 6e-5 the cost model charges a run; most false tracks see a padded but nearly empty gate)."""
+
+
+def tracks_per_run(sc: SlrtScenario) -> float:
+    """Mean scored tracks per run: 1, or with false tracks the mean detections of scan 1 (S·λ_F)."""
+    return sc.n_sensors * sc.clutter_rate if sc.false_tracks else 1.0
+
+
 def run(
     sc: SlrtScenario,
     runs: int,
@@ -498,7 +662,8 @@ def run(
     lkf_mean: str | None = None,
     options: FusionOptions | None = None,
 ) -> tuple[dict[str, np.ndarray], Generated]:
-    """log LR (runs × scans) per method, and the generated data (in this process; no time limit).
+    """log LR (runs × scans, or false tracks × scans: :func:`score_case`) per method, and the generated data
+    (in this process; no time limit).
     ``options``: the fusion rules' (:class:`~motionsig_cli.detection.track_existence.FusionOptions`);
     ``lkf_mean``, if given, replaces theirs."""
     integer("runs", runs, 1)
@@ -508,7 +673,11 @@ def run(
             "runs", runs, f"would need about {nbytes / 1e9:.1f} GB of measurements; the limit is 2 GB"
         )
     gen = generate(sc, range(runs), seed)
-    return run_methods(sc.model(), gen.m0, gen.scans, methods, lkf_mean=lkf_mean, options=options), gen
+    if options is None:
+        options = FusionOptions("lr" if lkf_mean is None else lkf_mean)
+    elif lkf_mean is not None:
+        options = replace(options, lkf_mean=lkf_mean)
+    return score_case(sc, gen, methods, options), gen
 
 
 Task = tuple[int, range]
@@ -571,8 +740,7 @@ class SlrtJob:
         """One task: log LR (runs in the task × scans) per method of one case."""
         case, runs = task
         sc = self.cases[case]
-        gen = generate(sc, runs, self.seed)
-        return run_methods(sc.model(), gen.m0, gen.scans, self.methods, options=self.options)
+        return score_case(sc, generate(sc, runs, self.seed), self.methods, self.options)
 
     def reduce(
         self, tasks: Sequence[Task], results: Sequence[dict[str, np.ndarray]]
@@ -599,13 +767,14 @@ class SlrtJob:
 def _case(
     base: SlrtScenario, field_name: str, pd: float, *, target: bool, motion: str | None = None
 ) -> SlrtScenario:
-    """``base`` with a target (or none), p_D = ``pd`` for data and filters and (unless None) the target's
-    motion; a bad p_D names ``field_name``."""
+    """``base`` with a target (or none: then false tracks started on clutter), p_D = ``pd`` for data and
+    filters and (unless None) the target's motion; a bad p_D names ``field_name``."""
     in_range(field_name, pd, 0.0, 1.0, lo_open=True)
     try:
         return replace(
-            base, target=target, pd_true=pd, pd_filter=pd, target_motion=motion or base.target_motion
-        )
+            base, target=target, pd_true=pd, pd_filter=pd, target_motion=motion or base.target_motion,
+            false_tracks=not target,
+        )  # fmt: skip
     except ConfigError as exc:
         if exc.field in ("pd_true", "pd_filter"):
             raise ConfigError(field_name, pd, exc.reason) from None
@@ -626,8 +795,10 @@ class SlrtStudy(FusionSettings):
         motions: the target motions of the target cases (:data:`TARGET_MOTIONS`, each once): every p_D is a
             case for each motion, in this order (labels ``target, p_D = …`` and ``agile target, p_D = …``).
             ``None``: the scenario's own ``target_motion``.
-        no_target: also run the no-target (clutter only) case, whose filters assume p_D = ``filter_pd``
-            (in (0, 1]).
+        no_target: also run the no-target (clutter only) cases: false tracks started as a tracker starts
+            them, on every detection of scan 1 (``SlrtScenario.false_tracks``), one case per p_D of ``pd``
+            (the filters assume that p_D; labels ``no target, p_D = …``), or with ``filter_pd`` (in (0, 1]) one
+            case at that p_D.
         runs: Monte Carlo runs per case, ≥ 1, with an estimated run time ≤ :data:`MAX_SECONDS` and memory
             ≤ :data:`MAX_BYTES` for all cases (:func:`cost`).
         seed: root seed (run r draws from ``trial_rng(seed, r)``).
@@ -645,7 +816,7 @@ class SlrtStudy(FusionSettings):
     scenario: SlrtScenario = field(default_factory=SlrtScenario)
     pd: tuple[float, ...] = (0.9, 0.5, 0.2)
     no_target: bool = True
-    filter_pd: float = 0.9
+    filter_pd: float | None = None
     runs: int = 50
     seed: int = DEFAULT_SEED
     methods: tuple[str, ...] = METHODS
@@ -668,10 +839,10 @@ class SlrtStudy(FusionSettings):
         cases = self.cases
         self.job()
         wald_thresholds(self.alpha, self.beta)
-        seconds = cost(cases[0][1], self.runs, len(cases), len(self.methods))[0]
+        seconds = sum(cost(c, self.runs, 1, len(self.methods))[0] for _, c in cases)
         job, sc = self.job(), self.scenario
         per_task = max(job.task_size(t) for t in job.tasks())
-        per_worker = cost(cases[0][1], per_task)[1]  # a worker holds one task's measurements at a time
+        per_worker = max(cost(c, per_task)[1] for _, c in cases)  # a worker holds one task's data at a time
         if per_worker > MAX_BYTES:
             raise ConfigError(
                 "runs", self.runs, f"needs an estimated {per_worker / 1e9:.2g} GB of measurements per worker "
@@ -695,7 +866,9 @@ class SlrtStudy(FusionSettings):
             for v in values
         ]  # fmt: skip
         if self.no_target:
-            out.append(("no target", _case(self.scenario, "filter_pd", self.filter_pd, target=False)))
+            no_target = values if self.filter_pd is None else (self.filter_pd,)
+            out += [(f"no target, p_D = {v:g}", _case(self.scenario, "pd" if self.filter_pd is None else
+                     "filter_pd", v, target=False)) for v in no_target]  # fmt: skip
         return out
 
     @property
@@ -715,6 +888,11 @@ class SlrtStudy(FusionSettings):
         out = []
         for (label, _), case in zip(self.cases, scores, strict=True):
             case = dict(case)
+            if not any(v.shape[0] for v in case.values()):
+                raise ConfigError(
+                    "runs", self.runs, f"gave no false alarm in scan 1 to start a false track on ({label}): more "
+                    "runs or more clutter, or no no-target case"
+                )  # fmt: skip
             for m, v in case.items():
                 if np.any(np.isnan(v) | (v == np.inf)):
                     raise RuntimeError(f"NaN or +inf log LR in {label}, {m}")
@@ -742,6 +920,7 @@ STUDY_COLUMNS = (
     "pd",
     "method",
     "runs",
+    "tracks",
     "confirmed",
     "confirmed_se",
     "deleted",
@@ -763,12 +942,39 @@ STUDY_COLUMNS = (
     "mean_loglr_last",
 )
 """The columns of the ``study`` view (:meth:`SlrtResult.study_rows`)."""
+OC_COLUMNS = (
+    "case",
+    "false_case",
+    "pd",
+    "method",
+    "log_A",
+    "log_B",
+    "wald_alpha",
+    "wald_beta",
+    "false_tracks",
+    "false_confirmed",
+    "false_confirmed_lo95",
+    "false_confirmed_hi95",
+    "false_asn",
+    "runs",
+    "target_confirmed",
+    "target_confirmed_lo95",
+    "target_confirmed_hi95",
+    "target_deleted",
+    "target_deleted_lo95",
+    "target_deleted_hi95",
+    "target_asn",
+)
+"""The columns of the ``oc`` view (:meth:`SlrtResult.oc_rows`)."""
+MATCHED_COLUMNS = (*OC_COLUMNS[:3], "reference_false", "reference_deleted", *OC_COLUMNS[3:])
+"""The columns of the ``matched`` view (:meth:`SlrtResult.matched_rows`)."""
 DECISION_COLUMNS = (
     "case",
     "target",
     "pd",
     "method",
     "runs",
+    "tracks",
     "confirmed",
     "deleted",
     "undecided",
@@ -796,6 +1002,8 @@ class SlrtResult:
             "curves": (CURVE_COLUMNS, self.curves),
             "decisions": (DECISION_COLUMNS, self.decisions),
             "study": (STUDY_COLUMNS, self.study_rows),
+            "oc": (OC_COLUMNS, self.oc_rows),
+            "matched": (MATCHED_COLUMNS, self.matched_rows),
         }[view]
         return Table(columns=columns, rows=rows(), meta=self.meta(view))
 
@@ -823,15 +1031,16 @@ class SlrtResult:
         alpha, beta, runs = self.study.alpha, self.study.beta, self.study.runs
         rows = []
         for label, sc, m, loglr in self._rows():
+            n = loglr.shape[0]  # the runs, or the false tracks
             d = decisions(loglr, alpha, beta)
             conf, dele = d.decision == 1, d.decision == -1
             decided = d.decision != 0
             wrong = dele if sc.target else conf
             bound = beta / (1 - alpha) if sc.target else alpha / (1 - beta)
-            rows.append((label, sc.target, sc.pd_filter, m, runs, float(conf.mean()), float(dele.mean()),
+            rows.append((label, sc.target, sc.pd_filter, m, runs, n, float(conf.mean()), float(dele.mean()),
                          float(1 - decided.mean()), float(d.time[decided].mean()) if decided.any() else None,
                          int(d.time.max()) if decided.any() else None, float(wrong.mean()), bound,
-                         float(math.sqrt(max(wrong.mean() * (1 - wrong.mean()), 1 / runs) / runs))))  # fmt: skip
+                         float(math.sqrt(max(wrong.mean() * (1 - wrong.mean()), 1 / n) / n))))  # fmt: skip
         return rows
 
     def study_rows(self) -> list[tuple[Any, ...]]:
@@ -860,16 +1069,15 @@ class SlrtResult:
           during track maintenance, e.g. when an agile target outruns the filters' model;
         - ``mean_loglr_last``: the mean log LR at the last scan (frozen at the decision with ``stop``).
         """
-        from scipy.stats import beta as beta_dist
-
         st = self.study
         alpha, beta, runs = st.alpha, st.beta, st.runs
         log_a, log_b = st.thresholds
         raw = {label: case for (label, _), case in zip(st.cases, self.raw or self.scores, strict=True)}
         rows = []
         for label, sc, m, loglr in self._rows():
+            n = loglr.shape[0]  # the runs, or the false tracks
             unfrozen = raw[label][m]
-            inc = float(unfrozen[:, -1].mean() / unfrozen.shape[1])
+            inc = float(unfrozen[:, -1].mean() / (unfrozen.shape[1] - sc.false_tracks))  # scans scored
             lost = float(lost_after_confirmation(unfrozen, log_a, log_b).mean())
             d = decisions(loglr, alpha, beta)
             conf, dele = float((d.decision == 1).mean()), float((d.decision == -1).mean())
@@ -882,16 +1090,60 @@ class SlrtResult:
             stops = FUSION_METHODS[m].uses_thresholds  # a score frozen at local decisions has no drift
             asn_wald = num / inc if not stops and math.isfinite(inc) and inc != 0 and num / inc > 0 else None
             n_err = int(((d.decision == -1) if sc.target else (d.decision == 1)).sum())
-            err = n_err / runs
-            lo = 0.0 if n_err == 0 else float(beta_dist.ppf(0.025, n_err, runs - n_err + 1))
-            hi = 1.0 if n_err == runs else float(beta_dist.ppf(0.975, n_err + 1, runs - n_err))
+            err = n_err / n
+            lo, hi = clopper_pearson(n_err, n)
             design = beta if sc.target else alpha
             bound = beta / (1 - alpha) if sc.target else alpha / (1 - beta)
             verdict = "below" if err <= bound else "above, within sampling error" if lo <= bound else "above"
-            rows.append((label, sc.target, sc.target_motion if sc.target else None, sc.pd_filter, m, runs,
-                         conf, _binomial_se(conf, runs), dele, _binomial_se(dele, runs), float(1 - decided.mean()),
-                         asn, asn_se, asn_wald, err, _binomial_se(err, runs), lo, hi, design, bound, verdict, lost,
-                         _binomial_se(lost, runs), inc, float(loglr[:, -1].mean())))  # fmt: skip
+            rows.append((label, sc.target, sc.target_motion if sc.target else None, sc.pd_filter, m, runs, n,
+                         conf, _binomial_se(conf, n), dele, _binomial_se(dele, n), float(1 - decided.mean()),
+                         asn, asn_se, asn_wald, err, _binomial_se(err, n), lo, hi, design, bound, verdict, lost,
+                         _binomial_se(lost, n), inc, float(loglr[:, -1].mean())))  # fmt: skip
+        return rows
+
+    def _pairs(self) -> list[tuple[str, str, SlrtScenario]]:
+        """(target case, no-target case with the same filter p_D, the target case's scenario)."""
+        false = {sc.pd_filter: label for label, sc in self.study.cases if not sc.target}
+        return [(label, false[sc.pd_filter], sc) for label, sc in self.study.cases
+                if sc.target and sc.pd_filter in false]  # fmt: skip
+
+    def oc_rows(self) -> list[tuple[Any, ...]]:
+        """The operating characteristics (:data:`OC_COLUMNS`): per target case paired with the no-target case
+        of the same filter p_D, per scheme (not those whose score uses the thresholds) and per threshold pair
+        of the grid :data:`OC_LOG_A` × :data:`OC_LOG_B`, the first-crossing rates on the unfrozen scores."""
+        st = self.study
+        raw = {label: case for (label, _), case in zip(st.cases, self.raw or self.scores, strict=True)}
+        rows = []
+        for target, false, sc in self._pairs():
+            for m in st.methods:
+                if not FUSION_METHODS[m].uses_thresholds:
+                    rows += [
+                        (target, false, sc.pd_filter, m, *p) for p in _oc_grid(raw[target][m], raw[false][m])
+                    ]
+        return rows
+
+    def matched_rows(self) -> list[tuple[Any, ...]]:
+        """The schemes at equal error rates (:data:`MATCHED_COLUMNS`): per pair of cases, reference rates of
+        :data:`MATCHED_RATES` and scheme, the :meth:`oc_rows` row meeting both rates (false-track confirmation,
+        true-track deletion) that confirms the most targets, then decides them soonest (None where none does)."""
+        col = {c: i for i, c in enumerate(OC_COLUMNS)}
+        oc = self.oc_rows()
+        rows = []
+        for target, false, sc in self._pairs():
+            for r_false, r_del in MATCHED_RATES:
+                for m in self.study.methods:
+                    sweep = [r for r in oc if r[0] == target and r[3] == m]
+                    if not sweep:
+                        continue
+                    ok = [
+                        r
+                        for r in sweep
+                        if r[col["false_confirmed"]] <= r_false and r[col["target_deleted"]] <= r_del
+                    ]
+                    best = min(ok, key=lambda r: (-r[col["target_confirmed"]], r[col["target_asn"]] or math.inf),
+                               default=None)  # fmt: skip
+                    rows.append((target, false, sc.pd_filter, r_false, r_del, m,
+                                 *(best[4:] if best else (None,) * (len(OC_COLUMNS) - 4))))  # fmt: skip
         return rows
 
     def meta(self, view: str) -> dict[str, Any]:
@@ -917,6 +1169,11 @@ class SlrtResult:
             motion["agile"] = AGILE_NOTE
         if view == "study":
             motion["study"] = STUDY_NOTE
+        if view in ("oc", "matched"):
+            motion["oc"] = OC_NOTE
+            motion["oc_grid"] = {"log_A": list(OC_LOG_A), "log_B": list(OC_LOG_B)}
+        if view == "matched":
+            motion["matched"] = MATCHED_NOTE
         fusion: dict[str, Any] = {}  # the rules' options where they are not the defaults
         defaults = FusionOptions()
         for name in ("gate_pg", "feedback_every", "ldf_prior", "ldf_weights"):
@@ -940,6 +1197,7 @@ class SlrtResult:
                 **({} if sc.filter_q is None else {"filter_q": sc.filter_q}),
             },
             no_target_filter_pd=st.filter_pd if st.no_target else None,
+            false_tracks=FALSE_TRACK_NOTE if st.no_target else None,
             **motion,
             sprt={
                 "alpha": st.alpha,
@@ -951,9 +1209,11 @@ class SlrtResult:
             **{m: FUSION_METHODS[m].metadata for m in st.methods if FUSION_METHODS[m].metadata},
             **fusion,
             stop=st.stop,
-            clutter_floor="with --clutter 0 the clutter density is floored at 1e-300 per field of view: absolute "
-            "scores are arbitrary, only differences between methods mean something"
-            if sc.clutter_rate == 0
+            filter_clutter=sc.filter_clutter,
+            clutter_floor="the filters' clutter rate is 0: their clutter density is floored at 1e-300 per field of "
+            "view, so absolute scores are arbitrary and only differences between methods mean something (give "
+            "--filter-clutter)"
+            if sc.model().clutter_rate == 0
             else None,
             minus_inf="a log LR of -inf means the filters' p_D = 1 and a sensor saw nothing: the target hypothesis "
             "is impossible (certain deletion)",
@@ -1014,15 +1274,18 @@ def scan_xy(
 
 def cost(sc: SlrtScenario, runs: int, cases: int = 1, methods: int = 3) -> tuple[float, float]:
     """Rough (seconds, bytes) of ``cases`` Monte Carlo cases scored by ``methods`` fusion rules: a fixed cost
-    per sensor-scan (≈ 0.9 ms of Python for three rules) plus a per-run cost that grows with the clutter;
+    per sensor-scan (≈ 0.9 ms of Python for three rules) plus a per-row cost that grows with the clutter (a row:
+    a run, or with ``false_tracks`` each of its S·λ_F false tracks on average, whose data are gathered per track);
     the filters' part scales with the number of rules (``make bench``'s bench_slrt measures each rule)."""
-    filters = (0.9e-3 + 3e-5 * runs * (1.0 + sc.clutter_rate / 5.0)) * (methods / 3.0)
+    rows = runs * tracks_per_run(sc)  # filter rows: a run, or its false tracks
+    weight = rows * (FALSE_TRACK_COST if sc.false_tracks else 1.0)
+    filters = (0.9e-3 + 3e-5 * weight * (1.0 + sc.clutter_rate / 5.0)) * (methods / 3.0)
     per_sensor_scan = filters + 2e-5 * runs  # filters + generation
     seconds = cases * sc.scans * sc.n_sensors * per_sensor_scan
     nbytes = (
         sc.scans
         * sc.n_sensors
-        * runs
+        * (runs + rows)
         * (sc.clutter_rate + 4.0 * math.sqrt(sc.clutter_rate + 1.0) + 2.0)
         * 17.0
     )
@@ -1053,6 +1316,53 @@ def lost_after_confirmation(loglr: np.ndarray, log_a: float, log_b: float) -> np
     with np.errstate(invalid="ignore"):
         fall = np.where(after, running - loglr, 0.0)
     return np.any(after & ((fall >= log_b - log_a) | np.isneginf(loglr)), axis=-1)
+
+
+def clopper_pearson(k: int, n: int, level: float = 0.95) -> tuple[float, float]:
+    """The exact (Clopper–Pearson) interval of a binomial proportion, k successes of n: the ``(1−level)/2``
+    and ``(1+level)/2`` quantiles of Beta(k, n−k+1) and Beta(k+1, n−k); 0 (1) at k = 0 (n)."""
+    from scipy.special import betaincinv
+
+    a = (1.0 - level) / 2.0
+    lo = 0.0 if k == 0 else float(betaincinv(k, n - k + 1, a))
+    hi = 1.0 if k == n else float(betaincinv(k + 1, n - k, 1.0 - a))
+    return lo, hi
+
+
+def _first_times(scores: np.ndarray, levels: Sequence[float], up: bool) -> np.ndarray:
+    """(L, n): per level, the 0-based scan at which each row's score first reaches it (≥ a level ``up``, ≤ it
+    otherwise), or the number of scans K where it never does."""
+    run = np.maximum.accumulate(scores, axis=-1) if up else -np.minimum.accumulate(scores, axis=-1)
+    lv = np.asarray(levels, dtype=float)[:, None, None] * (1.0 if up else -1.0)
+    return (run[None] < lv).sum(axis=-1)  # the running extreme is monotone: scans before the first hit
+
+
+def _oc_grid(target: np.ndarray, false: np.ndarray) -> list[tuple[Any, ...]]:
+    """The operating characteristic over the threshold grid :data:`OC_LOG_A` × :data:`OC_LOG_B` (the columns of
+    :data:`OC_COLUMNS` from ``log_A``): per pair Wald's design (α, β) of the thresholds, and the first-crossing
+    rates (exact 95 % intervals) and mean decision scans on the false tracks and the target runs. The first
+    crossing of (a, b) is the earlier of the first scans at which the score reaches b and a (each computed once
+    per threshold from the running maximum and minimum)."""
+    times = {}
+    for name, scores in (("false", false), ("target", target)):
+        times[name] = (_first_times(scores, OC_LOG_A, up=False), _first_times(scores, OC_LOG_B, up=True))
+    rows = []
+    for i, log_a in enumerate(OC_LOG_A):
+        for j, log_b in enumerate(OC_LOG_B):
+            A, B = math.exp(log_a), math.exp(log_b)
+            out: list[Any] = [log_a, log_b, (1 - A) / (B - A), A * (B - 1) / (B - A)]
+            for name, kinds in (("false", (1,)), ("target", (1, -1))):
+                down, up = times[name][0][i], times[name][1][j]
+                n = down.size
+                out.append(n)
+                for kind in kinds:
+                    k = int((up < down).sum() if kind == 1 else (down < up).sum())
+                    out += [k / n, *clopper_pearson(k, n)]
+                first = np.minimum(down, up)
+                decided = first[first < (false if name == "false" else target).shape[-1]]
+                out.append(float(decided.mean() + 1) if decided.size else None)
+            rows.append(tuple(out))
+    return rows
 
 
 def _binomial_se(p: float, n: int) -> float:

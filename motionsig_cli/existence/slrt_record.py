@@ -119,8 +119,8 @@ MAX_OUTPUT_ROWS = 2_000_000
 """Most rows of the per-scan table (tracks × methods × scans)."""
 DEFAULT_INIT_SD = (200.0, 50.0)
 """Prior sd (position m, velocity m/s) of an --init track: the simulated scenario's."""
-ONE_POINT_VEL_SD = 150.0
-"""Velocity prior sd of a track started from one detection [m/s] (assumed)."""
+ONE_POINT_VEL_SD = exp.ONE_POINT_VEL_SD
+"""Velocity prior sd of a track started from one detection [m/s] (assumed; the simulation's false tracks')."""
 KINDS = ("range_bearing", "cartesian")
 
 DETECTION_SPEC = RecordSpec(
@@ -814,24 +814,17 @@ def _tracks(det: Detections, sensors: SensorTable, cfg: SlrtRecordConfig) -> Tra
         )
     s_idx = det.sensor[sel]
     z = det.z[sel]
-    pos = sensors.positions[s_idx]
-    if det.kind == "range_bearing":
-        xy = pos + z[:, :1] * np.stack([np.cos(z[:, 1]), np.sin(z[:, 1])], axis=-1)
-        acc = np.array(
-            [max(math.sqrt(m.meas.R[0, 0]), r * math.sqrt(m.meas.R[1, 1])) for m, r in
-             zip((sensors.models[s] for s in s_idx), z[:, 0], strict=True)]
-        )  # fmt: skip
-        how = "the larger of sigma_r and r*sigma_phi"
-    else:
-        xy = z.copy()
-        acc = np.array([math.sqrt(sensors.models[s].meas.R[0, 0]) for s in s_idx])
-        how = "sigma_xy"
+    meas = sensors.models[
+        int(s_idx[0])
+    ].meas  # the kind and the conversion to x-y; the noise per detection below
+    xy = exp.to_xy(meas, z, sensors.positions[s_idx])
+    how = "the larger of sigma_r and r*sigma_phi" if det.kind == "range_bearing" else "sigma_xy"
     m0 = np.zeros((sel.size, 4))
     m0[:, 0], m0[:, 2] = xy[:, 0], xy[:, 1]
     if sd_given is not None:
         cov, sd = _prior(sd_given), [float(v) for v in sd_given]
     else:
-        cov = np.stack([_prior((a, ONE_POINT_VEL_SD)) for a in acc])
+        cov = exp.one_point_cov(meas, z, np.stack([sensors.models[s].meas.R for s in s_idx]))
         sd = f"position: {how} of the detection's sensor; velocity: {ONE_POINT_VEL_SD:g} m/s (assumed)"
     starts = [(sensors.labels[s], int(ln)) for s, ln in zip(s_idx, det.line[sel], strict=True)]
     rule = (

@@ -522,7 +522,7 @@ SLRT_CORE = [
     (("--alpha", "0.5"), "--alpha: 0.5 is not in (0, 0.5)"),
     (("--pd", "1.5"), "--pd: 1.5 is not in (0, 1]"),
     (("--methods", "ckf,ukf"), "--methods: 'ukf' is not one of ckf, dkf, fkf, fkf-feedback, lkf, ldf, naive"),
-    (("--runs", "100000"), "--runs: 100000 is too many runs for 4 case(s) x 30 scans x 4 sensors"),
+    (("--runs", "100000"), "--runs: 100000 is too many runs for 6 case(s) x 30 scans x 4 sensors"),
 ]
 
 # --- track-sat ---------------------------------------------------------------------------------------------

@@ -122,9 +122,12 @@ def test_each_method_falls_without_a_target(name):
     ("kw", "why"),
     [
         ({}, "range-bearing sensors"),
-        ({"meas_model": "cartesian"}, "p_D < 1, clutter"),
+        ({"meas_model": "cartesian"}, "here: p_D < 1 ("),
         ({"meas_model": "cartesian", "clutter_rate": 0.0}, "here: p_D < 1"),
-        ({**LINEAR, "clutter_rate": 1.0, "pd_filter": 0.9}, "p_D < 1, clutter"),
+        (
+            {**LINEAR, "clutter_rate": 1.0, "pd_filter": 0.9},
+            "here: p_D < 1 (",
+        ),  # the filters' clutter density is no reason
     ],
 )
 def test_dkf_is_refused_where_it_is_not_exact_before_any_scoring(kw, why, monkeypatch):

@@ -53,14 +53,25 @@ def test_study_rejects_each_bad_field_naming_it(kw, field):
 
 def test_study_cases_and_the_exceptions_to_its_checks():
     st = slrt.SlrtStudy(SMALL, pd=(0.9, 0.5, 0.9), filter_pd=0.7, runs=3)
-    assert [label for label, _ in st.cases] == ["target, p_D = 0.9", "target, p_D = 0.5", "no target"]
-    assert [(sc.target, sc.pd_true, sc.pd_filter) for _, sc in st.cases] == [
-        (True, 0.9, 0.9),
-        (True, 0.5, 0.5),
-        (False, 0.7, 0.7),
+    assert [label for label, _ in st.cases] == [
+        "target, p_D = 0.9",
+        "target, p_D = 0.5",
+        "no target, p_D = 0.7",
     ]
+    assert [(sc.target, sc.pd_true, sc.pd_filter, sc.false_tracks) for _, sc in st.cases] == [
+        (True, 0.9, 0.9, False),
+        (True, 0.5, 0.5, False),
+        (False, 0.7, 0.7, True),
+    ]
+    # without filter_pd, one no-target case per p_D, whose filters assume it
+    per_pd = slrt.SlrtStudy(SMALL, pd=(0.9, 0.5), runs=3).cases
+    assert [(label, sc.pd_filter) for label, sc in per_pd[2:]] == [("no target, p_D = 0.9", 0.9),
+                                                                   ("no target, p_D = 0.5", 0.5)]  # fmt: skip
     no_clutter = slrt.SlrtScenario(clutter_rate=0.0, scans=6)
-    assert slrt.SlrtStudy(no_clutter, pd=(1.0,), filter_pd=1.0).cases[0][1].pd_filter == 1.0
+    assert slrt.SlrtStudy(no_clutter, pd=(1.0,), no_target=False).cases[0][1].pd_filter == 1.0
+    with pytest.raises(ConfigError) as err:  # no clutter: nothing to start a false track on
+        slrt.SlrtStudy(no_clutter, pd=(0.9,))
+    assert err.value.field == "clutter_rate"
     assert st.thresholds == wald_thresholds(1e-3, 0.1)
 
 
@@ -118,7 +129,7 @@ def test_job_rejects_each_bad_field_naming_it(kw, field):
 
 @pytest.fixture(scope="module")
 def study_scores():
-    st = slrt.SlrtStudy(SMALL, pd=(0.9, 0.3), runs=7, seed=5, methods=("fkf", "ckf"))
+    st = slrt.SlrtStudy(SMALL, pd=(0.9, 0.3), filter_pd=0.9, runs=7, seed=5, methods=("fkf", "ckf"))
     return st, run_job(st.job())
 
 
@@ -147,13 +158,16 @@ def test_decisions_table(study_scores):
     alpha, beta = st.alpha, st.beta
     for r in rows:
         assert r["confirmed"] + r["deleted"] + r["undecided"] == pytest.approx(1.0)
-        assert r["runs"] == 7
+        assert r["runs"] == 7 and (
+            r["tracks"] == 7 if r["target"] else r["tracks"] > 7
+        )  # a run's false tracks
         if r["target"]:
             assert r["error_rate"] == r["deleted"] and r["wald_bound"] == beta / (1 - alpha)
         else:
             assert r["error_rate"] == r["confirmed"] and r["wald_bound"] == alpha / (1 - beta)
         p = r["error_rate"]
-        assert r["error_rate_se"] == pytest.approx(math.sqrt(max(p * (1 - p), 1 / 7) / 7))
+        n = r["tracks"]  # the binomial count: the runs, or the false tracks
+        assert r["error_rate_se"] == pytest.approx(math.sqrt(max(p * (1 - p), 1 / n) / n))
         assert (r["mean_decision_scan"] is None) == (r["undecided"] == 1.0)
     assert [r["method"] for r in rows] == ["fkf", "ckf"] * 3
     assert t.meta["view"] == "decisions" and t.meta["sprt"]["log_B"] == pytest.approx(math.log(0.9 / 1e-3))
@@ -181,13 +195,15 @@ def test_curves_table_panels_and_summary(study_scores):
 
 def test_stop_freezes_and_a_nan_score_is_refused(study_scores):
     st, scores = study_scores
-    stopped = slrt.SlrtStudy(SMALL, pd=(0.9, 0.3), runs=7, seed=5, methods=("fkf", "ckf"), stop=True)
+    stopped = slrt.SlrtStudy(
+        SMALL, pd=(0.9, 0.3), filter_pd=0.9, runs=7, seed=5, methods=("fkf", "ckf"), stop=True
+    )
     frozen = stopped.result(scores)
     decided = 0
     for case, orig in zip(frozen.scores, scores, strict=True):
         for m, v in case.items():
             d = slrt.decisions(orig[m], st.alpha, st.beta)
-            for r in range(7):
+            for r in range(v.shape[0]):
                 if d.decision[r] != 0:
                     decided += int(d.time[r] < 6)
                     assert np.all(v[r, d.time[r] - 1 :] == orig[m][r, d.time[r] - 1])
