@@ -354,21 +354,30 @@ def read_track_records(
         groups = [("", np.arange(len(rec)))]
     tracks: list[TrackRecord] = []
     untracked: list[tuple[str, str]] = []
+    many = len(groups) > 1
     for label, idx in groups:
         sub = _subset(rec, idx)
         try:
-            tracks.append(_layout(sub, raw[idx], z_all[idx], None if R_all is None else R_all[idx], form, frame,
-                                  conversion, opts, label))  # fmt: skip
+            track = _layout(sub, raw[idx], z_all[idx], None if R_all is None else R_all[idx], form, frame, conversion,
+                            opts, label)  # fmt: skip
         except InputError as exc:
-            if len(groups) == 1:
+            if not many:
                 raise
             untracked.append((label, str(exc)))
+            continue
+        tracks.append(replace(track, record=_shell(track.record)) if many else track)
     if not tracks:
         raise InputError(
             f"{rec.source}: none of its {len(groups)} tracks can be tracked (e.g. {untracked[0][0]}: "
             f"{untracked[0][1]})"
         )
-    return TrackSet(tuple(tracks), tuple(untracked), rec)
+    return TrackSet(tuple(tracks), tuple(untracked), _shell(rec) if many else rec)
+
+
+def _shell(rec: Record) -> Record:
+    """``rec`` without its rows' values (its columns, units, time origin and metadata kept): what a track of a
+    record of many keeps once laid out, so that a feed's rows are held once, as its tracks' arrays."""
+    return replace(rec, values={}, lines=np.empty(0, np.int64))
 
 
 def _layout(
