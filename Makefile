@@ -120,6 +120,7 @@ bench: $(DEV_STAMP)
 	$(BIN)/python benchmarks/bench_ukf_history.py
 	$(BIN)/python benchmarks/bench_imm.py
 	$(BIN)/python benchmarks/bench_tracks.py
+	$(BIN)/python benchmarks/bench_feed_memory.py
 	$(BIN)/python benchmarks/bench_slrt.py
 	$(BIN)/python benchmarks/bench_fft.py
 	$(BIN)/python benchmarks/bench_radar_fast.py
