@@ -135,11 +135,11 @@ def test_parquet_records_read_as_their_csv_twins(tmp_path):
         read_table(tmp_path / "r.parquet", max_rows=10)
 
 
-def test_the_engine_gives_the_same_bytes_for_any_workers_and_resumes(capsys, tmp_path, monkeypatch):
+def test_the_engine_gives_the_same_bytes_for_any_workers_and_resumes(capsys, tmp_path, monkeypatch, dask_address):
     """A many-track record on the engine (tasks of whole tracks; small tasks here so there are several):
     the same tables as all segments in one batch (to rounding: a batch's composition moves the last digit of
     a few values) and as track_records (exactly: it runs the same tasks); through the command, 1 worker, 2
-    workers and a run resumed from its checkpoint write the same bytes."""
+    workers, a Dask cluster and a run resumed from its checkpoint write the same bytes."""
     from motionsig_cli.engine import Engine, run_job
 
     monkeypatch.setattr(rt, "TASK_STEPS", 150)
@@ -162,7 +162,8 @@ def test_the_engine_gives_the_same_bytes_for_any_workers_and_resumes(capsys, tmp
     p.write_text("icao24,time,x,y\n" + "".join(",".join(repr(v) if isinstance(v, float) else v for v in r) + "\n"
                                             for r in table.rows))  # fmt: skip
     outs = []
-    for args in ((), ("--workers", "2"), ("--checkpoint", str(tmp_path / "ck")), ("--checkpoint", str(tmp_path / "ck"))):
+    for args in ((), ("--workers", "2"), ("--scheduler", dask_address), ("--checkpoint", str(tmp_path / "ck")),
+                 ("--checkpoint", str(tmp_path / "ck"))):  # fmt: skip
         o = tmp_path / f"o{len(outs)}.csv"
         rc, _, err = run(capsys, "maneuver", str(p), "--method", "imm,glr", "-o", str(o), *args)
         assert rc == 0, err
