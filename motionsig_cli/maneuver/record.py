@@ -347,9 +347,13 @@ def read_track_records(
     form, raw = _raw_positions(rec)
     z_all, R_all, frame, conversion = _local_positions(rec, form, opts)
     if rec.has("track"):
-        labels, first, inverse = np.unique(rec["track"].astype(str), return_index=True, return_inverse=True)
-        order = np.argsort(first, kind="stable")  # tracks in the order they first appear
-        groups = [(str(labels[g]), np.flatnonzero(inverse == g)) for g in order]
+        codes: dict[str, int] = {}  # each track's number, in the order they first appear
+        track = np.fromiter((codes.setdefault(str(v), len(codes)) for v in rec["track"].tolist()), np.int64,
+                            count=len(rec))  # fmt: skip
+        rows = np.argsort(track, kind="stable")  # each track's rows in file order
+        cuts = np.searchsorted(track[rows], np.arange(1, len(codes)))
+        groups = list(zip(codes, np.split(rows, cuts), strict=True))
+        del track, rows
     else:
         groups = [("", np.arange(len(rec)))]
     tracks: list[TrackRecord] = []
