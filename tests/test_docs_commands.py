@@ -49,6 +49,8 @@ SHIPPED = ("tests/data", "docs/howto/data")
 SKIPPED: dict[str, str] = {
     "make demo": "installs the package into .venv and runs every demo at full size (make demo itself)",
     "make test": "the whole test suite, of which this test is a part",
+    "source .venv/bin/activate": "activates the environment make demo creates (tests/test_quickstart.py)",
+    "make docs": "the strict docs build (make test runs it)",
     "pip install 'motionsig_cli[dask]'": "installs from a package registry",
     "motionsig slrt --runs 1000 --scheduler tcp://10.0.0.5:8786 -o slrt.csv": (
         "needs a running Dask scheduler at that address; --scheduler is tested in tests/test_engine.py"
