@@ -33,39 +33,44 @@ $(DOCS_STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install -q -e '.[docs]'
 	touch $@ $(RUN_STAMP)
 
-## demo: the main job — simulate a vehicle carrying a mode signature and detect its mode (the mode-signature paper)
+## demo: the main job — simulate a vehicle carrying a mode signature and detect its mode (the mode-signature paper),
+## then one example of every command. A short story on the terminal (what ran, its one-line result on stderr,
+## where the output went); the full tables in $(OUT)/*.csv, the figures in $(OUT)/*.png.
 demo: $(RUN_STAMP)
 	@mkdir -p $(OUT)
-	@echo '== simulate | detect: mode 2, code phase 5 chips, ANR label 48.3 (R = 1e-3); LMP bank of 187 Kalman filters'
-	$(BIN)/motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot $(OUT)/fig2.png | $(BIN)/motionsig detect --plot $(OUT)/fig3.png
-	@echo '== Table I of the mode-signature paper: printed vs corrected Gold codes (errata view)'
-	$(BIN)/motionsig encode table1 --view errata
-	@echo '== The 33-member Gold family of the preferred pair 45/75, piped into the correlation analysis'
-	$(BIN)/motionsig encode gold --poly1 45 --poly2 75 --all | $(BIN)/motionsig encode correlations - --view values
-	@echo '== Monte Carlo (Fig 4, 10 trials per cell; make reproduce runs 50)'
-	$(BIN)/motionsig detect --montecarlo --trials 10 --fr-list 0.01 --plot $(OUT)/fig4.png -o $(OUT)/fig4.csv
-	@echo '== The FFT fast path (Q_a = 0): one steady-state filter and FFT cross-correlations instead of 187 filters; Fig 4 grid, 200 trials per cell'
-	$(BIN)/motionsig detect --montecarlo --method fft --trials 200 --fr-list 0.01 --horizons 5,10,20,40 | grep -v '^#'
-	@echo '== Threshold calibration (the seed gives no false-alarm rate): P_FA = 0.01 from 2000 null trials per cell, P_D at it, ROC curves'
-	$(BIN)/motionsig detect --calibrate --method fft --pfa 0.01 --trials 200 --R-list 1,10 --horizons 5,10,20 --plot $(OUT)/roc.png | grep -v '^#'
-	@echo '== The mode-signature paper, Fig 7 setting: a planar vehicle seen by a radar (range, bearing); LMP bank of 187 unscented filters'
-	$(BIN)/motionsig simulate --example 2d --mode 3 --tau-chips 7 --duration 30 --plot $(OUT)/radar.png | $(BIN)/motionsig detect --horizons 10,30
-	@echo '== ATC-10 Table 2.1: jammer ERP that mislocates 10 % of the airborne aircraft, ours beside the printed values'
-	$(BIN)/motionsig jam-bound table --which 2.1
-	@echo '== ATC-10 Fig 2.16: ambiguous-detection bound, K = 1000, P_DL = 0.999'
-	$(BIN)/motionsig jam-bound curves --figure 2.16 --plot $(OUT)/fig2_16.png -o $(OUT)/fig2_16.csv
-	@echo '== ATC-10 Table 4.3: position error with clock tracking, report and corrected conventions beside the printed values'
-	$(BIN)/motionsig track-sat table --which 4.3
-	@echo '== ATC-10 Fig 4.3: RMS error vs update, tracking then a 60 s three-satellite outage (Example II)'
-	$(BIN)/motionsig track-sat rms --figure 4.3 --plot $(OUT)/fig4_3.png -o $(OUT)/fig4_3.csv
-	@echo '== The SLRT slides (Govaers): track existence from four radars in clutter, CKF / DKF / LKF and Wald decisions (20 runs)'
-	$(BIN)/motionsig slrt --view decisions --runs 20 --plot $(OUT)/slrt.png
-	@echo '== The EBPSK paper (Yao, Teng & Wu): a target turning twice; IMM, GLR, MLR and a CV Kalman filter on the same 100 runs (summary table)'
-	$(BIN)/motionsig maneuver --method all --view summary --runs 100 --plot $(OUT)/maneuver.png --plot-compare $(OUT)/maneuver_compare.png
-	@echo '== ATC-10 Fig 3.3: ROC bounds under multiple-access noise (uniform density) with the exact ROC; the printed numbers of §3 beside ours'
-	$(BIN)/motionsig mac-roc bounds --figure 3.3 --exact --theta 0.02:0.98:0.02 --plot $(OUT)/fig3_3.png -o $(OUT)/fig3_3.csv
-	$(BIN)/motionsig mac-roc report
-	@echo "figures in $(OUT)/: fig2.png fig3.png fig4.png roc.png radar.png fig2_16.png fig3_3.png fig4_3.png slrt.png maneuver.png maneuver_compare.png"
+	@echo '== motionsig demo: 14 runs, each with what it does and its one-line result; full tables in $(OUT)/*.csv, figures in $(OUT)/*.png'
+	@echo '-- 1. simulate | detect: a vehicle in mode 2, code phase 5 chips (R = 1e-3); LMP bank of 187 Kalman filters -> $(OUT)/detect.csv, fig2.png, fig3.png'
+	@$(BIN)/motionsig simulate --mode 2 --tau-chips 5 --R 1e-3 --plot $(OUT)/fig2.png | $(BIN)/motionsig detect --plot $(OUT)/fig3.png -o $(OUT)/detect.csv
+	@echo '-- 2. encode table1: Table I of the mode-signature paper, printed vs corrected Gold codes -> $(OUT)/table1_errata.csv'
+	@$(BIN)/motionsig encode table1 --view errata -o $(OUT)/table1_errata.csv
+	@echo '-- 3. encode gold | correlations: the 33-member Gold family of the preferred pair 45/75 -> $(OUT)/gold_correlations.csv'
+	@$(BIN)/motionsig encode gold --poly1 45 --poly2 75 --all | $(BIN)/motionsig encode correlations - --view values -o $(OUT)/gold_correlations.csv
+	@echo '-- 4. detect --montecarlo: Fig 4, 10 trials per cell (make reproduce runs 50) -> $(OUT)/fig4.csv, fig4.png'
+	@$(BIN)/motionsig detect --montecarlo --trials 10 --fr-list 0.01 --plot $(OUT)/fig4.png -o $(OUT)/fig4.csv
+	@echo '-- 5. detect --method fft: the FFT fast path (Q_a = 0), Fig 4 grid, 200 trials per cell -> $(OUT)/fig4_fft.csv'
+	@$(BIN)/motionsig detect --montecarlo --method fft --trials 200 --fr-list 0.01 --horizons 5,10,20,40 -o $(OUT)/fig4_fft.csv
+	@echo '-- 6. detect --calibrate: the threshold for P_FA = 0.01 (2000 null trials per cell), P_D at it, ROC -> $(OUT)/calibration.csv, roc.png'
+	@$(BIN)/motionsig detect --calibrate --method fft --pfa 0.01 --trials 200 --R-list 1,10 --horizons 5,10,20 --plot $(OUT)/roc.png -o $(OUT)/calibration.csv
+	@echo '-- 7. simulate --example 2d | detect: a planar vehicle seen by a radar (Fig 7 setting); 187 unscented filters -> $(OUT)/radar_detect.csv, radar.png'
+	@$(BIN)/motionsig simulate --example 2d --mode 3 --tau-chips 7 --duration 30 --plot $(OUT)/radar.png | $(BIN)/motionsig detect --horizons 10,30 -o $(OUT)/radar_detect.csv
+	@echo '-- 8. jam-bound table: ATC-10 Table 2.1, jammer ERP that mislocates 10 % of the aircraft -> $(OUT)/table2_1.csv'
+	@$(BIN)/motionsig jam-bound table --which 2.1 -o $(OUT)/table2_1.csv
+	@echo '-- 9. jam-bound curves: ATC-10 Fig 2.16, ambiguous-detection bound -> $(OUT)/fig2_16.csv, fig2_16.png'
+	@$(BIN)/motionsig jam-bound curves --figure 2.16 --plot $(OUT)/fig2_16.png -o $(OUT)/fig2_16.csv
+	@echo '-- 10. track-sat table: ATC-10 Table 4.3, position error with clock tracking -> $(OUT)/table4_3.csv'
+	@$(BIN)/motionsig track-sat table --which 4.3 -o $(OUT)/table4_3.csv
+	@echo '-- 11. track-sat rms: ATC-10 Fig 4.3, RMS error through a 60 s three-satellite outage -> $(OUT)/fig4_3.csv, fig4_3.png'
+	@$(BIN)/motionsig track-sat rms --figure 4.3 --plot $(OUT)/fig4_3.png -o $(OUT)/fig4_3.csv
+	@echo '-- 12. slrt: track existence from four radars in clutter (Govaers), CKF / FKF / LKF and Wald decisions, 20 runs -> $(OUT)/slrt_decisions.csv, slrt.png'
+	@$(BIN)/motionsig slrt --view decisions --runs 20 --plot $(OUT)/slrt.png -o $(OUT)/slrt_decisions.csv
+	@echo '-- 13. maneuver: a target turning twice (Yao, Teng & Wu); IMM, GLR, MLR and a CV filter, 100 runs -> $(OUT)/maneuver_summary.csv, maneuver.png, maneuver_compare.png'
+	@$(BIN)/motionsig maneuver --method all --view summary --runs 100 --plot $(OUT)/maneuver.png --plot-compare $(OUT)/maneuver_compare.png -o $(OUT)/maneuver_summary.csv
+	@echo '-- 14. mac-roc: ATC-10 Fig 3.3, ROC bounds under multiple-access noise with the exact ROC -> $(OUT)/fig3_3.csv, fig3_3.png, mac_report.csv'
+	@$(BIN)/motionsig mac-roc bounds --figure 3.3 --exact --theta 0.02:0.98:0.02 --plot $(OUT)/fig3_3.png -o $(OUT)/fig3_3.csv
+	@$(BIN)/motionsig mac-roc report -o $(OUT)/mac_report.csv
+	@echo '== done. Tables: $(OUT)/*.csv (each headed by # lines with every parameter). Figures: $(OUT)/*.png.'
+	@echo '   Next: source .venv/bin/activate, then motionsig --help (or ./motionsig --help without activating);'
+	@echo '   make docs builds the documentation site into site/ (open site/index.html).'
 
 ## demo-compare: every make demo output of this tree against those of commit REV (default HEAD)
 REV ?= HEAD

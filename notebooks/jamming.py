@@ -13,6 +13,7 @@
 # each printing fix. The command-line equivalents are `motionsig jam-bound curves|threshold|table|design|antenna`.
 
 # %%
+# fold: Setup: imports and constants
 import math
 
 import numpy as np
@@ -210,6 +211,7 @@ print("independent reference at x = -16 dB: log10 = -222.276255")
 # report; we keep its numbering. `motionsig jam-bound curves --figure 2.N --plot fig.png` draws one.
 
 # %%
+# alt: Sixteen panels, the ATC-10 jamming Figs 2.1 to 2.16: the fraction of aircraft falsely located or ambiguously detected, on a log scale from 1e-6 to 1, against the jammer-to-signal ratio in dB, one curve per design (threshold t, detection probability), with a dotted line at the 0.9 or 0.01 level.
 fig = Figure(figsize=(13, 26), layout="constrained")
 axes = fig.subplots(8, 2).ravel()
 for ax, (name, pre) in zip(axes, exp.FIGURES.items(), strict=True):

@@ -14,6 +14,7 @@
 # `make reproduce` runs the full 50-trial Fig 7.
 
 # %%
+# fold: Setup: imports and constants
 import math
 import time
 from dataclasses import replace
@@ -90,6 +91,7 @@ repairs_seen: list[tuple[int, int]] = []  # (state, innovation) repairs of every
 # Carlo of §7 at seed 2008.
 
 # %%
+# alt: The radar example's trial-0 record over 80 s at ANR pair 2: left, the vehicle's path in the x-y plane in metres with the radar at the origin and the measurements scattered around the path; right, the measured range and bearing against time.
 pair2 = anr_pair_variances(2)
 veh2 = Vehicle2D(R_range=pair2[0], R_bearing=pair2[1])
 N80 = round(80 / veh2.T)
@@ -448,6 +450,7 @@ assert max(rel.values()) <= 1e-8 and np.array_equal(kf.best()[0], ukf.best()[0])
 # from the printed range label.
 
 # %%
+# alt: Four panels, one per ANR pair of Fig 7, of the LMP statistic after 40 s against the code phase (31 chips), one curve per mode, with the true mode and phase marked.
 h40 = round(40 / veh2.T)
 panels, t0 = [], time.perf_counter()
 for p in (1, 2, 3, 4):
@@ -482,6 +485,7 @@ statistic_figure(panels, 3, np.arange(31))
 # so only large differences mean anything here.
 
 # %%
+# alt: Fig 7 at reduced size: percentage of trials with the correct mode and code phase against the horizon (10 to 80 s), one curve per (angle, range) ANR pair, c_r = 100.
 TRIALS = 8
 horizons = [10.0, 20.0, 40.0, 60.0, 80.0]
 pairs = [anr_pair_variances(p) for p in (1, 2, 3, 4)]
@@ -513,6 +517,7 @@ montecarlo_figure(
 )
 
 # %%
+# alt: The same Fig 7 curves with c_r = 1: correct detections against the horizon for the four ANR pairs.
 montecarlo_figure(np.array(horizons), fig7_curves(fig7[1.0]), f"Fig 7, $c_r$ = 1, {TRIALS} trials per cell")
 
 # %% [markdown]

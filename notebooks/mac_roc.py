@@ -19,6 +19,7 @@
 # The command-line equivalents are `motionsig mac-roc bounds|exact|montecarlo|gaussian|exponent|densities|bandwidth|report`.
 
 # %%
+# fold: Setup: imports and helper functions
 import itertools
 import math
 import time
@@ -182,6 +183,7 @@ md_table(["density", "MC E n²", "P", "z"], rows)
 # density (quadrature) is $b$, and the kurtosis matches the table.
 
 # %%
+# alt: ATC-10 Fig. 3.2: the four amplitude densities C1 to C4 at equal second moment (uniform, two-point impulses drawn as arrows, triangular, Gaussian).
 curves = ex.density_curves()
 xx = np.linspace(-8.0, 8.0, 1_600_001)  # fine grid: the uniform's jumps cost O(h)
 rows = []
@@ -522,6 +524,10 @@ assert d_mix < 1e-13
 # reuses.
 
 # %%
+# alt: ATC-10 Fig. 3.3, the uniform density C1: false-alarm probability p_f against miss probability p_m = 1 − p_d on log-log axes, the upper bound (solid), lower bound (dashed) and exact ROC (dotted) for ℓ = 4, 6, 8, 10 and 12.
+# alt: ATC-10 Fig. 3.4, the two-point density C2: p_f against p_m on log-log axes, upper and lower bounds and the exact ROC for ℓ = 4 to 12.
+# alt: ATC-10 Fig. 3.5, the triangular density C3: p_f against p_m on log-log axes, upper and lower bounds and the exact ROC for ℓ = 4 to 12.
+# alt: ATC-10 Fig. 3.6, the Gaussian density C4: p_f against p_m on log-log axes, upper and lower bounds and the exact ROC for ℓ = 4 to 12.
 t0 = time.perf_counter()
 TH = np.round(np.arange(0.005, 0.9951, 0.005), 6)
 CURVES = {}
@@ -635,6 +641,7 @@ md_table(["density", "ℓ", "θ", "quantity", "ours", "reference T3"], rows)
 # $p$ (the null hypothesis), used where at least 25 events are expected. $10^6$ trials per (density, ℓ).
 
 # %%
+# alt: For the uniform density C1: the ROC bounds and the exact ROC with Monte Carlo points from 1e6 trials, which fall on the exact curve.
 TH_MC = np.round(np.arange(0.1, 0.91, 0.05), 6)
 rows, zmax, n_z, sandwich_ok, mc_panels = [], 0.0, 0, True, []
 for name in NAMES:
@@ -830,6 +837,7 @@ SUMMARY.append(("quasi-optimal", "53 densities never beat C₂'s exponent", f"ma
 # individual components, not only by their power.
 
 # %%
+# alt: ATC-10 Fig. 3.7: the multiple-access noise component implied by the quasi-optimal density, a pulse of plus or minus A over 2τ.
 schematic_figure(*ex.schematic_component(math.sqrt(b8)))
 
 # %% [markdown]
@@ -893,6 +901,7 @@ SUMMARY.append(("Gaussian comparison", "ROC_g values (T4), d′, Theorem 3.1 lim
 # (dotted): at every ℓ ≥ 8 the true ROC lies well above ROC_g.
 
 # %%
+# alt: ATC-10 Fig. 3.8: the Gaussian-approximation ROC (dash-dot) beside the exact ROC of the two-point density C2 (dotted), for several code lengths.
 panels = []
 for ell in ex.ELL_SET:
     g = gaussian_roc(ex.report_model("uniform", ell).power, TH)
@@ -1028,6 +1037,8 @@ assert below and incr_N and decr_ratio and lam_only < 1e-4
 SUMMARY.append(("Exp(Exp_g)", "(3.8.16): T9 values and Fig. 3.9/3.10 grids", f"≤ {max(dev9, dev39, dev310):.1e} abs.", "reference T9 (±1e-3)", "reproduced"))  # fmt: skip
 
 # %%
+# alt: ATC-10 Fig. 3.9: the exponent Exp against the number of users N for several τ/α, at a Gaussian exponent of 4.
+# alt: ATC-10 Fig. 3.10: the exponent Exp against the Gaussian exponent Exp_g, at τ/α = 1e-5.
 lines39 = [
     (f"τ/α = {t:g}", Nf, np.array([exp_of_gaussian_exponent(4.0, n, t) for n in Nf]))
     for t in ex.FIG39_TAU_OVER_ALPHA
@@ -1163,6 +1174,7 @@ md_table(["reference code", "L", "r₁", "(1/(6L))(1 + r₁/2)", "PSKAmplitude q
 # sidelobes are not small).
 
 # %%
+# alt: ATC-10 Fig. 3.11: the aperiodic autocorrelations of the Barker-13 code and a 31-chip m-sequence beside the ideal triangle.
 tt = np.linspace(-2, 2, 400_001)
 ideal = 1 / (2 * np.trapezoid(tb.ideal_autocorrelation(tt) ** 2, tt))
 tbv = {

@@ -16,6 +16,7 @@
 # builds; the commands at the end run any number.
 
 # %%
+# fold: Setup: imports and helper functions
 import math
 
 import numpy as np
@@ -121,6 +122,7 @@ md_table(["turn", "stated", "T for Δv = 450 m/s per axis", "T for a coordinated
 # turns. The `literal` speed grows to 3.3 km/s.
 
 # %%
+# alt: Two panels, presets literal and turn90: the true target track in the x-y plane in km, the constant-velocity legs in grey and each manoeuvre (its scans and acceleration) in colour, the start marked.
 assert not any(math.isclose(T_needed["sharp turn"][i], T_needed["gradual turn"][i]) for i in range(2))
 v = {p: sc.truth()[:, [1, 3]] for p, sc in SC.items()}  # velocity at scans 1..N
 for p in mv.PRESETS:
@@ -711,6 +713,7 @@ md_table(
 # the mean model probabilities. The dotted lines mark the input changes.
 
 # %%
+# alt: Four panels for the literal preset: Fig 2, the true track and the IMM's filtered tracks in km; Fig 3, the mean filtering error against the scan; Fig 4, its standard deviation; and the mean IMM model probabilities; for σ = 100 and 200 m, the manoeuvre times as dotted lines.
 SIGMAS = (100.0, 200.0)
 res = {
     p: {s_: mv.run_trackers(SC[p], s_, range(RUNS), SEED, mv.METHODS, CFG) for s_ in SIGMAS}
@@ -732,6 +735,7 @@ def imm_fig(p):
 imm_fig("literal")
 
 # %%
+# alt: The same four panels for the turn90 preset: true and filtered tracks, the mean filtering error and its standard deviation against the scan, and the mean IMM model probabilities.
 imm_fig("turn90")
 
 # %% [markdown]
@@ -800,6 +804,7 @@ md_table(["preset", "σ [m]", "R11: mean σ_x̂, scans 50–199 [m] (target 0.2�
 
 
 # %%
+# alt: Literal preset, σ = 100 m (left) and 200 m (right): above, the RMS position error of the IMM, GLR, MLR and the CV Kalman filter against the scan on a log scale; below, the fraction of runs in which GLR and MLR declare at each scan; the manoeuvre times as dotted lines.
 def comparison(p):
     rms = {(s_, m): est[p][s_][m].rms for s_ in SIGMAS for m in mv.METHODS}
     rate = {(s_, m): res[p][s_][m].detected.mean(0) for s_ in SIGMAS for m in ("glr", "mlr")}
@@ -811,6 +816,7 @@ def comparison(p):
 comparison("literal")
 
 # %%
+# alt: Turn90 preset, σ = 100 m and 200 m: the RMS position error of the IMM, GLR, MLR and the CV Kalman filter against the scan, and the fraction of runs in which GLR and MLR declare at each scan.
 comparison("turn90")
 
 # %% [markdown]

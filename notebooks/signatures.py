@@ -70,6 +70,7 @@ assert np.array_equal(sig.p[: 31 * 20], sig.p[31 * 20 :])
 print(f"max |z - (cos θ z_cos - sin θ z_sin)| = {identity_error:.1e}")
 
 # %%
+# alt: Three stacked traces over two code periods: the mode-1 chip sequence p_k as a square wave, the carrier cosine, and their product, the signature z_k.
 fig = Figure(figsize=(8, 4.8), layout="constrained")
 ax = fig.subplots(3, 1, sharex=True)
 ax[0].step(sig.t, sig.p, where="post")
@@ -277,6 +278,7 @@ assert np.array_equal(corrected[0], printed[0])
 
 
 # %%
+# alt: Two histograms of the off-peak periodic correlations of the Table I codes: the corrected codes take only the values -9, -1 and 7 (within the dotted Gold bounds), the printed codes spread to ±17.
 def offpeak(codes: np.ndarray) -> np.ndarray:
     rr = periodic_correlation(to_bipolar(codes))
     return np.concatenate([rr[i, i, 1:] for i in range(3)] + [rr[np.triu_indices(3, 1)].ravel()])

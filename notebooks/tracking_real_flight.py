@@ -18,6 +18,7 @@
 # Each claim is followed by a numerical check. Every number on the page is computed when the page is built.
 
 # %%
+# fold: Setup: imports and helper functions
 import csv
 import math
 import time
@@ -562,6 +563,7 @@ print(f"gate: χ²₂ at 1 − {cons.gate:g} = {gate:.1f}; window: χ²₄₀ at
 md_table(["file", "method", "restarts", "reasons", "gated measurements"], rows)
 
 # %%
+# alt: Two panels, IMM above and GLR below, of the normalised innovation squared (NIS) of every step of the Cardiff calibration flight on a log scale against time in minutes, with its 20-step mean, the gate, the window bound and the chi-square median; red vertical lines mark the tracker's restarts.
 card = OUT["turns_calibration_cardiff"]
 fig = Figure(figsize=(11, 5.2), layout="constrained")
 axes = fig.subplots(2, 1, sharex=True)
@@ -682,6 +684,7 @@ md_table(["file", "turns", "mean |rate| [°/s]", "straight flight [h]"],
            f"{TRUTH[f].straight_s / 3600:.2f}") for f in FLIGHTS])  # fmt: skip
 
 # %%
+# alt: Above, the Cardiff calibration flight in the east-north plane, its turns (from the recorded track angle) in red; below, a 45-minute window of the track angle against time with the true turns shaded and the onsets declared by the IMM, GLR and MLR as ticks.
 as_recorded = turn_intervals(DATA[CARD]["t"], DATA[CARD]["track_recorded"], speed_mps=DATA[CARD]["gs"],
                              min_speed_mps=25.0)  # fmt: skip
 print(f"{CARD}: {len(as_recorded.turns)} turns from the column as recorded, {len(TRUTH[CARD].turns)} from the "

@@ -9,6 +9,7 @@
 # and their output is shown. The record format itself is described on the "Data formats" page.
 
 # %%
+# fold: Setup: imports and helper functions
 import csv
 import json
 import subprocess
@@ -187,6 +188,7 @@ print((WORK / "track.csv").read_text()[:260])
 # declares at most scans of a straight flight, because the MLR statistic's H0 mean is not zero; assumed).
 
 # %%
+# alt: Four panels for track.csv: the measured positions and the IMM, GLR, MLR and CV tracks in the x-y plane in km (a straight leg, then a turn near x = 31 km) with the declarations marked; the estimated speed against the scan; each method's declarations and the missed scans; the IMM's model probabilities.
 out = motionsig("maneuver", "--input", "track.csv", "--columns", "time=Timestamp,x=East,y=North",
                 "--method", "all", "--mlr-threshold", "5", "--plot", "track.png")  # fmt: skip
 m = meta(out)

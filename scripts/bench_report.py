@@ -47,7 +47,21 @@ TITLES = {
     "bench_engine": "Monte Carlo engine: 1 worker, 2 workers, Dask",
     "bench_startup": "Start-up of the command line",
     "bench_slrt": "Track-existence fusion schemes (Govaers' slides)",
+    "bench_radar_fast": "Linearised fast path of the radar LMP detector (Fig 7 workload)",
 }
+# The summary table at the top of the results: (what, file, our case, the case it is compared with).
+SUMMARY = [
+    ("Kalman filter bank, Fig 4 detection", "bench_kf_bank", "motionsig batched bank", "FilterPy"),
+    ("Sigma-point filter bank, Fig 7 radar detection", "bench_ukf_bank", "motionsig", "FilterPy"),
+    ("FFT fast path, Fig 4 detection (Q_a = 0)", "bench_fft", "motionsig FFT path", "FilterPy"),
+    ("FFT fast path against our own bank", "bench_fft", "motionsig FFT path", "motionsig batched bank"),
+    ("Linearised fast path, Fig 7 radar detection", "bench_radar_fast", "linearised", "sigma-point bank"),
+    ("IMM, 500 Monte Carlo runs of Yao, Teng & Wu", "bench_imm", "motionsig batched IMM", "FilterPy"),
+    ("IMM on a real feed of 213 aircraft, one core", "bench_tracks", "motionsig IMM filter only", "FilterPy"),
+    ("IMM on a real feed, against Stone Soup", "bench_tracks", "motionsig IMM filter only", "Stone Soup"),
+    ("Monte Carlo engine, 2 worker processes", "bench_engine", "2 workers", "1 worker (in process)"),
+    ("Monte Carlo engine, Dask LocalCluster of 2", "bench_engine", "Dask LocalCluster, 2 workers", "1 worker (in"),
+]
 ORDER = [
     "bench_kf_bank",
     "bench_ukf_bank",
@@ -94,7 +108,7 @@ def _row(res: Results, name: str, prefix: str) -> dict[str, str] | None:
 
 def draw(res: Results) -> None:
     """The two-panel figure; a bar whose result file is missing is left out."""
-    plt.rcParams.update({"svg.hashsalt": "motionsig-bench", "font.size": 9})
+    plt.rcParams.update({"svg.hashsalt": "motionsig-bench", "font.size": 12})
     bars = [  # (label, file, case prefix, FilterPy?)
         ("FilterPy UKF", "bench_ukf_bank", "FilterPy", True),
         ("motionsig UKF bank", "bench_ukf_bank", "motionsig", False),
@@ -111,7 +125,7 @@ def draw(res: Results) -> None:
         ("Dask, 2 workers\n(start-up incl.)", "Dask LocalCluster, 2 workers"),
         ("Dask, 2 workers\n(warm)", "Dask LocalCluster, 2 workers, warm"),
     ]
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11.5, 4.8), gridspec_kw={"width_ratios": [1.4, 1]})
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(13, 5.8), gridspec_kw={"width_ratios": [1.5, 1]})
     labels, values, colors, notes = [], [], [], []
     for label, name, prefix, is_fp in bars:
         row = _row(res, name, prefix)
@@ -133,7 +147,7 @@ def draw(res: Results) -> None:
     if values:
         ax1.set_xlim(min(values) / 3, max(values) * 80)
     for i, (v, note) in enumerate(zip(values, notes, strict=True)):
-        ax1.text(v * 1.15, i, note, va="center", fontsize=8)
+        ax1.text(v * 1.15, i, note, va="center", fontsize=11)
     ax1.grid(axis="x", which="major", alpha=0.3)
 
     e_labels, e_vals, e_notes = [], [], []
@@ -148,13 +162,13 @@ def draw(res: Results) -> None:
         e_notes.append(f"{sec:.1f} s" + ("" if sp is None else f"\n{sp:.2f}×"))
     x = range(len(e_labels))
     ax2.bar(list(x), e_vals, color=["#3f51b5", "#9fa8da", "#5c6bc0", "#ef6c00", "#ffa726"][: len(e_vals)])
-    ax2.set_xticks(list(x), e_labels, fontsize=7, rotation=25, ha="right")
+    ax2.set_xticks(list(x), e_labels, fontsize=10, rotation=25, ha="right")
     ax2.set_ylabel("wall time [s] (speed-up vs 1 worker)")
     ax2.set_title("Monte Carlo engine (Fig 4, bank)")
     if e_vals:
         ax2.set_ylim(0, max(e_vals) * 1.3)
     for i, (v, note) in enumerate(zip(e_vals, e_notes, strict=True)):
-        ax2.text(i, v, note, ha="center", va="bottom", fontsize=8)
+        ax2.text(i, v, note, ha="center", va="bottom", fontsize=11)
     ax2.grid(axis="y", alpha=0.3)
     fig.tight_layout()
     fig.savefig(OUT / FIGURE, format="svg", metadata={"Date": None})
@@ -219,15 +233,36 @@ def agreement_table(rows: list[dict[str, str]]) -> list[str]:
     return out
 
 
+def summary_table(res: Results) -> list[str]:
+    """The short table of the results: each comparison of SUMMARY whose two rows exist, as both times
+    and their ratio (of the time per unit, so an extrapolated reference counts the same work)."""
+    out = ["| What | motionsig | compared with | time [s] | motionsig is |", "|---|---|---|---|---|"]
+    for what, name, ours, ref in SUMMARY:
+        a, b = _row(res, name, ours), _row(res, name, ref)
+        if a is None or b is None:
+            continue
+        ua, ub = _num(a.get("us_per_unit")), _num(b.get("us_per_unit"))
+        sa, sb = _num(a.get("seconds")), _num(b.get("seconds"))
+        ratio = ub / ua if ua and ub else (sb / sa if sa and sb else None)
+        if ratio is None:
+            continue
+        times = f"{_fmt(a.get('seconds'), 's')} / {_fmt(b.get('seconds'), 's')}"
+        faster = f"{_fmt(str(ratio), 'x')} faster" if ratio >= 1 else f"{_fmt(str(1 / ratio), 'x')} slower"
+        out.append(f"| {what} | {_cell(a['case'])} | {_cell(b['case'])} | {times} | {faster} |")
+    return out
+
+
 def markdown(res: Results) -> str:
     lines = [
         BEGIN,
         "<!-- generated by scripts/bench_report.py from docs/performance/*.csv; edits here are overwritten -->",
         "",
+        *summary_table(res),
+        "",
         f"![µs per filter-step of every implementation (log scale) and Monte Carlo engine wall times]"
         f"(performance/{FIGURE})",
         "",
-        "### Machine and versions",
+        '??? note "Machine and versions of the committed run"',
         "",
     ]
     envs: dict[tuple[str, ...], list[str]] = {}
@@ -235,26 +270,26 @@ def markdown(res: Results) -> str:
         rows = res[name][1]
         if rows and all(k in rows[0] for k in ENV_KEYS):
             envs.setdefault(tuple(rows[0][k] for k in ENV_KEYS), []).append(name)
-    lines += ["| Results | " + " | ".join(ENV_KEYS) + " |", "|---|" + "---|" * len(ENV_KEYS)]
+    lines += ["    | Results | " + " | ".join(ENV_KEYS) + " |", "    |---|" + "---|" * len(ENV_KEYS)]
     for env, names in envs.items():
-        lines.append("| " + ", ".join(f"`{n}`" for n in names) + " | " + " | ".join(map(_cell, env)) + " |")
-    lines.append("")
+        lines.append("    | " + ", ".join(f"`{n}`" for n in names) + " | " + " | ".join(map(_cell, env)) + " |")
+    lines += ["", "### Every benchmark", ""]
     for name in [*ORDER, *sorted(set(res) - set(ORDER))]:
         if name not in res or name == "bench_fft_agreement":
             continue
         comments, rows = res[name]
-        lines += [f"### {TITLES.get(name, name)}", ""]
-        lines += [f"- {_cell(c)}" for c in comments if not c.startswith("machine:")]
-        lines += [f"- Data: [{name}.csv](performance/{name}.csv)", ""]
-        lines += [*table(rows), ""]
+        body = [f"- {_cell(c)}" for c in comments if not c.startswith("machine:")]
+        body += [f"- Data: [{name}.csv](performance/{name}.csv)", "", *table(rows), ""]
         if name == "bench_fft" and "bench_fft_agreement" in res:
-            lines += [
+            body += [
                 "Argmax agreement of the FFT path, per R, over trials × horizons "
                 "([bench_fft_agreement.csv](performance/bench_fft_agreement.csv)):",
                 "",
                 *agreement_table(res["bench_fft_agreement"][1]),
                 "",
             ]
+        # each benchmark folded under its title (pymdownx.details): the page leads with the summary
+        lines += [f'??? info "{TITLES.get(name, name)}"', "", *(f"    {b}" if b else "" for b in body)]
     lines.append(END)
     return "\n".join(lines)
 

@@ -16,6 +16,15 @@ fails on
   SVG inside; on any page a TeX error or an undefined macro, or an SVG glyph reference without
   its definition, fails.
 
+What a reader sees is checked too, at a window of 1400 px and again at 900 px (the page resized in place):
+
+* no raw Sphinx role in the text (``:func:`x```, ``:mod:~x``: docs/hooks/sphinx_roles.py renders them);
+* every image of the content has a description: an ``alt`` that is present, not empty and not nbconvert's
+  "No description has been provided for this image" (docs/hooks/notebook_pages.py, ``# alt:`` comments);
+* nothing in the main column is cut off on the right: no element of the content reaches past the column
+  unless a scroll box (``overflow-x: auto``) holds it, and no box that hides its overflow (``hidden``,
+  ``clip``) has content wider than itself; the page itself does not scroll sideways.
+
 The notebook page (URL containing ``signatures``) is also saved as a full-page screenshot to
 ``SITE_DIR/_check/signatures.png``. Finally the check follows one link with material's instant
 navigation (home -> notebook page) and requires the new page's math to be typeset too, when the
@@ -135,6 +144,69 @@ async (timeoutMs) => {
 """
 
 
+WIDTHS = (1400, 900)  # window widths [px] at which the layout is checked; the first is the one pages load at
+NO_ALT = "No description has been provided for this image"
+RAW_ROLE = r":(?:py:)?(?:mod|class|func|data|meth|attr|exc|obj):`?[~.\w]"
+
+# Text and images of the content: raw roles, images without a description.
+JS_CONTENT = """
+([rawRole, noDescription]) => {
+  const main = document.querySelector(".md-content") || document.body;
+  const re = new RegExp(rawRole, "g");
+  const roles = (main.innerText.match(re) || []);
+  const imgs = Array.from(main.querySelectorAll("img"));
+  const noAlt = imgs.filter((i) => {
+    const alt = (i.getAttribute("alt") || "").trim();
+    return !alt || alt === noDescription;
+  });
+  return {
+    roles: roles.slice(0, 3), nRoles: roles.length,
+    noAlt: noAlt.map((i) => (i.getAttribute("src") || "").slice(0, 60)).slice(0, 3), nNoAlt: noAlt.length,
+  };
+}
+"""
+
+# Content cut off on the right of the main column (see the module docstring). MathJax's assistive MathML
+# (clipped to 1 px on purpose, for screen readers) and boxes of 1 px or less are not content to read.
+JS_CUT = r"""
+() => {
+  // the column: .md-content (its inner box's margin is part of it: a code span's padding may reach into it)
+  const column = document.querySelector(".md-content");
+  const main = document.querySelector(".md-content__inner") || column;
+  if (!main) return {cut: [], n: 0, pageScroll: 0};
+  const limit = column.getBoundingClientRect().right;
+  const style = new Map();
+  const ox = (el) => { if (!style.has(el)) style.set(el, getComputedStyle(el).overflowX); return style.get(el); };
+  const scrolled = (el) => {
+    for (let a = el.parentElement; a && a !== main; a = a.parentElement) {
+      const o = ox(a);
+      if (o === "auto" || o === "scroll") return true;
+    }
+    return false;
+  };
+  const name = (el) => {
+    const cls = (el.getAttribute("class") || "").trim().split(/\s+/).slice(0, 2).join(".");
+    const text = (el.innerText || el.textContent || "").trim().replace(/\s+/g, " ").slice(0, 50);
+    return `${el.tagName.toLowerCase()}${cls ? "." + cls : ""} "${text}"`;
+  };
+  const cut = [];
+  for (const el of main.querySelectorAll("*")) {
+    if (el.closest("mjx-assistive-mml, .md-clipboard, .md-code__nav, .headerlink")) continue;
+    const r = el.getBoundingClientRect();
+    if (r.width <= 1 || r.height <= 1) continue;
+    const o = ox(el);
+    if ((o === "hidden" || o === "clip") && el.scrollWidth > el.clientWidth + 2 && !scrolled(el)) {
+      cut.push(`${name(el)} hides ${el.scrollWidth - el.clientWidth} px`);
+    } else if (r.right > limit + 1 && !scrolled(el)) {
+      cut.push(`${name(el)} reaches ${Math.round(r.right - limit)} px past the column`);
+    }
+  }
+  return {cut: cut.slice(0, 3), n: cut.length,
+          pageScroll: document.documentElement.scrollWidth - document.documentElement.clientWidth};
+}
+"""
+
+
 class QuietHandler(http.server.SimpleHTTPRequestHandler):
     def log_message(self, format, *args) -> None:  # the base class signature
         pass
@@ -241,6 +313,32 @@ def watch(page, result: PageResult, from_disk: bool = False) -> None:
     page.on("pageerror", on_page_error)
 
 
+def check_content(page, result: PageResult) -> None:
+    """No raw Sphinx role in the text; every image of the content described."""
+    state = page.evaluate(JS_CONTENT, [RAW_ROLE, NO_ALT])
+    if state["nRoles"]:
+        result.problems.append(f"{state['nRoles']} raw Sphinx role(s) in the text, e.g. {state['roles']}")
+    if state["nNoAlt"]:
+        result.problems.append(
+            f"{state['nNoAlt']} image(s) without a description (alt), e.g. {state['noAlt']}"
+        )
+
+
+def check_layout(page, result: PageResult) -> None:
+    """At each width of WIDTHS (the page resized in place): nothing cut off on the right of the column."""
+    for width in WIDTHS:
+        size = page.viewport_size or {"height": 900}
+        if size.get("width") != width:
+            page.set_viewport_size({"width": width, "height": size["height"]})
+            page.wait_for_timeout(300)
+        state = page.evaluate(JS_CUT)
+        if state["n"]:
+            result.problems.append(f"at {width} px, {state['n']} element(s) cut off on the right, e.g. {state['cut']}")
+        if state["pageScroll"] > 1:
+            result.problems.append(f"at {width} px, the page scrolls sideways by {state['pageScroll']} px")
+    page.set_viewport_size({"width": WIDTHS[0], "height": (page.viewport_size or {"height": 900})["height"]})
+
+
 def check_math(page, result: PageResult, require: bool) -> None:
     status = page.evaluate(JS_WAIT_MATHJAX % PAGE_TIMEOUT_MS)
     if status == "timeout":
@@ -317,6 +415,8 @@ def check_page(context, base: str, rel: str, site: Path, from_disk: bool = False
             result.problems.append(f"image not loaded: {src}")
         if images["total"]:
             result.notes.append(f"{images['total']} images")
+        check_content(page, result)
+        check_layout(page, result)
         if any(key in rel for key in SCREENSHOT_PAGES) and not from_disk:
             shot = site / "_check" / f"{next(k for k in SCREENSHOT_PAGES if k in rel)}.png"
             shot.parent.mkdir(parents=True, exist_ok=True)
@@ -391,7 +491,7 @@ def main(argv: list[str] | None = None) -> int:
             browser = p.chromium.launch(executable_path=chromium, args=CHROMIUM_ARGS, headless=True)
             try:
                 context = browser.new_context(
-                    viewport={"width": 1280, "height": 900}, service_workers="block"
+                    viewport={"width": WIDTHS[0], "height": 900}, service_workers="block"
                 )
                 for rel in pages:
                     results.append(check_page(context, base, rel, site))

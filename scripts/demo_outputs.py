@@ -46,7 +46,8 @@ REWORDED = (
 
 
 def demo_lines(makefile: Path) -> list[str]:
-    """The ``motionsig`` command lines of the Makefile's ``demo`` recipe, with make variables expanded."""
+    """The ``motionsig`` command lines of the Makefile's ``demo`` recipe (a leading ``@``, make's "do not
+    echo", dropped), make variables left as written."""
     lines, inside = [], False
     for raw in makefile.read_text().splitlines():
         if raw.startswith("demo:"):
@@ -55,7 +56,7 @@ def demo_lines(makefile: Path) -> list[str]:
         if inside:
             if not raw.startswith("\t"):
                 break
-            line = raw.strip()
+            line = raw.strip().removeprefix("@")
             if line.startswith("$(BIN)/motionsig"):
                 lines.append(line)
     return lines

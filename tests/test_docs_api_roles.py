@@ -8,7 +8,6 @@ raw roles (``:mod:~motionsig_cli.signals.gf2``).
 
 from __future__ import annotations
 
-import importlib.util
 import re
 import subprocess
 import sys
@@ -17,17 +16,15 @@ from pathlib import Path
 import pytest
 import yaml
 
+from tests.docs_hooks import load_hook
+
 ROOT = Path(__file__).resolve().parents[1]
 HOOK = ROOT / "docs" / "hooks" / "sphinx_roles.py"
 RAW_ROLE = re.compile(r":(?:py:)?(?:mod|class|func|data|meth|attr|exc|obj):`?[~.\w]")
 
 
 def _hook():
-    spec = importlib.util.spec_from_file_location("sphinx_roles", HOOK)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+    return load_hook("sphinx_roles")
 
 
 DOCUMENTED = {"motionsig_cli.records.grid_period", "motionsig_cli.config.ConfigError", "pkg.mod.f"}

@@ -40,12 +40,17 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md")), *sorted((ROOT / "docs" / "howto").glob("*.md"))]
+# Files shipped in the repository that a page's command may name by their path from the repository root
+# (the how-to guides run from there): the command's directory gets these folders as links to the checkout.
+SHIPPED = ("tests/data", "docs/howto/data")
 
 # Commands that are not run, keyed by the command as printed (continuations joined, comment dropped).
 SKIPPED: dict[str, str] = {
     "make demo": "installs the package into .venv and runs every demo at full size (make demo itself)",
     "make test": "the whole test suite, of which this test is a part",
+    "source .venv/bin/activate": "activates the environment make demo creates (tests/test_quickstart.py)",
+    "make docs": "the strict docs build (make test runs it)",
     "pip install 'motionsig_cli[dask]'": "installs from a package registry",
     "motionsig slrt --runs 1000 --scheduler tcp://10.0.0.5:8786 -o slrt.csv": (
         "needs a running Dask scheduler at that address; --scheduler is tested in tests/test_engine.py"
@@ -54,6 +59,8 @@ SKIPPED: dict[str, str] = {
     "python3.11 -m venv venv && . venv/bin/activate": "creates a virtual environment",
     "pip install /path/to/motionsig": "installs from a placeholder path",
     "motionsig detect --montecarlo --workers N --scheduler ...": "a template (N, ...), not a command",
+    "motionsig maneuver <file> --view events": "a template (<file>), not a command",
+    "motionsig slrt <detections> --sensor-table <sensors>": "a template (<detections>, <sensors>), not a command",
 }
 
 
@@ -83,7 +90,7 @@ REWRITES: tuple[Rewrite, ...] = (
     Rewrite(r"^encode ebpsk\b.*--ber", "--trials", "2", "records per Eb/N0 of the BER curve (default 100)"),
     Rewrite(r"^mac-roc montecarlo\b", "--trials", "4096", "Monte Carlo trials (default and the page's 1e6)"),
     Rewrite(r"^slrt\b", "--runs", "2", "Monte Carlo runs per case (default 50; the pages give 20 to 1000)",
-            unless=r"--input"),
+            unless=r"--input|--sensor-table|--view (detections|sensors)"),
     Rewrite(r"^maneuver\b", "--runs", "2", "Monte Carlo runs (default 500, the paper's; the pages give up to 5000)",
             unless=r"--input|--view measurements|--view front-end"),
     Rewrite(r"^track-sat simulate\b", "--runs", "20", "Monte Carlo runs (default 2000)"),
@@ -317,12 +324,22 @@ def outputs(text: str) -> list[str]:
     return [b for a, b in itertools.pairwise(w) if a in ("-o", "--out") or a.startswith("--plot")]
 
 
+def _shipped(word: str) -> bool:
+    return any(word.startswith(f"{d}/") for d in SHIPPED)
+
+
 def prerequisites(cmd: DocCommand) -> list[DocCommand]:
-    """The earlier commands of the same page that write a file `cmd` reads (other than the test's inputs)."""
+    """The earlier commands of the same page that write a file `cmd` reads (other than the test's inputs
+    and the files shipped in the repository): a .csv, .json or .gz file, or a directory (`ck/`) that an
+    earlier command writes and this one names."""
     earlier = [c for c in COMMANDS[: COMMANDS.index(cmd)] if c.page == cmd.page]
+    written_before = {name for e in earlier for name in outputs(e.text)}
     first = []
     for name in sorted(
-        {w for w in _words(cmd.text) if w.endswith(".csv")} - _WRITTEN_HERE - set(outputs(cmd.text))
+        {w for w in _words(cmd.text) if w.endswith((".csv", ".json", ".gz")) or w in written_before}
+        - _WRITTEN_HERE
+        - set(outputs(cmd.text))
+        - {w for w in _words(cmd.text) if _shipped(w)}
     ):
         maker = [e for e in earlier if name in outputs(e.text)]
         assert maker, f"{cmd}: reads {name}, which neither the test nor an earlier command of the page writes"
@@ -339,6 +356,10 @@ def write_inputs(cmd: DocCommand, where: Path) -> None:
         _slrt_files(where / "dets.csv", where / "radars.csv")
     if "stations.csv" in words:
         _stations(where / "stations.csv")
+    for shipped in SHIPPED:
+        if any(w.startswith(f"{shipped}/") for w in words) and not (where / shipped).exists():
+            (where / shipped).parent.mkdir(parents=True, exist_ok=True)
+            (where / shipped).symlink_to(ROOT / shipped, target_is_directory=True)
 
 
 # ---------------------------------------------------------------------------------------------------------
