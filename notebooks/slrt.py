@@ -18,6 +18,7 @@
 # the defaults below are our assumptions, all options of `motionsig slrt`.
 
 # %%
+# fold: Setup: imports and helper functions
 import math
 from dataclasses import replace
 
@@ -367,6 +368,9 @@ print(f"naive: rule == first crossing of its score on {np.mean((nd.decision == f
 # are the CKF / FKF / LKF curves (bands: 5–95 % over runs or false tracks).
 
 # %%
+# alt: Four panels, the slides' cases (a target at p_D = 0.9, 0.5 and 0.2, and the false tracks started on
+#     clutter at p_D = 0.9): the mean log likelihood ratio of CKF, FKF and LKF against the scan, with 5-95 % bands
+#     and Wald's two thresholds dotted; with a target the scores rise, on false tracks they fall, FKF far below CKF.
 METHODS6 = ("ckf", "fkf", "fkf-feedback", "lkf", "ldf", "naive")
 study = slrt.SlrtStudy(slrt.SlrtScenario(), runs=300, methods=METHODS6, motions=("cv", "agile"))
 result = study.result(run_job(study.job()))
@@ -399,6 +403,9 @@ Markdown(
 )
 
 # %%
+# alt: Two panels of the mean log likelihood ratio against the scan for CKF, FKF and FKF with feedback: on the
+#     false tracks at p_D = 0.9 FKF plunges far below CKF while the feedback version follows CKF; with a target at
+#     p_D = 0.2 all three rise together.
 curves_figure(
     [("false tracks, p_D = 0.9: the distributed plunge", {mm: by_case[NT9][mm] for mm in ("ckf", "fkf", "fkf-feedback")}),
      ("target, p_D = 0.2", {mm: by_case["target, p_D = 0.2"][mm] for mm in ("ckf", "fkf", "fkf-feedback")})],
@@ -409,6 +416,8 @@ curves_figure(
 # The decision-level schemes (the score each decides on):
 
 # %%
+# alt: The same four cases for the decision-level schemes CKF, LKF, LDF and the naive rule: the mean score each
+#     decides on against the scan, with Wald's thresholds dotted.
 curves_figure([(c, {mm: by_case[c][mm] for mm in ("ckf", "lkf", "ldf", "naive")}) for c in slides], (log_a, log_b),
               ylim=(-40, 60))  # fmt: skip
 
@@ -454,6 +463,9 @@ rows += [(f"{m['kind']}, scans {m['scans'][0]}–{m['scans'][1]}", "in g", f"{m[
 md_table(["manoeuvre", "stated", "measured from the truth (mean ± SE)"], rows)
 
 # %%
+# alt: Left, the true paths of five constant-velocity and five agile runs in the x-y plane in km, the radars on a
+#     13 km circle; right, the mean log likelihood ratio of each method on the agile runs minus that on the
+#     constant-velocity runs against the scan, the manoeuvres shaded.
 fig = Figure(figsize=(11, 4.2), layout="constrained")
 ax, ax2 = fig.subplots(1, 2)
 cv_truth = slrt.generate(slrt.SlrtScenario(), range(5), 7).truth
@@ -738,6 +750,9 @@ Markdown(
 # A single scan (run 0, p_D = 0.9, last scan), measurements mapped to x–y:
 
 # %%
+# alt: The last scan of run 0, target at p_D = 0.9, in the x-y plane in km: the four radars (triangles) on a
+#     13 km circle, each radar's clutter detections as coloured dots, and the target's track from the origin with
+#     its detections marked.
 sc_plot = slrt.SlrtScenario()
 gen_plot = slrt.generate(sc_plot, range(1), study.seed)
 kk = sc_plot.scans - 1
