@@ -458,7 +458,7 @@ def _read_parquet(
         import pyarrow.parquet as pq
     except ImportError:
         raise InputError(
-            f"{name}: a Parquet file, which needs the optional pyarrow: pip install 'motionsig[parquet]' (or give "
+            f"{name}: a Parquet file, which needs the optional pyarrow: pip install 'motionsig_cli[parquet]' (or give "
             "CSV)"
         ) from None
     size = os.fstat(fh.fileno()).st_size
