@@ -484,6 +484,9 @@ class SetupResult:
         out["claim3_fig5_minus_fig4_anr94"] = Score(d5, d5s, abs(d5) <= Z * d5s + ABOUT)
         out["claim3_low_anr_degradation"] = Score(deg, degs, deg > Z * degs)
         out["claim3"] = Score(deg, degs, out["claim3_fig5_minus_fig4_anr94"].holds and deg > Z * degs)
+        for fig, fr in zip((4, 5, 6), FR_FIGS, strict=True):  # every cell beyond 40 s (no claim)
+            for lab, R in zip(ANR_LABELS, Rs, strict=True):
+                out[f"fig{fig}_pct_{lab:g}_beyond40"] = Score(*_mean_se(self._trial_pct(R, fr, 40.0)), True)
         m6, s6 = _mean_se(self._trial_pct(hi, 1.0, 60.0))
         worse = np.mean([self._trial_pct(R, 0.01) - self._trial_pct(R, 1.0) for R in Rs], axis=0)
         w, ws = _mean_se(worse)
