@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from motionsig_cli.modesig.lmp_search import (
     BASELINE,
     CR_KEY_SETUPS,
     FIG3_CR,
+    PAPER_READING,
     Q0_2D_FLIPPED,
     Q1_2D_FLIPPED,
     R_LN,
@@ -37,6 +39,7 @@ from motionsig_cli.modesig.lmp_search import (
     predictors,
     reference_leak,
 )
+from motionsig_cli.tables import read_table
 
 FAST = Setup("fast", Q_a=0.0, method="fft")  # the FFT path: the cheapest setup that runs every part
 SHORT = replace(FAST, name="short", T=0.2, m_rho=5)  # 400 samples per 80 s record
@@ -262,3 +265,16 @@ def test_claim5_scores_against_hand_computed_values() -> None:
     assert sc["claim5"].holds
     flat = RadarSetupResult(RADAR_BASELINE, np.ones((4, n, 8), bool)).scores()  # no drop at all
     assert flat["claim5_drop_next"].value == 0.0 and not flat["claim5"].holds
+
+
+def test_committed_search_varies_c_r_and_the_grid_and_the_preset_holds_the_most_checks() -> None:
+    # the committed table (scripts/reproduce_lmp_search.py) against the code: its rows are design()'s,
+    # c_r of Figs 4-6 takes >= 3 values, the sample grid is a factor, and --preset paper is its best row
+    t = read_table(Path(__file__).resolve().parents[2] / "data" / "lmp_search.csv")
+    names = t.column("name")
+    assert names == [s.name for s in design()]
+    assert len(set(t.numeric("c_r"))) >= 3 and set(t.column("tau_grid")) == {"chips", "samples"}
+    checks = t.numeric("checks_holding", integer=True)
+    i = names.index(PAPER_READING.name)
+    assert checks[i] == checks.max() and design()[i] == PAPER_READING
+    assert "2" in t.column("claims_held")[i]
