@@ -278,3 +278,14 @@ def test_committed_search_varies_c_r_and_the_grid_and_the_preset_holds_the_most_
     i = names.index(PAPER_READING.name)
     assert checks[i] == checks.max() and design()[i] == PAPER_READING
     assert "2" in t.column("claims_held")[i]
+
+
+def test_known_reference_makes_figs_4_to_6_equal_trial_by_trial() -> None:
+    # derivation (notebook section 12, claim 4): the filters remove a known reference exactly from a linear
+    # closed loop, so no innovation depends on f_r; with the random-walk model the 1 Hz reference leaks
+    known = replace(SHORT, name="known", A_r="known")
+    res = run_job(SearchJob((known, SHORT), trials=4, seed=6, fig3=False)).results
+    for R in R_LN:
+        ok = res[0].ok[R]
+        assert np.array_equal(ok[0], ok[1]) and np.array_equal(ok[0], ok[2])
+    assert res[1].scores()["claim4_fig4_minus_fig6"].value > 50
