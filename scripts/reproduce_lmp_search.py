@@ -5,8 +5,9 @@ and the deterministic predictors); and the radar example's Fig 7 (claim 5): ever
 :func:`motionsig_cli.modesig.lmp_search.design_radar` into data/lmp_search_radar.csv.
 
 Usage: ``python scripts/reproduce_lmp_search.py [--part 1d|radar|both] [--trials N] [--workers W] [--seed S]
-[--out PATH] [--radar-out PATH]`` (default both parts, 50 trials per cell, 2 workers: 9 minutes for the 1-D
-part and about 10 for the radar part, measured on 2 cores of a loaded machine; ``--checkpoint DIR`` resumes
+[--out PATH] [--radar-out PATH]`` (default both parts, 50 trials per cell, 2 workers: about 40 minutes for
+the 1-D part, three quarters of it the sample-grid setups, and about 10 for the radar part, measured on 2
+cores of a loaded machine; ``--checkpoint DIR`` resumes
 an interrupted run). The CSVs' headers record the command, seed, trials and date.
 """
 

@@ -71,6 +71,7 @@ ExampleKind = choices("ExampleKind", "Example of the paper for --montecarlo.", o
 Ar = choices("Ar", "The nominal reference in the filters.", "cv", "identity", "known")
 QModel = choices("QModel", "How the filters' Q matrices are read.", "per-step", "continuous")
 Detector = choices("Detector", "The detector --calibrate calibrates.", "lmp", "estimate-correlate")
+Preset = choices("Preset", "A reading of what the mode-signature paper leaves open.", "none", "paper")
 
 
 SourceArg = Annotated[
@@ -98,7 +99,22 @@ UnitsOpt = Annotated[
     ),
 ]
 CrOpt = Annotated[
-    float, typer.Option("--c-r", help="Filter measurement covariance R_KF = c_r R (the paper: 1 or 100).")
+    float | None,
+    typer.Option(
+        "--c-r",
+        help="Filter measurement covariance R_KF = c_r R (the paper's Fig 3: 1 or 100; Figs 4-6: not stated). "
+        "Default 100.",
+    ),
+]
+PresetOpt = Annotated[
+    Preset,
+    typer.Option(
+        "--preset",
+        help="1d: paper = our reading of what the paper prints garbled or leaves open for Figs 3-6, not values "
+        "it states: the reading of data/lmp_search.csv with the most of its claims' checks holding (eq 56's "
+        "positive exponents as lost minus signs, --Q0 1e-3,1e-2,1e-1,1e-1; eq 57's last entry read "
+        "literally, --Qa 100; c_r = 100). --c-r, --Q0 and --Qa given explicitly win.",
+    ),
 ]
 Q0Opt = Annotated[
     str | None,
@@ -288,8 +304,9 @@ _PARAMETER = {"m_rho": "mrho", "wn": "pole_wn", "zeta": "pole_zeta", "f_c": "fc"
 @options(model=RecordModel)
 def detect(
     source: SourceArg = "-",
-    c_r: CrOpt = 100.0,
+    c_r: CrOpt = None,
     Q0: Q0Opt = None,
+    preset: PresetOpt = Preset.none,
     Qa: QaOpt = None,
     q_model: QModelOpt = QModel.per_step,
     method: MethodOpt = Method.bank,
@@ -362,6 +379,7 @@ def detect(
                                   "--R-list": R_list != R_LIST_DEFAULT, "--anr-pairs": anr_pairs != ANR_PAIRS_DEFAULT,
                                   "--Q1": Q1 is not None, "--q-model": q_model is not QModel.per_step})  # fmt: skip
     _check_method(method, filter_, two_d)
+    c_r, Q0, Qa = _preset(preset, two_d, c_r, Q0, Qa)
     hs = _floats("--horizons", horizons, "horizon")
     grid = dict(c_r=c_r, P0=P0, tau_grid=tau_grid.value, include_logdet=include_logdet, zdot=zdot.value)
     f_known = rec.f_c if rec is not None else 1.0 if model.fc is None else model.fc
@@ -550,6 +568,22 @@ def _refuse_for_baseline(detector: Any, calibrate: bool, two_d: bool, given: dic
             raise typer.BadParameter(
                 "is an LMP setting: not with --detector estimate-correlate", param_hint=option
             )
+
+
+def _preset(
+    preset: Preset, two_d: bool, c_r: float | None, Q0: str | None, Qa: float | None
+) -> tuple[float, str | None, float | None]:
+    """--c-r, --Q0 and --Qa after ``--preset``: the given values, else the preset's, else the defaults
+    (c_r = 100; Q0 and Q_a None: eqs 56-57 as printed, or Q_a = 0 on the FFT path)."""
+    if preset is Preset.paper:
+        if two_d:
+            raise typer.BadParameter("is a reading of the 1d example (Figs 4-6)", param_hint="--preset")
+        from motionsig_cli.modesig.lmp_search import PAPER_READING
+
+        c_r = PAPER_READING.c_r if c_r is None else c_r
+        Q0 = ",".join(f"{q:g}" for q in PAPER_READING.Q0) if Q0 is None else Q0
+        Qa = PAPER_READING.Q_a if Qa is None else Qa
+    return (100.0 if c_r is None else c_r), Q0, Qa
 
 
 def _refuse_other_example(two_d: bool, given: dict[str, bool]) -> None:

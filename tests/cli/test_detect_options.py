@@ -107,3 +107,21 @@ def test_record_feedback_option_sets_the_null_records_loop(capsys, tmp_path):
     assert meta["model"]["feedback"] == "estimate" and meta["model_sources"]["feedback"].startswith("option")
     rc, plain, _ = run(capsys, *args)
     assert plain != out
+
+
+def test_preset_paper_is_its_q0_and_qa_and_explicit_options_win(capsys, tmp_path):
+    """--preset paper = --Q0 1e-3,1e-2,0.1,0.1 --Qa 100 (c_r 100) byte for byte (the reading in
+    data/lmp_search.csv); a given --Qa wins over the preset's; the 2d example refuses it, naming --preset."""
+    args = ("detect", "--montecarlo", "--trials", "2", "--fr-list", "0.01", "--R-list", "1e-1", "--horizons",
+            "40", "--workers", "1", "-q")  # fmt: skip
+    rc, preset, err = run(capsys, *args, "--preset", "paper")
+    rc2, explicit, _ = run(capsys, *args, "--c-r", "100", "--Q0", "1e-3,1e-2,0.1,0.1", "--Qa", "100")
+    assert rc == rc2 == 0 and preset == explicit, err
+    rc, plain, _ = run(capsys, *args)
+    m = table(plain, tmp_path).meta
+    assert plain != preset and (m["c_r"], m["Q_a"]) == (100.0, 1.0)
+    rc, mixed, _ = run(capsys, *args, "--preset", "paper", "--Qa", "3")
+    m = table(mixed, tmp_path, "mixed.csv").meta
+    assert m["Q_a"] == 3.0 and m["Q0"] == [1e-3, 1e-2, 0.1, 0.1]
+    err = one_line_error(capsys, "detect", "--montecarlo", "--example", "2d", "--preset", "paper")
+    assert "--preset" in err

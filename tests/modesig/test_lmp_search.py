@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,7 +18,9 @@ from motionsig_cli.modesig.lmp1d import LmpJob, LmpMonteCarlo
 from motionsig_cli.modesig.lmp_search import (
     ANR_LABELS,
     BASELINE,
+    CR_KEY_SETUPS,
     FIG3_CR,
+    PAPER_READING,
     Q0_2D_FLIPPED,
     Q1_2D_FLIPPED,
     R_LN,
@@ -34,7 +37,9 @@ from motionsig_cli.modesig.lmp_search import (
     design_radar,
     fig3_trials,
     predictors,
+    reference_leak,
 )
+from motionsig_cli.tables import read_table
 
 FAST = Setup("fast", Q_a=0.0, method="fft")  # the FFT path: the cheapest setup that runs every part
 SHORT = replace(FAST, name="short", T=0.2, m_rho=5)  # 400 samples per 80 s record
@@ -88,7 +93,26 @@ def test_design_is_distinct_and_labelled() -> None:
     assert d[0] == BASELINE
     assert len({s.name for s in d}) == len(d)
     assert len({replace(s, name="", group="") for s in d}) == len(d)  # no setup twice under two names
-    assert {s.group.split(":")[0] for s in d} == {"baseline", "ofat", "qa100", "flipped", "grid"}
+    assert {s.group.split(":")[0] for s in d} == {
+        "baseline",
+        "ofat",
+        "qa100",
+        "flipped",
+        "grid",
+        "c_r",
+        "tau_grid",
+    }
+    # the search before c_r was free: every setup of parts 1-5 at c_r = 10^2 on the chip grid, listed first
+    old = [s for s in d if s.group not in ("ofat:c_r", "c_r", "tau_grid")]
+    assert d[: len(old)] == old and len(old) == 48
+    assert all(s.c_r == 100.0 and s.tau_grid == "chips" for s in old)
+    # c_r of Figs 4-6 takes at least 3 values around the baseline and the key setups; the sample grid is a factor
+    assert {s.c_r for s in d if s.group in ("baseline", "ofat:c_r")} >= {1.0, 3.0, 100.0}
+    for key in CR_KEY_SETUPS:
+        assert len({s.c_r for s in d if s.name == key or s.name.startswith(f"{key} c_r=")}) >= 3
+    samples = [s for s in d if s.tau_grid == "samples"]
+    assert {s.c_r for s in samples if replace(s, name="", group="", c_r=100.0, tau_grid="chips") ==
+            replace(BASELINE, name="", group="")} >= {1.0, 3.0, 100.0}  # fmt: skip
     with pytest.raises(ConfigError) as e:
         SearchJob((BASELINE, BASELINE), trials=1)
     assert e.value.field == "setups"
@@ -103,6 +127,45 @@ def test_search_job_equals_the_setups_own_monte_carlo() -> None:
     assert set(f3) == set(FIG3_CR) and all(o.ok.shape == (3,) for o in f3.values())
     row = res.table().rows[0]
     assert row[0] == "short" and len(row) == len(res.table().columns)
+
+
+def test_fig3_runs_once_for_setups_that_differ_only_in_c_r() -> None:
+    # Fig 3 runs its own c_r (1, 100, 1000): a setup that differs only in the c_r of Figs 4-6 shares its runs
+    other = replace(SHORT, name="c_r=3", c_r=3.0)
+    job = SearchJob((SHORT, other), trials=3, seed=11)
+    assert [job.fig3_source(i) for i in range(2)] == [0, 0]
+    assert sum(t[0] == "fig3" for t in job.tasks()) == len(FIG3_CR)
+    res = run_job(job)
+    alone = run_job(SearchJob((other,), trials=3, seed=11)).results[0]
+    for c in FIG3_CR:
+        assert np.array_equal(res.results[1].fig3[c].ratio, alone.fig3[c].ratio)
+        assert np.array_equal(res.results[1].fig3[c].ok, alone.fig3[c].ok)
+    assert res.results[1].mc.cells == alone.mc.cells and res.results[1].mc.job.cfg.c_r == 3.0
+    table = res.table()
+    assert {"claims_held", "checks_holding", "claim1_by_ratio"} <= set(table.columns)
+
+
+def test_setup_runs_the_sample_grid() -> None:
+    s = replace(SHORT, name="samples", tau_grid="samples")
+    assert s.cfg().tau_grid == "samples"
+    job = s.job(1, 1)
+    assert job.n_candidates == 3 * 31 * 5
+    with pytest.raises(ConfigError) as e:
+        Setup("bad", tau_grid="half-chips")  # type: ignore[arg-type]
+    assert e.value.field == "tau_grid"
+
+
+def test_reference_leak_is_linear_in_a_r_and_the_bank_agrees_with_the_fft_path() -> None:
+    # derivation (the notebook's section 12 d): with Q_a = 0, b is linear in the data, so the ratio
+    # |b_ref| / |b_sig| scales with a_r; the bank and the FFT path compute the same Λ (second implementation)
+    fft = reference_leak(FAST, trials=3, seed=4)
+    bank = reference_leak(replace(FAST, method="bank"), trials=3, seed=4)
+    small = reference_leak(replace(FAST, a_r=1.0), trials=3, seed=4)
+    assert np.allclose(fft.ratio, bank.ratio, rtol=0.02)
+    assert np.allclose(small.ratio, fft.ratio / 10, rtol=1e-6)
+    assert fft.ratio.min() > 3 and fft.argmax_modes == (0, 0, 3)  # mode 3, the unbalanced code
+    assert reference_leak(replace(FAST, A_r="known"), trials=2, seed=4).ratio.max() < 1e-9
+    assert reference_leak(FAST, f_r=0.01, trials=2, seed=4).ratio.max() < 0.01
 
 
 def test_fig3_ratio_exceeds_one_exactly_when_the_truth_wins() -> None:
@@ -135,6 +198,10 @@ def test_scores_against_hand_computed_values() -> None:
     assert sc["claim1_cr100_minus_cr1"].value == pytest.approx(80.0) and sc["claim1_cr100_minus_cr1"].holds
     assert sc["claim1_cr100_minus_cr1000"].value == 0.0 and not sc["claim1"].holds
     assert sc["fig3_ratio_cr1"].value == pytest.approx(0.7)
+    # the ratio paired per trial: 100 minus 1 is 0 in trials 0-1 and 1 in trials 2-9
+    assert sc["claim1_ratio_cr100_minus_cr1"].value == pytest.approx(0.8)
+    assert sc["claim1_ratio_cr100_minus_cr1"].se == pytest.approx(math.sqrt(0.8 * 0.2 / (n - 1)))
+    assert sc["claim1_ratio_cr100_minus_cr1"].holds and not sc["claim1_by_ratio"].holds  # 100 = 1000
 
 
 def test_predictors_innovation_variance_and_the_fig6_ceiling() -> None:
@@ -198,3 +265,27 @@ def test_claim5_scores_against_hand_computed_values() -> None:
     assert sc["claim5"].holds
     flat = RadarSetupResult(RADAR_BASELINE, np.ones((4, n, 8), bool)).scores()  # no drop at all
     assert flat["claim5_drop_next"].value == 0.0 and not flat["claim5"].holds
+
+
+def test_committed_search_varies_c_r_and_the_grid_and_the_preset_holds_the_most_checks() -> None:
+    # the committed table (scripts/reproduce_lmp_search.py) against the code: its rows are design()'s,
+    # c_r of Figs 4-6 takes >= 3 values, the sample grid is a factor, and --preset paper is its best row
+    t = read_table(Path(__file__).resolve().parents[2] / "data" / "lmp_search.csv")
+    names = t.column("name")
+    assert names == [s.name for s in design()]
+    assert len(set(t.numeric("c_r"))) >= 3 and set(t.column("tau_grid")) == {"chips", "samples"}
+    checks = t.numeric("checks_holding", integer=True)
+    i = names.index(PAPER_READING.name)
+    assert checks[i] == checks.max() and design()[i] == PAPER_READING
+    assert "2" in t.column("claims_held")[i]
+
+
+def test_known_reference_makes_figs_4_to_6_equal_trial_by_trial() -> None:
+    # derivation (notebook section 12, claim 4): the filters remove a known reference exactly from a linear
+    # closed loop, so no innovation depends on f_r; with the random-walk model the 1 Hz reference leaks
+    known = replace(SHORT, name="known", A_r="known")
+    res = run_job(SearchJob((known, SHORT), trials=4, seed=6, fig3=False)).results
+    for R in R_LN:
+        ok = res[0].ok[R]
+        assert np.array_equal(ok[0], ok[1]) and np.array_equal(ok[0], ok[2])
+    assert res[1].scores()["claim4_fig4_minus_fig6"].value > 50
