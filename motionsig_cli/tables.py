@@ -195,14 +195,28 @@ def format_csv(table: Table, *, meta: bool = True) -> str:
     return buf.getvalue()
 
 
-def format_rows(rows: Iterable[Sequence[Any]]) -> str:
+def format_rows(rows: Iterable[Sequence[Any]], *, plain: bool = False) -> str:
     """The CSV lines of ``rows``, as :func:`format_csv` writes them after the header (a table's rows may be
-    written a piece at a time and the pieces joined)."""
+    written a piece at a time and the pieces joined). ``plain``: the caller vouches that every value is a
+    ``str``, ``int``, ``float`` or None (booleans already text), which the csv module writes as is."""
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
+    if plain:
+        writer.writerows(rows)
+        return buf.getvalue()
     for row in rows:
-        writer.writerow([_cell(v) for v in row])
+        kinds = set(map(type, row))
+        if kinds <= _AS_IS:  # the csv module writes these as _cell does: str(float) is repr, None is empty
+            writer.writerow(row)
+        elif kinds <= _AS_IS_OR_BOOL:
+            writer.writerow([("true" if v else "false") if v.__class__ is bool else v for v in row])
+        else:
+            writer.writerow([_cell(v) for v in row])
     return buf.getvalue()
+
+
+_AS_IS = frozenset({str, int, float, type(None)})
+_AS_IS_OR_BOOL = _AS_IS | {bool}
 
 
 def format_json(table: Table) -> str:
@@ -624,7 +638,7 @@ def _parse_csv(
             raise InputError(
                 f"{name}:{linenos[-1]}: more than {max_rows} data rows (the limit for this input)"
             )
-        rows.append(tuple(c.strip() for c in cells))
+        rows.append(tuple(map(str.strip, cells)))
         total += 1
         if chunk_rows is not None and len(rows) >= chunk_rows:
             yield Table(columns=columns, rows=rows, meta=meta, lines=tuple(linenos), source=name,

@@ -294,6 +294,9 @@ class RecordJob:
 
     name: ClassVar[str] = "maneuver-record"
     plan: TrackingPlan
+    text: bool = False
+    """Each task returns its rows as CSV text (made where the task runs, so that the formatting spreads over
+    the workers too) with its events and counts, instead of the trackers' arrays."""
 
     def identity(self) -> dict[str, Any]:
         h = hashlib.sha256()
@@ -305,7 +308,8 @@ class RecordJob:
             h.update(np.ascontiguousarray(n[0]).tobytes())
         c = self.plan.consistency
         return {"record_sha256": h.hexdigest(), "methods": list(self.plan.methods), "config": self.plan.cfg.meta(),
-                "consistency": c.meta() if c is not None else "off", "bucket": self.plan.bucket}  # fmt: skip
+                "consistency": c.meta() if c is not None else "off", "bucket": self.plan.bucket,
+                **({"results": "csv text"} if self.text else {})}  # fmt: skip
 
     def tasks(self) -> list[tuple[int, ...]]:
         by_track: dict[int, list[int]] = {}
@@ -325,9 +329,15 @@ class RecordJob:
     def task_size(self, task: tuple[int, ...]) -> int:
         return int(sum(self.plan.segs[i].steps.size for i in task))
 
-    def run_task(self, task: tuple[int, ...]) -> list[dict[str, dict[str, np.ndarray | None]]]:
+    def run_task(self, task: tuple[int, ...]) -> Any:
         done = self.plan.track(task)
-        return [done[i] for i in task]
+        if not self.text:
+            return [done[i] for i in task]
+        texts = {m: _TextSink() for m in self.plan.methods}
+        part = _Builder(self.plan, texts)
+        part.add(done)
+        return {"text": [texts[m].bytes() for m in self.plan.methods], "events": [part.erows[m] for m in self.plan.methods],
+                "counts": part.counts, "tally": part.tally}  # fmt: skip
 
     def reduce(self, tasks: Sequence[tuple[int, ...]], results: Sequence[Any]) -> RecordTrack:
         done = {i: r for task, res in zip(tasks, results, strict=True) for i, r in zip(task, res, strict=True)}
@@ -347,13 +357,16 @@ def track_records_to_files(
     arrays, not its output. Returns the tables without their rows (the metadata and events complete) and
     the files, in method order: the output's rows are those files' text joined
     (:func:`motionsig_cli.cli.io.emit_spooled`), the bytes :func:`track_records` would give."""
-    job = RecordJob(plan)
+    job = RecordJob(plan, text=len(plan.recs) > 1)  # one track: its arrays, for the figure
     tasks = job.tasks()
     spools = {m: _Spool(Path(directory) / f"rows-{k}-{m}.csv") for k, m in enumerate(plan.methods)}
     builder = _Builder(plan, spools)
 
-    def consume(i: int, res: list[dict[str, dict[str, np.ndarray | None]]]) -> None:
-        builder.add(dict(zip(tasks[i], res, strict=True)))
+    def consume(i: int, res: Any) -> None:
+        if job.text:
+            builder.merge(res)
+        else:
+            builder.add(dict(zip(tasks[i], res, strict=True)))
 
     try:
         run_tasks(job.run_task, tasks, engine, sizes=[job.task_size(t) for t in tasks], progress=progress,
@@ -469,15 +482,38 @@ class _Spool:
     def __init__(self, path: Path) -> None:
         self.path = path
         self.fh = open(path, "w", encoding="utf-8", newline="")
-        self.n = 0
 
     def extend(self, rows: Any) -> None:
-        rows = list(rows)
-        self.fh.write(format_rows(rows))
-        self.n += len(rows)
+        self.fh.write(format_rows(rows, plain=True))
+
+    def write(self, text: str) -> None:
+        self.fh.write(text)
 
     def close(self) -> None:
         self.fh.close()
+
+
+def _flag_list(a: np.ndarray) -> list[bool]:
+    return a.tolist()  # type: ignore[no-any-return]
+
+
+def _flag_text(a: np.ndarray) -> list[str]:
+    """Booleans as a CSV cell writes them (:func:`~motionsig_cli.tables.format_rows`)."""
+    return np.where(a, "true", "false").tolist()  # type: ignore[no-any-return]
+
+
+class _TextSink:
+    """Rows as CSV text in memory (a task's, sent back from where it ran)."""
+
+    def __init__(self) -> None:
+        self.parts: list[str] = []
+
+    def extend(self, rows: Any) -> None:
+        self.parts.append(format_rows(rows, plain=True))
+
+    def bytes(self) -> np.ndarray:
+        """The UTF-8 text as a byte array (an array travels and checkpoints as data, not as a long string)."""
+        return np.frombuffer("".join(self.parts).encode("utf-8"), dtype=np.uint8)
 
 
 class _Builder:
@@ -505,6 +541,7 @@ class _Builder:
             ecols += ["latitude", "longitude"]
         self.cols, self.ecols = cols, ecols
         self.rows: dict[str, _RowSink] = dict(sinks) if sinks is not None else {m: [] for m in plan.methods}  # type: ignore[misc]
+        self.text = sinks is not None  # rows as CSV text: the flags written "true"/"false" here, once per column
         self.erows: dict[str, list[tuple[Any, ...]]] = {m: [] for m in plan.methods}
         self.counts = {m: {name: 0 for name in REASONS[1:]} for m in plan.methods}
         self.tally = {m: {"gated": 0, "declarations": 0, "rejected": 0} for m in plan.methods}
@@ -522,6 +559,19 @@ class _Builder:
                 self.figure["declarations"][m.upper()] = []
             if "imm" in plan.methods:
                 self.mu_full = np.full((K, 3), np.nan)
+
+    def merge(self, part: Mapping[str, Any]) -> None:
+        """A task's rows as text, its events and counts (:meth:`RecordJob.run_task` with ``text``), the next
+        tracks in the record's order."""
+        for m, text, events in zip(self.plan.methods, part["text"], part["events"], strict=True):
+            sink = self.rows[m]
+            assert isinstance(sink, _Spool)
+            sink.write(bytes(text).decode("utf-8"))
+            self.erows[m].extend(tuple(e) for e in events)
+            for k, v in part["counts"][m].items():
+                self.counts[m][k] += v
+            for k, v in part["tally"][m].items():
+                self.tally[m][k] += v
 
     def add(self, done: Mapping[int, dict[str, dict[str, np.ndarray | None]]]) -> None:
         """The rows of the segments ``done`` (segment → method → the tracker's arrays): whole tracks, the
@@ -578,20 +628,21 @@ class _Builder:
                     ev += [float(latlon[0][j]), float(latlon[1][j])]
                 self.erows[m].append(tuple(ev))
             tally["declarations"] += hit.size
+        flags = _flag_text if self.text else _flag_list
         columns: list[list[Any]] = [
             *([[rec.label] * n] if self.labelled else []),
             [m] * n,
             rec.scan[g].tolist(),
             rec.t[g].tolist(),
-            rec.measured[g].tolist(),
+            flags(rec.measured[g]),
             *(st[:, c].tolist() for c in range(st.shape[1])),
             *(([None] * n,) * 3 if mu is None else (mu[:, c].tolist() for c in range(3))),
-            [None] * n if det is None else det.tolist(),
+            [None] * n if det is None else flags(det),
             onset_scan,
             [sg.segment] * n,
             onset_t,
             _nullable(nis),
-            gated.tolist(),
+            flags(gated),
             [REASONS[c] or None for c in reinit.tolist()],
         ]
         if origin is not None:
