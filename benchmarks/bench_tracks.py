@@ -242,7 +242,7 @@ def main() -> int:
     tset = read_track_records(DATA)
     t_read = CLOCK() - t0
     rss_read = _maxrss_mb()
-    rows_file = len(tset.record)
+    rows_file = tset.rows
     tracks = list(tset.tracks[:N_TRACKS] if N_TRACKS else tset.tracks)
     tset = TrackSet(tuple(tracks), tset.untracked if not N_TRACKS else (), tset.record)
     prep = prepared(tracks, cfg)

@@ -297,12 +297,15 @@ class TrackSet:
         tracks: each track's :class:`TrackRecord` (its ``label``), in the order of first appearance.
         untracked: (label, reason) of each track that cannot be tracked (too few measurements, …): listed,
             not an error for the whole file.
-        record: the record read (all rows).
+        record: the record read: all its rows for a record of one track; for many, its columns, units and
+            metadata only (the rows are held once, as the tracks' arrays).
+        rows: the record's rows.
     """
 
     tracks: tuple[TrackRecord, ...]
     untracked: tuple[tuple[str, str], ...]
     record: Record
+    rows: int = 0
 
     @property
     def source(self) -> str:
@@ -375,7 +378,7 @@ def read_track_records(
             f"{rec.source}: none of its {len(groups)} tracks can be tracked (e.g. {untracked[0][0]}: "
             f"{untracked[0][1]})"
         )
-    return TrackSet(tuple(tracks), tuple(untracked), _shell(rec) if many else rec)
+    return TrackSet(tuple(tracks), tuple(untracked), _shell(rec) if many else rec, len(rec))
 
 
 def _shell(rec: Record) -> Record:
