@@ -367,10 +367,8 @@ def detect(
     from motionsig_cli.filters.unscented import SigmaPointParams
 
     output.check()
-    engine = parallel.engine()
-    sigma = SigmaPointParams(alpha, beta, kappa)
-    record = model.by_field()
-    rec = _record_or_study(source, example, record, model.db_convention.value, montecarlo or calibrate_,
+    engine, sigma = parallel.engine(), SigmaPointParams(alpha, beta, kappa)
+    rec = _record_or_study(source, example, model.by_field(), model.db_convention.value, montecarlo or calibrate_,
                            calibrate_, threshold, pfa, candidates, null_trials)  # fmt: skip
     two_d = example is ExampleKind.two_d or (rec is not None and rec.y.ndim == 2)
     _refuse_for_baseline(detector, calibrate_, two_d, locals())
@@ -398,7 +396,7 @@ def detect(
                weights=weights.value, center=center.value, q_model=q_model.value)  # fmt: skip
     mc = (_floats("--R-list", R_list, "variance"), hs, trials, seed, method.value)
     if montecarlo or calibrate_:
-        return _study(output, engine, lmp, mc, _mc_model(record, f_known), filter_, fr_list, calibrate_, pfa,
+        return _study(output, engine, lmp, mc, _mc_model(model.by_field(), f_known), filter_, fr_list, calibrate_, pfa,
                       null_trials, not no_signature, detector)  # fmt: skip
     kind = "ukf" if filter_ is FilterKind.ukf else "kf"
     _record(output, engine, rec, lmp, method.value, kind, sigma, hs, threshold, candidates, calibration)
