@@ -46,6 +46,7 @@ Every failure is one line: a bad record an :class:`~motionsig_cli.errors.InputEr
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -336,9 +337,8 @@ def read_track_records(
         _one_run(source, set(colmap.values()))
         rec = read_record(source, SPEC, columns=colmap, units=opts.units)
     else:  # a file, read in pieces: its text is never held whole (MAX_ROWS)
-        runs = _Runs(set(colmap.values()))
-        rec = read_record_in_pieces(source, SPEC, columns=colmap, units=opts.units, max_bytes=MAX_BYTES,
-                                    each=runs.check)  # fmt: skip
+        each = functools.partial(_one_run, mapped=set(colmap.values()), first={})  # the file's first cells
+        rec = read_record_in_pieces(source, SPEC, columns=colmap, units=opts.units, max_bytes=MAX_BYTES, each=each)
     if not (rec.has("time") or rec.has("scan")):
         cols = ", ".join(rec.table.columns) if rec.table is not None else ""
         raise rec.error(
@@ -745,8 +745,9 @@ def _one_run(t: Table, mapped: set[str], first: dict[str, Any] | None = None) ->
     its scans is checked: a second run starts again at scan 1).
 
     Args:
-        first: the first cell of each of those columns in the file, when ``t`` is a later piece of it
-            (:class:`_Runs`); None: ``t`` is the whole file.
+        first: the first cell of each of those columns in the file, filled from the first piece, when ``t``
+            is one piece of it (:func:`~motionsig_cli.records.read_record_in_pieces`); None: ``t`` is the whole
+            file.
 
     Returns:
         In any other file, where its ``sigma`` column varies (a per-scan σ, which the trackers do not
@@ -768,16 +769,6 @@ def _one_run(t: Table, mapped: set[str], first: dict[str, Any] | None = None) ->
                 f"({cells[other]} after {ref}); track one record at a time"
             )
     return None
-
-
-class _Runs:
-    """:func:`_one_run` over the pieces of a file read in pieces."""
-
-    def __init__(self, mapped: set[str]) -> None:
-        self.mapped, self.first = mapped, {}  # type: ignore[var-annotated]
-
-    def check(self, t: Table) -> None:
-        _one_run(t, self.mapped, self.first)
 
 
 def _grid(rec: Record, times: np.ndarray, T: float, note: str = "") -> tuple[np.ndarray, float]:

@@ -388,13 +388,14 @@ def _buckets(order: list[int], lengths: list[int], size: int) -> list[list[int]]
     segment, each costing a fixed part and a part per segment, padding included): the exact optimum over cuts
     of the sorted order, by dynamic programming."""
     S = len(order)
-    best = [0.0] + [math.inf] * S  # best[j]: the least cost of the first j segments
+    L = np.asarray(lengths, dtype=float)
+    best = np.zeros(S + 1)  # best[j]: the least cost of the first j segments
     cut = [0] * (S + 1)
-    for j in range(1, S + 1):
-        for i in range(max(0, j - size), j):  # the last batch is i..j-1, led by the longest, lengths[i]
-            c = best[i] + lengths[i] * (STEP_COST_LANES + (j - i))
-            if c < best[j]:
-                best[j], cut[j] = c, i
+    for j in range(1, S + 1):  # the last batch is i..j-1, led by the longest, lengths[i]
+        i = np.arange(max(0, j - size), j)
+        c = best[i] + L[i] * (STEP_COST_LANES + (j - i))
+        k = int(np.argmin(c))  # the first least: the shortest batch among equals
+        best[j], cut[j] = c[k], int(i[k])
     out: list[list[int]] = []
     j = S
     while j > 0:

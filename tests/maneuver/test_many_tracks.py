@@ -7,6 +7,7 @@ and FilterPy) must give the same rows; a real collection of 213 aircraft (tests/
 quickstart sample, MIT) as recorded, gzip-compressed."""
 
 import gzip
+import math
 
 import numpy as np
 import pytest
@@ -173,3 +174,28 @@ def test_the_engine_gives_the_same_bytes_for_any_workers_and_resumes(capsys, tmp
     mem = rt.track_records(mr.read_track_records(p), ("imm", "glr"), cfg)
     assert outs[0] == format_csv(mem.table).encode()
     assert outs[0].count(b"\n") > len(mem.table.rows) > 500
+
+
+def test_batches_are_the_least_cost_cut_of_the_sorted_segments():
+    """_buckets against brute force: every cut of up to 9 sorted segments into batches of at most `size`,
+    the modelled cost Σ L_longest (STEP_COST_LANES + |batch|) (its docstring) least."""
+    import itertools
+
+    rng = np.random.default_rng(3)
+    for _ in range(40):
+        S, size = int(rng.integers(1, 10)), int(rng.integers(1, 5))
+        lengths = sorted(rng.integers(1, 3000, S).tolist(), reverse=True)
+        order = list(range(100, 100 + S))
+
+        def cost(batches, lengths=lengths):
+            return sum(lengths[b[0] - 100] * (rt.STEP_COST_LANES + len(b)) for b in batches)
+
+        best = math.inf
+        for cuts in itertools.product((0, 1), repeat=S - 1):
+            bounds = [0, *[k + 1 for k, c in enumerate(cuts) if c], S]
+            batches = [order[a:b] for a, b in itertools.pairwise(bounds)]
+            if all(len(b) <= size for b in batches):
+                best = min(best, cost(batches))
+        got = rt._buckets(order, lengths, size)
+        assert [i for b in got for i in b] == order and all(len(b) <= size for b in got)
+        assert cost(got) == pytest.approx(best, rel=1e-12)
